@@ -1,0 +1,94 @@
+//! Number types and the small traits every algorithm of the workbench is written against.
+//!
+//! An algorithm is written once, over [`Ring`] (division-free: Berkowitz), [`IntegralDomain`]
+//! (exact division: Bareiss) or [`Field`] (Gauss–Jordan, polynomial gcd), and runs on
+//!
+//! * [`BigInt`] and [`Rational`] (`BigRational`), the exact ground truth;
+//! * [`Quadratic`], numbers `a + b√d` of a quadratic field Q(√d), so that √2 in Butterworth
+//!   polynomials and `−2 ± √2` in the RC-ladder eigenvalues stay exact (`d = −1` gives the
+//!   Gaussian rationals, so complex-conjugate poles `−1 ± 2i` are exact too);
+//! * [`MultiPoly`], multivariate polynomials over named symbols (`k1`, `a`, `T`, `λ`…), so a
+//!   characteristic polynomial with a symbolic gain is computed, not typed;
+//! * `f64`, the float path that is always checked against the exact one.
+//!
+//! Exactness is a property of the type ([`Ring::EXACT`]); tolerances never appear in exact code.
+
+mod multivariate;
+mod quadratic;
+mod scalars;
+
+pub use multivariate::{Monomial, MultiPoly};
+pub use num_bigint::BigInt;
+pub use quadratic::{Quadratic, QuadraticError};
+pub use scalars::{rational_to_f64, Rational};
+
+use std::fmt::{Debug, Display};
+pub use num_traits::{One, Zero};
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// A commutative ring with one (`zero`, `one`, `is_zero` come from num-traits).
+///
+/// The operators take their operands by value; algorithms clone where they must.
+pub trait Ring:
+    Clone
+    + PartialEq
+    + Debug
+    + Display
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Neg<Output = Self>
+    + Zero
+    + One
+{
+    /// `true` when arithmetic is exact (everything but `f64`).
+    const EXACT: bool = true;
+    /// The image of an integer.
+    fn from_i64(n: i64) -> Self;
+    /// How attractive `self` is as an elimination pivot: larger is better, 0 means unusable.
+    ///
+    /// Exact types prefer small entries (to keep numbers short); `f64` prefers large ones
+    /// (partial pivoting).
+    fn pivot_weight(&self) -> f64 {
+        if self.is_zero() {
+            0.0
+        } else {
+            1.0
+        }
+    }
+    /// `self` rendered in LaTeX.
+    fn to_latex(&self) -> String;
+    /// `self` in the workbench's input syntax (`-7/3`, `2*sqrt(2) - 4`), so that parsing it
+    /// gives `self` back.
+    fn to_input(&self) -> String;
+}
+
+/// A ring without zero divisors, in which a division known to be exact can be carried out.
+pub trait IntegralDomain: Ring {
+    /// `self / divisor` when `divisor` divides `self` exactly, `None` otherwise (and for a zero
+    /// divisor).
+    fn divide_exact(&self, divisor: &Self) -> Option<Self>;
+}
+
+/// A field: every nonzero element has an inverse.
+pub trait Field: IntegralDomain {
+    /// The multiplicative inverse, `None` for zero.
+    fn inverse(&self) -> Option<Self>;
+    /// `self / divisor`, `None` for a zero divisor.
+    fn checked_div(&self, divisor: &Self) -> Option<Self> {
+        divisor.inverse().map(|inv| self.clone() * inv)
+    }
+    /// The rational `n / d` in this field (`d ≠ 0`).
+    fn from_ratio(n: i64, d: i64) -> Self {
+        Self::from_i64(n)
+            .checked_div(&Self::from_i64(d))
+            .unwrap_or_else(Self::zero)
+    }
+}
+
+/// Fields whose elements can be rounded to `f64`, so an exact result can be compared with the
+/// float path.
+pub trait ToF64 {
+    /// The nearest `f64` (as near as the conversion can tell).
+    fn to_f64(&self) -> f64;
+}

@@ -1,0 +1,510 @@
+//! Multivariate polynomials with rational coefficients over named symbols.
+//!
+//! They carry the symbolic side of the workbench: gains `k1…k6`, plant parameters `a1, a2, a3`,
+//! the time constant `T`, the Laplace variable `s` or `λ`. Baranowski's characteristic polynomial
+//! (9) with symbolic `g1, g2, g3`, his constraints (15) in `k1…k6`, and Di Ruscio's (74) in `a`,
+//! `k1`, `k2` are all computed in this ring (by Berkowitz, which never divides).
+//!
+//! Terms are kept in the lexicographic order of the variable names, which is a term order, so
+//! [`IntegralDomain::divide_exact`] (needed by Bareiss elimination) is ordinary multivariate
+//! division that fails as soon as a leading term does not divide.
+
+use super::{IntegralDomain, Rational, Ring};
+use num_traits::{One, Signed, Zero};
+use std::cmp::Ordering;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// A power product `x1^e1 · x2^e2 ⋯`, variables sorted by name, exponents positive.
+#[derive(Clone, PartialEq, Eq, Hash, Debug, Default)]
+pub struct Monomial(Vec<(String, u32)>);
+
+impl Monomial {
+    /// The monomial `1`.
+    pub fn one() -> Self {
+        Monomial(Vec::new())
+    }
+    /// The monomial `name^exp` (`1` when `exp = 0`).
+    pub fn var(name: &str, exp: u32) -> Self {
+        if exp == 0 {
+            Monomial::one()
+        } else {
+            Monomial(vec![(name.to_string(), exp)])
+        }
+    }
+    /// The total degree.
+    pub fn degree(&self) -> u32 {
+        self.0.iter().map(|(_, e)| e).sum()
+    }
+    /// The exponent of `name`.
+    pub fn exponent(&self, name: &str) -> u32 {
+        self.0
+            .iter()
+            .find(|(v, _)| v == name)
+            .map_or(0, |(_, e)| *e)
+    }
+    /// The (variable, exponent) pairs.
+    pub fn factors(&self) -> &[(String, u32)] {
+        &self.0
+    }
+    fn mul(&self, other: &Monomial) -> Monomial {
+        let mut out: Vec<(String, u32)> = Vec::with_capacity(self.0.len() + other.0.len());
+        let (mut i, mut j) = (0, 0);
+        while i < self.0.len() || j < other.0.len() {
+            match (self.0.get(i), other.0.get(j)) {
+                (Some(a), Some(b)) if a.0 == b.0 => {
+                    out.push((a.0.clone(), a.1 + b.1));
+                    i += 1;
+                    j += 1;
+                }
+                (Some(a), Some(b)) if a.0 < b.0 => {
+                    out.push(a.clone());
+                    i += 1;
+                }
+                (Some(_), Some(b)) | (None, Some(b)) => {
+                    out.push(b.clone());
+                    j += 1;
+                }
+                (Some(a), None) => {
+                    out.push(a.clone());
+                    i += 1;
+                }
+                (None, None) => break,
+            }
+        }
+        Monomial(out)
+    }
+    /// `self / other` when `other` divides `self`.
+    fn div(&self, other: &Monomial) -> Option<Monomial> {
+        let mut out = Vec::new();
+        for (v, e) in &self.0 {
+            let f = other.exponent(v);
+            if f > *e {
+                return None;
+            }
+            if e - f > 0 {
+                out.push((v.clone(), e - f));
+            }
+        }
+        other
+            .0
+            .iter()
+            .all(|(v, _)| self.exponent(v) > 0)
+            .then_some(Monomial(out))
+    }
+    /// The monomial with `name` removed.
+    fn without(&self, name: &str) -> Monomial {
+        Monomial(self.0.iter().filter(|(v, _)| v != name).cloned().collect())
+    }
+}
+
+impl Ord for Monomial {
+    /// Lexicographic order: the first variable (by name) whose exponents differ decides.
+    fn cmp(&self, other: &Self) -> Ordering {
+        let (mut i, mut j) = (0, 0);
+        loop {
+            match (self.0.get(i), other.0.get(j)) {
+                (None, None) => return Ordering::Equal,
+                (Some(_), None) => return Ordering::Greater,
+                (None, Some(_)) => return Ordering::Less,
+                (Some(a), Some(b)) => match a.0.cmp(&b.0) {
+                    Ordering::Less => return Ordering::Greater,
+                    Ordering::Greater => return Ordering::Less,
+                    Ordering::Equal => match a.1.cmp(&b.1) {
+                        Ordering::Equal => {
+                            i += 1;
+                            j += 1;
+                        }
+                        o => return o,
+                    },
+                },
+            }
+        }
+    }
+}
+
+impl PartialOrd for Monomial {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// A polynomial in named symbols with rational coefficients.
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::{MultiPoly, Ring};
+/// let k1 = MultiPoly::var("k1");
+/// let a = MultiPoly::var("a");
+/// let p = (k1.clone() + a.clone()) * (k1 - a);
+/// assert_eq!(p.to_string(), "k1^2 − a^2");
+/// assert_eq!(p.to_input(), "k1^2 - a^2");
+/// ```
+#[derive(Clone, PartialEq, Eq, Default)]
+pub struct MultiPoly {
+    terms: BTreeMap<Monomial, Rational>,
+}
+
+impl MultiPoly {
+    /// The constant polynomial `c`.
+    pub fn constant(c: Rational) -> Self {
+        let mut terms = BTreeMap::new();
+        if !c.is_zero() {
+            terms.insert(Monomial::one(), c);
+        }
+        MultiPoly { terms }
+    }
+    /// The polynomial `name`.
+    pub fn var(name: &str) -> Self {
+        let mut terms = BTreeMap::new();
+        terms.insert(Monomial::var(name, 1), Rational::one());
+        MultiPoly { terms }
+    }
+    /// `c · m`.
+    pub fn term(c: Rational, m: Monomial) -> Self {
+        let mut terms = BTreeMap::new();
+        if !c.is_zero() {
+            terms.insert(m, c);
+        }
+        MultiPoly { terms }
+    }
+    /// The terms, in increasing lexicographic order.
+    pub fn terms(&self) -> impl Iterator<Item = (&Monomial, &Rational)> {
+        self.terms.iter()
+    }
+    /// `Some(c)` when the polynomial is the constant `c`.
+    pub fn as_constant(&self) -> Option<Rational> {
+        match self.terms.len() {
+            0 => Some(Rational::zero()),
+            1 => self.terms.get(&Monomial::one()).cloned(),
+            _ => None,
+        }
+    }
+    /// The names of the symbols that occur, sorted.
+    pub fn variables(&self) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .terms
+            .keys()
+            .flat_map(|m| m.0.iter().map(|(n, _)| n.clone()))
+            .collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+    /// The total degree (0 for constants, including zero).
+    pub fn total_degree(&self) -> u32 {
+        self.terms.keys().map(Monomial::degree).max().unwrap_or(0)
+    }
+    /// The degree in one symbol.
+    pub fn degree_in(&self, name: &str) -> u32 {
+        self.terms
+            .keys()
+            .map(|m| m.exponent(name))
+            .max()
+            .unwrap_or(0)
+    }
+    /// The coefficients of `name^0, name^1, …` as polynomials in the other symbols.
+    ///
+    /// ```
+    /// use observer_workbench::algebra::{MultiPoly, Ring};
+    /// let s = MultiPoly::var("s");
+    /// let k = MultiPoly::var("k");
+    /// let p = s.clone() * s.clone() + k.clone() * s + k;
+    /// let c = p.coefficients_in("s");
+    /// assert_eq!(c.iter().map(|c| c.to_string()).collect::<Vec<_>>(), ["k", "k", "1"]);
+    /// ```
+    pub fn coefficients_in(&self, name: &str) -> Vec<MultiPoly> {
+        let mut out = vec![MultiPoly::zero(); self.degree_in(name) as usize + 1];
+        for (m, c) in &self.terms {
+            let e = m.exponent(name) as usize;
+            out[e].add_term(m.without(name), c.clone());
+        }
+        out
+    }
+    /// Replaces the symbol `name` by `value`.
+    pub fn substitute(&self, name: &str, value: &MultiPoly) -> MultiPoly {
+        let coeffs = self.coefficients_in(name);
+        let mut acc = MultiPoly::zero();
+        for c in coeffs.into_iter().rev() {
+            acc = acc * value.clone() + c;
+        }
+        acc
+    }
+    /// The value for rational values of every symbol; `None` if a symbol is missing.
+    pub fn evaluate(&self, values: &BTreeMap<String, Rational>) -> Option<Rational> {
+        let mut total = Rational::zero();
+        for (m, c) in &self.terms {
+            let mut t = c.clone();
+            for (v, e) in &m.0 {
+                let x = values.get(v)?;
+                t *= num_traits::pow(x.clone(), *e as usize);
+            }
+            total += t;
+        }
+        Some(total)
+    }
+    /// The coefficient of the monomial `m`.
+    pub fn coefficient(&self, m: &Monomial) -> Rational {
+        self.terms.get(m).cloned().unwrap_or_else(Rational::zero)
+    }
+
+    fn add_term(&mut self, m: Monomial, c: Rational) {
+        if c.is_zero() {
+            return;
+        }
+        let entry = self.terms.entry(m);
+        match entry {
+            std::collections::btree_map::Entry::Vacant(v) => {
+                v.insert(c);
+            }
+            std::collections::btree_map::Entry::Occupied(mut o) => {
+                *o.get_mut() += c;
+                if o.get().is_zero() {
+                    o.remove();
+                }
+            }
+        }
+    }
+
+    fn leading(&self) -> Option<(&Monomial, &Rational)> {
+        self.terms.iter().next_back()
+    }
+
+    /// Terms in display order: total degree descending, then lexicographic descending.
+    fn display_terms(&self) -> Vec<(&Monomial, &Rational)> {
+        let mut t: Vec<_> = self.terms.iter().collect();
+        t.sort_by(|a, b| b.0.degree().cmp(&a.0.degree()).then(b.0.cmp(a.0)));
+        t
+    }
+
+    fn render(&self, style: Style) -> String {
+        if self.terms.is_empty() {
+            return "0".into();
+        }
+        let mut out = String::new();
+        for (i, (m, c)) in self.display_terms().into_iter().enumerate() {
+            let neg = c.is_negative();
+            if i == 0 {
+                if neg {
+                    out.push('-');
+                }
+            } else {
+                out.push_str(match (neg, style) {
+                    (false, _) => " + ",
+                    (true, Style::Human) => " − ",
+                    (true, _) => " - ",
+                });
+            }
+            let abs = c.abs();
+            let vars: Vec<String> = m.0.iter().map(|(v, e)| style.power(v, *e)).collect();
+            let coeff = if m.0.is_empty() || !abs.is_one() {
+                Some(match style {
+                    Style::Latex => abs.to_latex(),
+                    _ => abs.to_string(),
+                })
+            } else {
+                None
+            };
+            let sep = match style {
+                Style::Human | Style::Latex => " ",
+                Style::Input => "*",
+            };
+            let mut parts: Vec<String> = coeff.into_iter().collect();
+            parts.extend(vars);
+            out.push_str(&parts.join(sep));
+        }
+        out
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Style {
+    Human,
+    Input,
+    Latex,
+}
+
+impl Style {
+    fn power(self, v: &str, e: u32) -> String {
+        let name = match self {
+            Style::Latex => latex_symbol(v),
+            _ => v.to_string(),
+        };
+        match (e, self) {
+            (1, _) => name,
+            (e, Style::Latex) => format!("{name}^{{{e}}}"),
+            (e, _) => format!("{name}^{e}"),
+        }
+    }
+}
+
+/// LaTeX for a symbol name: `k1` → `k_{1}`, `lambda`/`λ` → `\lambda`.
+pub(crate) fn latex_symbol(name: &str) -> String {
+    let greek = [
+        ("lambda", "\\lambda"),
+        ("λ", "\\lambda"),
+        ("omega", "\\omega"),
+        ("ω", "\\omega"),
+        ("alpha", "\\alpha"),
+        ("tau", "\\tau"),
+    ];
+    let split = name
+        .char_indices()
+        .find(|(_, c)| c.is_ascii_digit())
+        .map_or(name.len(), |(i, _)| i);
+    let (stem, digits) = name.split_at(split);
+    let stem = greek
+        .iter()
+        .find(|(g, _)| *g == stem)
+        .map_or(stem.to_string(), |(_, l)| l.to_string());
+    if digits.is_empty() {
+        stem
+    } else {
+        format!("{stem}_{{{digits}}}")
+    }
+}
+
+impl Add for MultiPoly {
+    type Output = MultiPoly;
+    fn add(mut self, rhs: Self) -> Self {
+        for (m, c) in rhs.terms {
+            self.add_term(m, c);
+        }
+        self
+    }
+}
+
+impl Sub for MultiPoly {
+    type Output = MultiPoly;
+    fn sub(mut self, rhs: Self) -> Self {
+        for (m, c) in rhs.terms {
+            self.add_term(m, -c);
+        }
+        self
+    }
+}
+
+impl Mul for MultiPoly {
+    type Output = MultiPoly;
+    fn mul(self, rhs: Self) -> Self {
+        let mut out = MultiPoly::zero();
+        for (m1, c1) in &self.terms {
+            for (m2, c2) in &rhs.terms {
+                out.add_term(m1.mul(m2), c1 * c2);
+            }
+        }
+        out
+    }
+}
+
+impl Neg for MultiPoly {
+    type Output = MultiPoly;
+    fn neg(mut self) -> Self {
+        for c in self.terms.values_mut() {
+            *c = -c.clone();
+        }
+        self
+    }
+}
+
+impl fmt::Display for MultiPoly {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.render(Style::Human))
+    }
+}
+
+impl fmt::Debug for MultiPoly {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.render(Style::Input))
+    }
+}
+
+impl Zero for MultiPoly {
+    fn zero() -> Self {
+        MultiPoly::default()
+    }
+    fn is_zero(&self) -> bool {
+        self.terms.is_empty()
+    }
+}
+
+impl One for MultiPoly {
+    fn one() -> Self {
+        MultiPoly::constant(Rational::one())
+    }
+}
+
+impl Ring for MultiPoly {
+    fn from_i64(n: i64) -> Self {
+        MultiPoly::constant(Rational::from_i64(n))
+    }
+    fn pivot_weight(&self) -> f64 {
+        if self.terms.is_empty() {
+            0.0
+        } else {
+            1.0 / self.terms.len() as f64
+        }
+    }
+    fn to_latex(&self) -> String {
+        self.render(Style::Latex)
+    }
+    fn to_input(&self) -> String {
+        self.render(Style::Input)
+    }
+}
+
+impl IntegralDomain for MultiPoly {
+    fn divide_exact(&self, divisor: &Self) -> Option<Self> {
+        let (lm, lc) = divisor.leading()?;
+        let (lm, lc) = (lm.clone(), lc.clone());
+        let mut rest = self.clone();
+        let mut quotient = MultiPoly::zero();
+        while let Some((m, c)) = rest.leading() {
+            let qm = m.div(&lm)?;
+            let qc = c.clone() / lc.clone();
+            let t = MultiPoly::term(qc, qm);
+            rest = rest - t.clone() * divisor.clone();
+            quotient = quotient + t;
+        }
+        Some(quotient)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(n: &str) -> MultiPoly {
+        MultiPoly::var(n)
+    }
+
+    #[test]
+    fn exact_division_recovers_the_factor() {
+        let p = v("a") * v("b") + v("k1") - MultiPoly::from_i64(3);
+        let q = v("a") - v("b") * v("b");
+        let prod = p.clone() * q.clone();
+        assert_eq!(prod.divide_exact(&q), Some(p.clone()));
+        assert_eq!(prod.divide_exact(&p), Some(q));
+        assert_eq!(p.divide_exact(&v("a")), None);
+    }
+
+    #[test]
+    fn printing_in_three_styles() {
+        let p = MultiPoly::from_i64(2) * v("k1") * v("k2") * v("k2")
+            - MultiPoly::constant(Rational::new(3.into(), 2.into()));
+        assert_eq!(p.to_string(), "2 k1 k2^2 − 3/2");
+        assert_eq!(p.to_input(), "2*k1*k2^2 - 3/2");
+        assert_eq!(p.to_latex(), "2 k_{1} k_{2}^{2} - \\frac{3}{2}");
+    }
+
+    #[test]
+    fn substitution_and_evaluation() {
+        let p = v("s") * v("s") + v("a") * v("s");
+        let q = p.substitute("a", &MultiPoly::from_i64(9));
+        let mut vals = BTreeMap::new();
+        vals.insert("s".to_string(), Rational::from_i64(-4));
+        assert_eq!(q.evaluate(&vals), Some(Rational::from_i64(-20)));
+        assert_eq!(p.evaluate(&vals), None);
+    }
+}

@@ -1,0 +1,152 @@
+//! [`Ring`]/[`Field`] implementations for the built-in scalars: `BigInt`, `BigRational`, `f64`.
+
+use super::{Field, IntegralDomain, Ring, ToF64};
+use num_bigint::BigInt;
+use num_integer::Integer;
+use num_rational::BigRational;
+use num_traits::{Signed, ToPrimitive, Zero};
+
+/// Exact rational numbers, the workbench's ground truth.
+pub type Rational = BigRational;
+
+impl Ring for BigInt {
+    fn from_i64(n: i64) -> Self {
+        BigInt::from(n)
+    }
+    fn pivot_weight(&self) -> f64 {
+        if Zero::is_zero(self) {
+            0.0
+        } else {
+            1.0 / (1.0 + self.bits() as f64)
+        }
+    }
+    fn to_latex(&self) -> String {
+        self.to_string()
+    }
+    fn to_input(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl IntegralDomain for BigInt {
+    fn divide_exact(&self, divisor: &Self) -> Option<Self> {
+        if Zero::is_zero(divisor) {
+            return None;
+        }
+        let (q, r) = self.div_rem(divisor);
+        Zero::is_zero(&r).then_some(q)
+    }
+}
+
+impl Ring for BigRational {
+    fn from_i64(n: i64) -> Self {
+        BigRational::from_integer(BigInt::from(n))
+    }
+    fn pivot_weight(&self) -> f64 {
+        if Zero::is_zero(self) {
+            0.0
+        } else {
+            1.0 / (1.0 + (self.numer().bits() + self.denom().bits()) as f64)
+        }
+    }
+    fn to_latex(&self) -> String {
+        if self.is_integer() {
+            self.numer().to_string()
+        } else {
+            let sign = if self.is_negative() { "-" } else { "" };
+            format!("{sign}\\frac{{{}}}{{{}}}", self.numer().abs(), self.denom())
+        }
+    }
+    fn to_input(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl IntegralDomain for BigRational {
+    fn divide_exact(&self, divisor: &Self) -> Option<Self> {
+        self.checked_div(divisor)
+    }
+}
+
+impl Field for BigRational {
+    fn inverse(&self) -> Option<Self> {
+        (!Zero::is_zero(self)).then(|| self.recip())
+    }
+}
+
+impl ToF64 for BigRational {
+    fn to_f64(&self) -> f64 {
+        rational_to_f64(self)
+    }
+}
+
+/// The `f64` nearest to a rational, also for numerators and denominators far beyond `f64`'s
+/// range (where `numer / denom` would give `inf / inf`).
+pub fn rational_to_f64(r: &BigRational) -> f64 {
+    if let Some(v) = ToPrimitive::to_f64(r).filter(|v| v.is_finite()) {
+        return v;
+    }
+    // Scale both parts down to about 60 significant bits, keep the binary exponent apart.
+    let nb = r.numer().bits() as i64;
+    let db = r.denom().bits() as i64;
+    let shift_n = (nb - 60).max(0);
+    let shift_d = (db - 60).max(0);
+    let n = ToPrimitive::to_f64(&(r.numer() >> shift_n as usize)).unwrap_or(0.0);
+    let d = ToPrimitive::to_f64(&(r.denom() >> shift_d as usize)).unwrap_or(1.0);
+    let exp = (shift_n - shift_d).clamp(-4000, 4000) as i32;
+    (n / d) * 2f64.powi(exp.clamp(-1074, 1023))
+}
+
+impl Ring for f64 {
+    const EXACT: bool = false;
+    fn from_i64(n: i64) -> Self {
+        n as f64
+    }
+    fn pivot_weight(&self) -> f64 {
+        self.abs()
+    }
+    fn to_latex(&self) -> String {
+        self.to_string()
+    }
+    fn to_input(&self) -> String {
+        format!("{self:e}")
+    }
+}
+
+impl IntegralDomain for f64 {
+    fn divide_exact(&self, divisor: &Self) -> Option<Self> {
+        (*divisor != 0.0).then(|| self / divisor)
+    }
+}
+
+impl Field for f64 {
+    fn inverse(&self) -> Option<Self> {
+        (*self != 0.0).then(|| 1.0 / self)
+    }
+}
+
+impl ToF64 for f64 {
+    fn to_f64(&self) -> f64 {
+        *self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn huge_rationals_convert_to_f64_without_overflow() {
+        let big = BigInt::from(10).pow(400);
+        let r = BigRational::new(big.clone() * 3, big);
+        assert!((rational_to_f64(&r) - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bigint_exact_division_refuses_remainders() {
+        let a = BigInt::from(12);
+        assert_eq!(a.divide_exact(&BigInt::from(4)), Some(BigInt::from(3)));
+        assert_eq!(a.divide_exact(&BigInt::from(5)), None);
+        assert_eq!(a.divide_exact(&BigInt::from(0)), None);
+    }
+}

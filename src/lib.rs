@@ -1,0 +1,9 @@
+//! # observer-workbench
+//!
+//! Exact design and verification of Luenberger state observers.
+//!
+//! Layers point one way: [`algebra`] (number types) → [`linalg`] and [`poly`] (matrices,
+//! polynomials, rational functions) → [`syntax`] (reading and printing what users type).
+#![warn(missing_docs)]
+
+pub mod algebra;
