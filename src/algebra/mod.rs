@@ -17,6 +17,7 @@ mod multivariate;
 mod quadratic;
 mod scalars;
 
+pub(crate) use multivariate::latex_symbol;
 pub use multivariate::{Monomial, MultiPoly};
 pub use num_bigint::BigInt;
 pub use quadratic::{Quadratic, QuadraticError};
@@ -72,6 +73,15 @@ pub trait IntegralDomain: Ring {
 
 /// A field: every nonzero element has an inverse.
 pub trait Field: IntegralDomain {
+    /// The ring the field's elements are fractions of, where elimination runs fraction-free:
+    /// `BigInt` for the rationals, the field itself for `Q(√d)` and `f64`.
+    type Integers: IntegralDomain;
+    /// A common denominator `d` of `values`, so that every `d·v` lies in [`Field::Integers`].
+    fn common_denominator(values: &[Self]) -> Self::Integers;
+    /// `d·self` as an element of [`Field::Integers`], where `d` is a common denominator.
+    fn scale_to_integer(&self, d: &Self::Integers) -> Self::Integers;
+    /// The element `n / d` of the field.
+    fn from_integer_ratio(n: Self::Integers, d: Self::Integers) -> Option<Self>;
     /// The multiplicative inverse, `None` for zero.
     fn inverse(&self) -> Option<Self>;
     /// `self / divisor`, `None` for a zero divisor.

@@ -138,8 +138,8 @@ impl PartialOrd for Monomial {
 /// let k1 = MultiPoly::var("k1");
 /// let a = MultiPoly::var("a");
 /// let p = (k1.clone() + a.clone()) * (k1 - a);
-/// assert_eq!(p.to_string(), "k1^2 − a^2");
-/// assert_eq!(p.to_input(), "k1^2 - a^2");
+/// assert_eq!(p.to_string(), "-a^2 + k1^2");
+/// assert_eq!(p.to_input(), "-a^2 + k1^2");
 /// ```
 #[derive(Clone, PartialEq, Eq, Default)]
 pub struct MultiPoly {

@@ -392,6 +392,16 @@ impl IntegralDomain for Quadratic {
 }
 
 impl Field for Quadratic {
+    type Integers = Quadratic;
+    fn common_denominator(_: &[Self]) -> Quadratic {
+        Quadratic::one()
+    }
+    fn scale_to_integer(&self, d: &Quadratic) -> Quadratic {
+        self.clone() * d.clone()
+    }
+    fn from_integer_ratio(n: Quadratic, d: Quadratic) -> Option<Self> {
+        n.checked_div(&d)
+    }
     fn inverse(&self) -> Option<Self> {
         let n = self.norm();
         if n.is_zero() {

@@ -69,6 +69,18 @@ impl IntegralDomain for BigRational {
 }
 
 impl Field for BigRational {
+    type Integers = BigInt;
+    fn common_denominator(values: &[Self]) -> BigInt {
+        values
+            .iter()
+            .fold(BigInt::from(1), |acc, v| acc.lcm(v.denom()))
+    }
+    fn scale_to_integer(&self, d: &BigInt) -> BigInt {
+        (self.numer() * d) / self.denom()
+    }
+    fn from_integer_ratio(n: BigInt, d: BigInt) -> Option<Self> {
+        (!Zero::is_zero(&d)).then(|| BigRational::new(n, d))
+    }
     fn inverse(&self) -> Option<Self> {
         (!Zero::is_zero(self)).then(|| self.recip())
     }
@@ -120,6 +132,16 @@ impl IntegralDomain for f64 {
 }
 
 impl Field for f64 {
+    type Integers = f64;
+    fn common_denominator(_: &[Self]) -> f64 {
+        1.0
+    }
+    fn scale_to_integer(&self, d: &f64) -> f64 {
+        self * d
+    }
+    fn from_integer_ratio(n: f64, d: f64) -> Option<Self> {
+        (d != 0.0).then(|| n / d)
+    }
     fn inverse(&self) -> Option<Self> {
         (*self != 0.0).then(|| 1.0 / self)
     }

@@ -1,0 +1,15 @@
+//! Polynomials in one variable and rational functions (transfer functions).
+//!
+//! [`Poly`] works over any [`Ring`](crate::algebra::Ring) (arithmetic, evaluation, derivative)
+//! and over any [`Field`](crate::algebra::Field) (Euclidean division, monic gcd, square-free
+//! factorisation, construction from roots). Over the rationals, [`Factored`] finds the exact
+//! linear factors, so that the workbench can say `(s + 4)^3` rather than `s^3 + 12s^2 + 48s + 64`.
+//! [`RationalFunction`] keeps a transfer function in lowest terms with a monic denominator.
+
+mod factor;
+mod rational_function;
+mod univariate;
+
+pub use factor::{rational_roots, Factored, RootSearch};
+pub use rational_function::RationalFunction;
+pub use univariate::Poly;
