@@ -7,4 +7,5 @@
 #![warn(missing_docs)]
 
 pub mod algebra;
+pub mod linalg;
 pub mod poly;

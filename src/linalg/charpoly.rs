@@ -1,0 +1,142 @@
+//! Characteristic polynomials by Berkowitz's algorithm, and matrix polynomials by Horner.
+//!
+//! Berkowitz's algorithm never divides, so the same code gives `det(λI − A)` over the integers,
+//! over Q(√d) and over the multivariate polynomials (a symbolic gain inside `A − KC`). Its cost
+//! is O(n⁴) ring operations. Over the rationals the matrix is first scaled to integers by a common
+//! denominator `d`: `p_{dA}(μ) = dⁿ p_A(μ/d)`, so the coefficients come back by exact division.
+
+use super::{LinalgError, Matrix};
+use crate::algebra::{Field, One, Ring};
+use crate::poly::Poly;
+
+/// `det(var·I − A)`, monic of degree n, by Berkowitz's division-free algorithm.
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::{MultiPoly, Ring};
+/// use observer_workbench::linalg::{berkowitz, Matrix};
+/// // A − KC for A = [0 1; 0 0], C = [1 0], K = [k1; k2]
+/// let k = |n| MultiPoly::var(n);
+/// let f = Matrix::from_rows(vec![
+///     vec![-k("k1"), MultiPoly::from_i64(1)],
+///     vec![-k("k2"), MultiPoly::from_i64(0)],
+/// ]).unwrap();
+/// assert_eq!(berkowitz(&f, "s").unwrap().to_string(), "s^2 + k1 s + k2");
+/// ```
+///
+/// # Errors
+/// [`LinalgError::NotSquare`].
+pub fn berkowitz<R: Ring>(a: &Matrix<R>, var: &str) -> Result<Poly<R>, LinalgError> {
+    let n = a.require_square("characteristic polynomial")?;
+    // v holds the coefficients of the characteristic polynomial of the leading r×r block,
+    // highest power first.
+    let mut v: Vec<R> = vec![R::one()];
+    for r in 0..n {
+        // Toeplitz column t = [1, −a_rr, −R C, −R M C, …, −R M^(r−1) C]
+        let mut t: Vec<R> = Vec::with_capacity(r + 2);
+        t.push(R::one());
+        t.push(-a.get(r, r).clone());
+        let mut mc: Vec<R> = (0..r).map(|i| a.get(i, r).clone()).collect();
+        for _ in 0..r {
+            let rc = (0..r).fold(R::zero(), |acc, j| acc + a.get(r, j).clone() * mc[j].clone());
+            t.push(-rc);
+            mc = (0..r)
+                .map(|i| {
+                    (0..r).fold(R::zero(), |acc, j| acc + a.get(i, j).clone() * mc[j].clone())
+                })
+                .collect();
+        }
+        let next: Vec<R> = (0..r + 2)
+            .map(|i| {
+                (0..=i.min(r)).fold(R::zero(), |acc, j| {
+                    if v.get(j).is_some() {
+                        acc + t[i - j].clone() * v[j].clone()
+                    } else {
+                        acc
+                    }
+                })
+            })
+            .collect();
+        v = next;
+    }
+    Ok(Poly::from_descending(&v, var))
+}
+
+/// `det(var·I − A)` over a field, computed on integers after clearing denominators.
+///
+/// # Errors
+/// [`LinalgError::NotSquare`].
+pub fn characteristic_polynomial<F: Field>(
+    a: &Matrix<F>,
+    var: &str,
+) -> Result<Poly<F>, LinalgError> {
+    let n = a.require_square("characteristic polynomial")?;
+    let d = F::common_denominator(a.entries());
+    let scaled = a.map(|x| x.scale_to_integer(&d));
+    let p = berkowitz(&scaled, var)?;
+    // [λ^k] p_A = [μ^k] p_{dA} / d^(n−k)
+    let mut dpow = F::Integers::one();
+    let mut coeffs = vec![F::zero(); n + 1];
+    for k in (0..=n).rev() {
+        coeffs[k] = F::from_integer_ratio(p.coeff(k), dpow.clone()).unwrap_or_else(F::zero);
+        dpow = dpow * d.clone();
+    }
+    Ok(Poly::new(coeffs, var))
+}
+
+/// `P(A) = p_n Aⁿ + … + p_1 A + p_0 I` by Horner's rule.
+///
+/// # Errors
+/// [`LinalgError::NotSquare`].
+pub fn matrix_polynomial<R: Ring>(p: &Poly<R>, a: &Matrix<R>) -> Result<Matrix<R>, LinalgError> {
+    let n = a.require_square("matrix polynomial")?;
+    let mut acc = Matrix::zeros(n, n);
+    for c in p.coeffs().iter().rev() {
+        acc = acc.mul(a)?.add(&Matrix::identity(n).scale(c))?;
+    }
+    Ok(acc)
+}
+
+/// `P(A)·v` by Horner's rule on vectors: n matrix–vector products, never forming `P(A)`.
+///
+/// # Errors
+/// [`LinalgError::NotSquare`], [`LinalgError::DimensionMismatch`].
+pub fn polynomial_times_vector<R: Ring>(
+    p: &Poly<R>,
+    a: &Matrix<R>,
+    v: &Matrix<R>,
+) -> Result<Matrix<R>, LinalgError> {
+    let n = a.require_square("matrix polynomial")?;
+    if v.rows() != n {
+        return Err(a.mismatch(v, "matrix polynomial times vector"));
+    }
+    let mut acc = Matrix::zeros(n, v.cols());
+    for c in p.coeffs().iter().rev() {
+        acc = a.mul(&acc)?.add(&v.scale(c))?;
+    }
+    Ok(acc)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::Rational;
+
+    #[test]
+    fn stoustrup_open_loop_polynomial() {
+        // A = [2 -3; 4 -5]: det(sI − A) = s^2 + 3s + 2
+        let r = |x| Rational::from_i64(x);
+        let a = Matrix::from_rows(vec![vec![r(2), r(-3)], vec![r(4), r(-5)]]).unwrap();
+        let p = characteristic_polynomial(&a, "s").unwrap();
+        assert_eq!(p.to_string(), "s^2 + 3s + 2");
+        assert!(matrix_polynomial(&p, &a).unwrap().is_zero());
+    }
+
+    #[test]
+    fn rational_entries_scale_back_exactly() {
+        let h = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let a = Matrix::from_rows(vec![vec![h(1, 2), h(1, 3)], vec![h(0, 1), h(-1, 4)]]).unwrap();
+        let p = characteristic_polynomial(&a, "s").unwrap();
+        assert_eq!(p.to_string(), "s^2 − (1/4)s − 1/8");
+    }
+}

@@ -1,0 +1,63 @@
+//! The `f64` side, through nalgebra: conversion, eigenvalues, singular values, condition numbers,
+//! rank with an explicit tolerance.
+
+use super::Matrix;
+use crate::algebra::{Ring, ToF64};
+use nalgebra::{Complex, DMatrix};
+
+/// The nearest `f64` matrix, as an nalgebra `DMatrix`.
+pub fn to_nalgebra<T: Ring + ToF64>(a: &Matrix<T>) -> DMatrix<f64> {
+    DMatrix::from_fn(a.rows(), a.cols(), |i, j| a.get(i, j).to_f64())
+}
+
+/// An nalgebra matrix as a workbench matrix.
+pub fn from_nalgebra(a: &DMatrix<f64>) -> Matrix<f64> {
+    Matrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)])
+}
+
+/// The eigenvalues (real Schur form), sorted by real part then imaginary part.
+pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
+    if a.nrows() == 0 || a.nrows() != a.ncols() {
+        return Vec::new();
+    }
+    let mut ev: Vec<Complex<f64>> = a.clone().complex_eigenvalues().iter().copied().collect();
+    ev.sort_by(|x, y| x.re.total_cmp(&y.re).then(x.im.total_cmp(&y.im)));
+    ev
+}
+
+/// Singular values, largest first.
+pub fn singular_values(a: &DMatrix<f64>) -> Vec<f64> {
+    let mut s: Vec<f64> = a.clone().svd(false, false).singular_values.iter().copied().collect();
+    s.sort_by(|x, y| y.total_cmp(x));
+    s
+}
+
+/// The 2-norm condition number `σ_max / σ_min` (infinite when singular).
+pub fn condition_number(a: &DMatrix<f64>) -> f64 {
+    let s = singular_values(a);
+    match (s.first(), s.last()) {
+        (Some(&hi), Some(&lo)) if lo > 0.0 => hi / lo,
+        _ => f64::INFINITY,
+    }
+}
+
+/// The numerical rank: singular values above `tolerance · σ_max`.
+pub fn rank(a: &DMatrix<f64>, tolerance: f64) -> usize {
+    let s = singular_values(a);
+    let top = s.first().copied().unwrap_or(0.0);
+    s.iter().filter(|&&x| x > tolerance * top).count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eigenvalues_of_the_stoustrup_plant() {
+        let a = DMatrix::from_row_slice(2, 2, &[2.0, -3.0, 4.0, -5.0]);
+        let ev = eigenvalues(&a);
+        assert!((ev[0].re + 2.0).abs() < 1e-12 && (ev[1].re + 1.0).abs() < 1e-12);
+        assert!(condition_number(&DMatrix::<f64>::identity(3, 3)) - 1.0 < 1e-15);
+        assert_eq!(rank(&DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 4.0]), 1e-12), 1);
+    }
+}

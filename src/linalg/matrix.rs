@@ -1,0 +1,344 @@
+//! The dense matrix container.
+
+use super::{LinalgError, MAX_EXACT_ORDER};
+use crate::algebra::Ring;
+use std::fmt;
+
+/// A dense row-major matrix over a ring.
+///
+/// Arithmetic is dimension-checked and returns [`LinalgError`] rather than panicking.
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::{Rational, Ring};
+/// use observer_workbench::linalg::Matrix;
+/// let a = Matrix::from_rows(vec![
+///     vec![Rational::from_i64(2), Rational::from_i64(-3)],
+///     vec![Rational::from_i64(4), Rational::from_i64(-5)],
+/// ]).unwrap();
+/// assert_eq!(a.to_input(), "[2, -3; 4, -5]");
+/// let b = Matrix::<Rational>::identity(3);
+/// assert!(a.mul(&b).is_err()); // 2×2 times 3×3
+/// ```
+#[derive(Clone, PartialEq, Eq)]
+pub struct Matrix<T> {
+    rows: usize,
+    cols: usize,
+    data: Vec<T>,
+}
+
+impl<T: Ring> Matrix<T> {
+    /// The `rows × cols` zero matrix.
+    pub fn zeros(rows: usize, cols: usize) -> Self {
+        Matrix {
+            rows,
+            cols,
+            data: vec![T::zero(); rows * cols],
+        }
+    }
+    /// The identity of order `n`.
+    pub fn identity(n: usize) -> Self {
+        Matrix::from_fn(n, n, |i, j| if i == j { T::one() } else { T::zero() })
+    }
+    /// The matrix with entry `(i, j) = f(i, j)`.
+    pub fn from_fn(rows: usize, cols: usize, mut f: impl FnMut(usize, usize) -> T) -> Self {
+        let mut data = Vec::with_capacity(rows * cols);
+        for i in 0..rows {
+            for j in 0..cols {
+                data.push(f(i, j));
+            }
+        }
+        Matrix { rows, cols, data }
+    }
+    /// The matrix with the given rows.
+    ///
+    /// # Errors
+    /// [`LinalgError::RaggedRows`] when the rows differ in length, [`LinalgError::TooLarge`]
+    /// beyond [`MAX_EXACT_ORDER`].
+    pub fn from_rows(rows: Vec<Vec<T>>) -> Result<Self, LinalgError> {
+        let n = rows.len();
+        let m = rows.first().map_or(0, Vec::len);
+        if n > MAX_EXACT_ORDER || m > MAX_EXACT_ORDER {
+            return Err(LinalgError::TooLarge {
+                rows: n,
+                cols: m,
+                limit: MAX_EXACT_ORDER,
+            });
+        }
+        let mut data = Vec::with_capacity(n * m);
+        for (i, r) in rows.into_iter().enumerate() {
+            if r.len() != m {
+                return Err(LinalgError::RaggedRows {
+                    row: i + 1,
+                    found: r.len(),
+                    expected: m,
+                });
+            }
+            data.extend(r);
+        }
+        Ok(Matrix {
+            rows: n,
+            cols: m,
+            data,
+        })
+    }
+    /// A column vector.
+    pub fn column(v: Vec<T>) -> Self {
+        Matrix {
+            rows: v.len(),
+            cols: 1,
+            data: v,
+        }
+    }
+    /// A row vector.
+    pub fn row_vector(v: Vec<T>) -> Self {
+        Matrix {
+            rows: 1,
+            cols: v.len(),
+            data: v,
+        }
+    }
+    /// The `k`-th unit column vector of length `n`.
+    pub fn unit(n: usize, k: usize) -> Self {
+        Matrix::from_fn(n, 1, |i, _| if i == k { T::one() } else { T::zero() })
+    }
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+    /// Number of columns.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+    /// `(rows, cols)`.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.rows, self.cols)
+    }
+    /// Whether the matrix is square.
+    pub fn is_square(&self) -> bool {
+        self.rows == self.cols
+    }
+    /// Entry `(i, j)`, zero-based. Panics out of range, like slice indexing.
+    pub fn get(&self, i: usize, j: usize) -> &T {
+        &self.data[i * self.cols + j]
+    }
+    /// Sets entry `(i, j)`.
+    pub fn set(&mut self, i: usize, j: usize, v: T) {
+        self.data[i * self.cols + j] = v;
+    }
+    /// Row `i` as a slice.
+    pub fn row(&self, i: usize) -> &[T] {
+        &self.data[i * self.cols..(i + 1) * self.cols]
+    }
+    /// Column `j`, copied.
+    pub fn col(&self, j: usize) -> Vec<T> {
+        (0..self.rows).map(|i| self.get(i, j).clone()).collect()
+    }
+    /// All entries, row by row.
+    pub fn entries(&self) -> &[T] {
+        &self.data
+    }
+    /// The rows as vectors.
+    pub fn to_rows(&self) -> Vec<Vec<T>> {
+        (0..self.rows).map(|i| self.row(i).to_vec()).collect()
+    }
+    /// The transpose.
+    pub fn transpose(&self) -> Self {
+        Matrix::from_fn(self.cols, self.rows, |i, j| self.get(j, i).clone())
+    }
+    /// Every entry mapped.
+    pub fn map<S: Ring>(&self, f: impl Fn(&T) -> S) -> Matrix<S> {
+        Matrix {
+            rows: self.rows,
+            cols: self.cols,
+            data: self.data.iter().map(f).collect(),
+        }
+    }
+    /// `c · self`.
+    pub fn scale(&self, c: &T) -> Self {
+        self.map(|x| x.clone() * c.clone())
+    }
+    /// Whether every entry is zero.
+    pub fn is_zero(&self) -> bool {
+        self.data.iter().all(T::is_zero)
+    }
+
+    fn check_same(&self, other: &Self, operation: &'static str) -> Result<(), LinalgError> {
+        if self.shape() == other.shape() {
+            Ok(())
+        } else {
+            Err(self.mismatch(other, operation))
+        }
+    }
+    pub(crate) fn mismatch(&self, other: &Self, operation: &'static str) -> LinalgError {
+        LinalgError::DimensionMismatch {
+            operation,
+            left_rows: self.rows,
+            left_cols: self.cols,
+            right_rows: other.rows,
+            right_cols: other.cols,
+        }
+    }
+    pub(crate) fn require_square(&self, operation: &'static str) -> Result<usize, LinalgError> {
+        if self.is_square() {
+            Ok(self.rows)
+        } else {
+            Err(LinalgError::NotSquare {
+                operation,
+                rows: self.rows,
+                cols: self.cols,
+            })
+        }
+    }
+
+    /// `self + other`.
+    pub fn add(&self, other: &Self) -> Result<Self, LinalgError> {
+        self.check_same(other, "sum")?;
+        Ok(Matrix::from_fn(self.rows, self.cols, |i, j| {
+            self.get(i, j).clone() + other.get(i, j).clone()
+        }))
+    }
+    /// `self − other`.
+    pub fn sub(&self, other: &Self) -> Result<Self, LinalgError> {
+        self.check_same(other, "difference")?;
+        Ok(Matrix::from_fn(self.rows, self.cols, |i, j| {
+            self.get(i, j).clone() - other.get(i, j).clone()
+        }))
+    }
+    /// `−self`.
+    pub fn neg(&self) -> Self {
+        self.map(|x| -x.clone())
+    }
+    /// The product `self · other`.
+    pub fn mul(&self, other: &Self) -> Result<Self, LinalgError> {
+        if self.cols != other.rows {
+            return Err(self.mismatch(other, "product"));
+        }
+        let mut out = Matrix::<T>::zeros(self.rows, other.cols);
+        for i in 0..self.rows {
+            for k in 0..self.cols {
+                let a = self.get(i, k);
+                if a.is_zero() {
+                    continue;
+                }
+                for j in 0..other.cols {
+                    let idx = i * out.cols + j;
+                    out.data[idx] = out.data[idx].clone() + a.clone() * other.get(k, j).clone();
+                }
+            }
+        }
+        Ok(out)
+    }
+    /// Rows stacked: `[self; other]`.
+    pub fn vstack(&self, other: &Self) -> Result<Self, LinalgError> {
+        if self.cols != other.cols && self.rows > 0 && other.rows > 0 {
+            return Err(self.mismatch(other, "vertical stack"));
+        }
+        let mut data = self.data.clone();
+        data.extend(other.data.iter().cloned());
+        Ok(Matrix {
+            rows: self.rows + other.rows,
+            cols: self.cols.max(other.cols),
+            data,
+        })
+    }
+    /// Columns side by side: `[self, other]`.
+    pub fn hstack(&self, other: &Self) -> Result<Self, LinalgError> {
+        if self.rows != other.rows {
+            return Err(self.mismatch(other, "horizontal stack"));
+        }
+        Ok(Matrix::from_fn(self.rows, self.cols + other.cols, |i, j| {
+            if j < self.cols {
+                self.get(i, j).clone()
+            } else {
+                other.get(i, j - self.cols).clone()
+            }
+        }))
+    }
+    /// The block of rows `r0..r1`, columns `c0..c1`.
+    pub fn block(&self, r0: usize, r1: usize, c0: usize, c1: usize) -> Self {
+        Matrix::from_fn(r1 - r0, c1 - c0, |i, j| self.get(r0 + i, c0 + j).clone())
+    }
+    /// The trace.
+    pub fn trace(&self) -> T {
+        (0..self.rows.min(self.cols)).fold(T::zero(), |acc, i| acc + self.get(i, i).clone())
+    }
+    /// `self^k` for a square matrix.
+    pub fn pow(&self, k: u32) -> Result<Self, LinalgError> {
+        let n = self.require_square("power")?;
+        let mut out = Matrix::<T>::identity(n);
+        for _ in 0..k {
+            out = out.mul(self)?;
+        }
+        Ok(out)
+    }
+
+    /// Aligned rows for a terminal, one row per line: `[ 2  -3 ]`.
+    pub fn render(&self) -> String {
+        let cells: Vec<Vec<String>> = (0..self.rows)
+            .map(|i| self.row(i).iter().map(|x| x.to_string()).collect())
+            .collect();
+        let widths: Vec<usize> = (0..self.cols)
+            .map(|j| {
+                cells
+                    .iter()
+                    .map(|r| r[j].chars().count())
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect();
+        if self.rows == 0 || self.cols == 0 {
+            return format!("[] ({}×{})", self.rows, self.cols);
+        }
+        cells
+            .iter()
+            .map(|r| {
+                let body: Vec<String> = r
+                    .iter()
+                    .zip(&widths)
+                    .map(|(c, w)| format!("{}{c}", " ".repeat(w - c.chars().count())))
+                    .collect();
+                format!("[ {} ]", body.join("  "))
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+    /// Input syntax: `[2, -3; 4, -5]`.
+    pub fn to_input(&self) -> String {
+        let rows: Vec<String> = (0..self.rows)
+            .map(|i| {
+                self.row(i)
+                    .iter()
+                    .map(|x| x.to_input())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            })
+            .collect();
+        format!("[{}]", rows.join("; "))
+    }
+    /// LaTeX `bmatrix`.
+    pub fn to_latex(&self) -> String {
+        let rows: Vec<String> = (0..self.rows)
+            .map(|i| {
+                self.row(i)
+                    .iter()
+                    .map(|x| x.to_latex())
+                    .collect::<Vec<_>>()
+                    .join(" & ")
+            })
+            .collect();
+        format!("\\begin{{bmatrix}} {} \\end{{bmatrix}}", rows.join(" \\\\ "))
+    }
+}
+
+impl<T: Ring> fmt::Display for Matrix<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.render())
+    }
+}
+
+impl<T: Ring> fmt::Debug for Matrix<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.to_input())
+    }
+}

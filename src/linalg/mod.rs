@@ -1,0 +1,82 @@
+//! Exact (and float) linear algebra written once over the ring traits.
+//!
+//! * [`Matrix`]: a small dense container with dimension-checked arithmetic.
+//! * [`elimination`]: fraction-free Bareiss elimination (determinant, rank, solve, inverse) and
+//!   Gauss–Jordan (reduced row echelon form, null space). Over the rationals every elimination
+//!   first clears denominators row by row and runs on integers.
+//! * [`charpoly`]: the characteristic polynomial by Berkowitz's division-free algorithm (so it
+//!   runs over the symbolic ring too), matrix polynomials `P(A)` and `P(A)·v` by Horner.
+//! * [`kronecker`]: Kronecker products and `vec`, for Lyapunov equations.
+//! * [`float`]: the `f64` side through nalgebra: eigenvalues, singular values, condition numbers.
+
+pub mod charpoly;
+pub mod elimination;
+pub mod float;
+pub mod kronecker;
+mod matrix;
+
+pub use charpoly::{berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_vector};
+pub use elimination::{determinant, inverse, null_space, rank, rref, solve, Rref};
+pub use kronecker::{kronecker, vectorize};
+pub use matrix::Matrix;
+
+/// The largest matrix order the exact algorithms accept; larger inputs are refused with
+/// [`LinalgError::TooLarge`] instead of running for hours.
+pub const MAX_EXACT_ORDER: usize = 200;
+
+/// What went wrong in a matrix computation, with the evidence.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum LinalgError {
+    /// Operand shapes do not fit the operation.
+    #[error("{operation}: dimension mismatch, left is {left_rows}×{left_cols}, right is {right_rows}×{right_cols}")]
+    DimensionMismatch {
+        /// The operation attempted (`"product"`, `"solve"`…).
+        operation: &'static str,
+        /// Rows of the left operand.
+        left_rows: usize,
+        /// Columns of the left operand.
+        left_cols: usize,
+        /// Rows of the right operand.
+        right_rows: usize,
+        /// Columns of the right operand.
+        right_cols: usize,
+    },
+    /// A square matrix was needed.
+    #[error("{operation}: the matrix must be square, it is {rows}×{cols}")]
+    NotSquare {
+        /// The operation attempted.
+        operation: &'static str,
+        /// Rows found.
+        rows: usize,
+        /// Columns found.
+        cols: usize,
+    },
+    /// The matrix is singular.
+    #[error("the {order}×{order} matrix is singular (rank {rank})")]
+    Singular {
+        /// The order of the matrix.
+        order: usize,
+        /// Its rank.
+        rank: usize,
+    },
+    /// The rows given have different lengths.
+    #[error("row {row} has {found} entries, the first row has {expected}")]
+    RaggedRows {
+        /// The offending row (1-based).
+        row: usize,
+        /// Entries in that row.
+        found: usize,
+        /// Entries in the first row.
+        expected: usize,
+    },
+    /// A matrix beyond [`MAX_EXACT_ORDER`].
+    #[error("a {rows}×{cols} matrix is larger than the exact algorithms accept ({limit}×{limit})")]
+    TooLarge {
+        /// Rows found.
+        rows: usize,
+        /// Columns found.
+        cols: usize,
+        /// The limit.
+        limit: usize,
+    },
+}
