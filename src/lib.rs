@@ -9,3 +9,4 @@
 pub mod algebra;
 pub mod linalg;
 pub mod poly;
+pub mod syntax;

@@ -1,0 +1,366 @@
+//! Evaluating parsed expressions into the workbench's number types, polynomials and rational
+//! functions.
+
+use super::parser::{Expr, ExprKind};
+use super::SyntaxError;
+use crate::algebra::{Field, MultiPoly, Quadratic, Rational, Ring, Zero};
+use crate::poly::{Poly, RationalFunction};
+
+/// Why a division could not be carried out.
+pub enum DivisionRefused {
+    /// The divisor is zero.
+    ByZero,
+    /// The target type cannot divide by this (e.g. a symbolic divisor).
+    NotAllowed(String),
+}
+
+/// A type an expression can be evaluated into.
+pub trait FromExpr: Ring {
+    /// What the type is called in error messages ("a rational number").
+    const TARGET: &'static str;
+    /// The exact number `r`.
+    fn from_rational(r: Rational) -> Self;
+    /// A named symbol, if the type has symbols.
+    fn symbol(_name: &str) -> Option<Self> {
+        None
+    }
+    /// The imaginary unit, if the type has it.
+    fn imaginary_unit() -> Option<Self> {
+        None
+    }
+    /// The square root of a rational, or a description of why it is not in the type.
+    fn sqrt_of(r: &Rational) -> Result<Self, String>;
+    /// `self / divisor`.
+    fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused>;
+    /// The quadratic field the value lives in (0: rational), to refuse mixing √2 and √3.
+    fn field_tag(&self) -> i64 {
+        0
+    }
+    /// Evaluates a whole expression.
+    ///
+    /// # Errors
+    /// [`SyntaxError`] naming the column of the construct that does not fit.
+    fn from_expr(e: &Expr) -> Result<Self, SyntaxError> {
+        let mut ctx = Context::default();
+        scalar(e, &mut ctx)
+    }
+}
+
+/// Parsing into a type from text, for the types [`FromExpr`] covers (and matrices of them).
+pub trait ParseValue: Sized {
+    /// Parses `input`.
+    ///
+    /// # Errors
+    /// [`SyntaxError`].
+    fn parse_value(input: &str) -> Result<Self, SyntaxError>;
+}
+
+impl<T: FromExpr> ParseValue for T {
+    fn parse_value(input: &str) -> Result<Self, SyntaxError> {
+        super::parse_scalar(input)
+    }
+}
+
+#[derive(Default)]
+struct Context {
+    field: Option<(i64, usize)>,
+}
+
+impl Context {
+    fn note_field(&mut self, tag: i64, column: usize) -> Result<(), SyntaxError> {
+        if tag == 0 {
+            return Ok(());
+        }
+        match self.field {
+            Some((t, _)) if t != tag => Err(SyntaxError::NotAllowed {
+                column,
+                what: format!("{} after {}", radical(tag), radical(t)),
+                target: "one number (only one quadratic field at a time)".into(),
+            }),
+            _ => {
+                self.field = Some((tag, column));
+                Ok(())
+            }
+        }
+    }
+}
+
+fn radical(tag: i64) -> String {
+    if tag == -1 {
+        "i".into()
+    } else {
+        format!("√{tag}")
+    }
+}
+
+fn not_allowed(column: usize, what: impl Into<String>, target: &str) -> SyntaxError {
+    SyntaxError::NotAllowed {
+        column,
+        what: what.into(),
+        target: target.into(),
+    }
+}
+
+fn power<T: Ring>(base: T, k: u32) -> T {
+    (0..k).fold(T::one(), |acc, _| acc * base.clone())
+}
+
+fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
+    let c = e.column;
+    let v = match &e.kind {
+        ExprKind::Number(r) => T::from_rational(r.clone()),
+        ExprKind::Symbol(name) => {
+            T::symbol(name).ok_or_else(|| not_allowed(c, format!("the symbol '{name}'"), T::TARGET))?
+        }
+        ExprKind::ImaginaryUnit => T::imaginary_unit()
+            .ok_or_else(|| not_allowed(c, "the imaginary unit i", T::TARGET))?,
+        ExprKind::Sqrt(arg) => {
+            let r = rational_argument(arg)?;
+            T::sqrt_of(&r).map_err(|what| not_allowed(c, what, T::TARGET))?
+        }
+        ExprKind::Neg(x) => -scalar::<T>(x, ctx)?,
+        ExprKind::Add(x, y) => scalar::<T>(x, ctx)? + scalar::<T>(y, ctx)?,
+        ExprKind::Sub(x, y) => scalar::<T>(x, ctx)? - scalar::<T>(y, ctx)?,
+        ExprKind::Mul(x, y) => scalar::<T>(x, ctx)? * scalar::<T>(y, ctx)?,
+        ExprKind::Div(x, y) => {
+            let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
+            divide(&a, &b, c, T::TARGET)?
+        }
+        ExprKind::Pow(x, k) => {
+            let b = scalar::<T>(x, ctx)?;
+            let p = power(b, k.unsigned_abs() as u32);
+            if *k < 0 {
+                divide(&T::one(), &p, c, T::TARGET)?
+            } else {
+                p
+            }
+        }
+    };
+    ctx.note_field(v.field_tag(), c)?;
+    Ok(v)
+}
+
+fn divide<T: FromExpr>(a: &T, b: &T, column: usize, target: &str) -> Result<T, SyntaxError> {
+    a.divide(b).map_err(|e| match e {
+        DivisionRefused::ByZero => SyntaxError::DivisionByZero { column },
+        DivisionRefused::NotAllowed(what) => not_allowed(column, what, target),
+    })
+}
+
+/// The argument of a square root must be an exact rational.
+fn rational_argument(arg: &Expr) -> Result<Rational, SyntaxError> {
+    Rational::from_expr(arg).map_err(|e| match e {
+        SyntaxError::NotAllowed { column, what, .. } => not_allowed(
+            column,
+            what,
+            "a square root's argument (it must be a rational number)",
+        ),
+        other => other,
+    })
+}
+
+/// Evaluates into a rational function of `var` over `F`.
+pub(crate) fn rational_function<F: Field + FromExpr>(
+    e: &Expr,
+    var: &str,
+) -> Result<RationalFunction<F>, SyntaxError> {
+    let mut ctx = Context::default();
+    rf(e, var, &mut ctx)
+}
+
+/// Evaluates into a polynomial in `var` over `F`.
+pub(crate) fn polynomial<F: Field + FromExpr>(e: &Expr, var: &str) -> Result<Poly<F>, SyntaxError> {
+    let r = rational_function::<F>(e, var)?;
+    if r.denominator().degree() == Some(0) {
+        Ok(r.numerator().clone())
+    } else {
+        Err(not_allowed(
+            e.column,
+            format!("a division by the polynomial {}", r.denominator()),
+            &format!("a polynomial in {var}"),
+        ))
+    }
+}
+
+fn rf<F: Field + FromExpr>(
+    e: &Expr,
+    var: &str,
+    ctx: &mut Context,
+) -> Result<RationalFunction<F>, SyntaxError> {
+    let c = e.column;
+    let constant = |v: F| RationalFunction::from_poly(Poly::constant(v, var));
+    Ok(match &e.kind {
+        ExprKind::Symbol(name) if name == var => RationalFunction::from_poly(Poly::x(var)),
+        ExprKind::Symbol(name) => {
+            return Err(not_allowed(
+                c,
+                format!("the symbol '{name}'"),
+                &format!("a function of {var}"),
+            ))
+        }
+        ExprKind::Number(_) | ExprKind::ImaginaryUnit | ExprKind::Sqrt(_) => {
+            constant(scalar::<F>(e, ctx)?)
+        }
+        ExprKind::Neg(x) => -rf(x, var, ctx)?,
+        ExprKind::Add(x, y) => rf(x, var, ctx)? + rf(y, var, ctx)?,
+        ExprKind::Sub(x, y) => rf(x, var, ctx)? - rf(y, var, ctx)?,
+        ExprKind::Mul(x, y) => rf(x, var, ctx)? * rf(y, var, ctx)?,
+        ExprKind::Div(x, y) => {
+            let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);
+            a.checked_div(&b)
+                .ok_or(SyntaxError::DivisionByZero { column: c })?
+        }
+        ExprKind::Pow(x, k) => {
+            let b = rf::<F>(x, var, ctx)?;
+            let p = (0..k.unsigned_abs()).fold(constant(F::one()), |acc, _| acc * b.clone());
+            if *k < 0 {
+                p.inverse().ok_or(SyntaxError::DivisionByZero { column: c })?
+            } else {
+                p
+            }
+        }
+    })
+}
+
+impl FromExpr for Rational {
+    const TARGET: &'static str = "a rational number";
+    fn from_rational(r: Rational) -> Self {
+        r
+    }
+    fn sqrt_of(r: &Rational) -> Result<Self, String> {
+        let q = Quadratic::sqrt_of_rational(r).map_err(|e| e.to_string())?;
+        match q.as_rational() {
+            Some(x) => Ok(x.clone()),
+            None => Err(format!("the irrational {q}")),
+        }
+    }
+    fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
+        self.checked_div(divisor).ok_or(DivisionRefused::ByZero)
+    }
+}
+
+impl FromExpr for Quadratic {
+    const TARGET: &'static str = "an exact number";
+    fn from_rational(r: Rational) -> Self {
+        Quadratic::rational(r)
+    }
+    fn imaginary_unit() -> Option<Self> {
+        Some(Quadratic::imaginary_unit())
+    }
+    fn sqrt_of(r: &Rational) -> Result<Self, String> {
+        Quadratic::sqrt_of_rational(r).map_err(|e| e.to_string())
+    }
+    fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
+        self.checked_div(divisor).ok_or(DivisionRefused::ByZero)
+    }
+    fn field_tag(&self) -> i64 {
+        self.radicand()
+    }
+}
+
+impl FromExpr for MultiPoly {
+    const TARGET: &'static str = "a polynomial with rational coefficients";
+    fn from_rational(r: Rational) -> Self {
+        MultiPoly::constant(r)
+    }
+    fn symbol(name: &str) -> Option<Self> {
+        Some(MultiPoly::var(name))
+    }
+    fn sqrt_of(r: &Rational) -> Result<Self, String> {
+        Rational::sqrt_of(r).map(MultiPoly::constant)
+    }
+    fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
+        match divisor.as_constant() {
+            Some(c) if c.is_zero() => Err(DivisionRefused::ByZero),
+            Some(c) => Ok(self.clone() * MultiPoly::constant(c.recip())),
+            None => self
+                .divide_exact_poly(divisor)
+                .ok_or_else(|| DivisionRefused::NotAllowed(format!("a division by {divisor}"))),
+        }
+    }
+}
+
+impl MultiPoly {
+    fn divide_exact_poly(&self, divisor: &MultiPoly) -> Option<MultiPoly> {
+        crate::algebra::IntegralDomain::divide_exact(self, divisor)
+    }
+}
+
+impl FromExpr for f64 {
+    const TARGET: &'static str = "a float";
+    fn from_rational(r: Rational) -> Self {
+        crate::algebra::rational_to_f64(&r)
+    }
+    fn sqrt_of(r: &Rational) -> Result<Self, String> {
+        let x = crate::algebra::rational_to_f64(r);
+        if x < 0.0 {
+            Err(format!("the square root of the negative number {r}"))
+        } else {
+            Ok(x.sqrt())
+        }
+    }
+    fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
+        if *divisor == 0.0 {
+            Err(DivisionRefused::ByZero)
+        } else {
+            Ok(self / divisor)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::syntax::{parse_list, parse_matrix, parse_polynomial, parse_rational_function, parse_scalar};
+
+    #[test]
+    fn numbers_in_every_spelling() {
+        let r = |s: &str| parse_scalar::<Rational>(s).unwrap().to_string();
+        assert_eq!(r("-7/3"), "-7/3");
+        assert_eq!(r("0.125"), "1/8");
+        assert_eq!(r("1e-3"), "1/1000");
+        assert_eq!(r("2^-2"), "1/4");
+        assert_eq!(r("sqrt(9/4)"), "3/2");
+        let q = |s: &str| parse_scalar::<Quadratic>(s).unwrap().to_string();
+        assert_eq!(q("sqrt(2)/2"), "√2/2");
+        assert_eq!(q("√2 − 2"), "√2 − 2");
+        assert_eq!(q("-1+2i"), "-1 + 2i");
+        assert_eq!(q("1/(1 + sqrt(2))"), "√2 − 1");
+    }
+
+    #[test]
+    fn mixing_square_roots_is_refused() {
+        let e = parse_scalar::<Quadratic>("sqrt(2) + sqrt(3)").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "column 11: √3 after √2 is not allowed in one number (only one quadratic field at a time)"
+        );
+        let e = parse_polynomial::<Quadratic>("sqrt(2) s + sqrt(3)", "s").unwrap_err();
+        assert!(matches!(e, SyntaxError::NotAllowed { .. }));
+    }
+
+    #[test]
+    fn division_by_zero_names_the_column() {
+        let e = parse_scalar::<Rational>("1/(2 - 2)").unwrap_err();
+        assert_eq!(e, SyntaxError::DivisionByZero { column: 2 });
+    }
+
+    #[test]
+    fn symbolic_matrices_and_lists() {
+        let m = parse_matrix::<MultiPoly>("[-k1 1; -k2 0]").unwrap();
+        assert_eq!(m.to_input(), "[-k1, 1; -k2, 0]");
+        let poles = parse_list::<Quadratic>("-1+2i, -1-2i, -3").unwrap();
+        assert_eq!(poles.len(), 3);
+        let e = parse_matrix::<Rational>("[1 k]").unwrap_err();
+        assert_eq!(e.to_string(), "column 4: the symbol 'k' is not allowed in a rational number");
+    }
+
+    #[test]
+    fn transfer_functions_reduce() {
+        let g = parse_rational_function::<Rational>("-108 (s + 7/3)/(s^2 + 15 s + 74)", "s")
+            .unwrap();
+        assert_eq!(g.to_string(), "(-108s − 252)/(s^2 + 15s + 74)");
+        let p = parse_polynomial::<Rational>("s^2 + 9s + 20", "s").unwrap();
+        assert_eq!(p.to_input(), "s^2 + 9*s + 20");
+    }
+}
