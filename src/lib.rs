@@ -7,6 +7,12 @@
 #![warn(missing_docs)]
 
 pub mod algebra;
+pub mod canonical_form;
+pub mod control;
+pub mod derivation;
 pub mod linalg;
+pub mod observability;
+pub mod observer;
 pub mod poly;
 pub mod syntax;
+pub mod system;

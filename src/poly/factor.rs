@@ -7,7 +7,7 @@
 //! was not exhaustive instead of pretending.
 
 use super::Poly;
-use crate::algebra::{Field, Rational, Ring};
+use crate::algebra::{Field, Quadratic, Rational, Ring};
 use num_bigint::BigInt;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use std::fmt;
@@ -250,3 +250,80 @@ impl fmt::Display for Factored {
     }
 }
 
+
+/// Roots of a rational polynomial, exact where they are rational or lie in a quadratic field.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExactRoots {
+    /// Exact roots with multiplicities (rational roots first, descending; then quadratic pairs).
+    pub roots: Vec<(Quadratic, u32)>,
+    /// Factors of degree ≥ 3 (or too large to split) whose roots are not given exactly.
+    pub unresolved: Vec<(Poly<Rational>, u32)>,
+}
+
+impl ExactRoots {
+    /// Whether every root is given exactly.
+    pub fn complete(&self) -> bool {
+        self.unresolved.is_empty()
+    }
+    /// The roots as text, `-2 (×2), √2 − 2, -√2 − 2`.
+    pub fn render(&self) -> String {
+        let mut parts: Vec<String> = self
+            .roots
+            .iter()
+            .map(|(r, m)| {
+                if *m > 1 {
+                    format!("{r} (×{m})")
+                } else {
+                    r.to_string()
+                }
+            })
+            .collect();
+        parts.extend(
+            self.unresolved
+                .iter()
+                .map(|(f, m)| format!("roots of {f}{}", if *m > 1 { format!(" (×{m})") } else { String::new() })),
+        );
+        if parts.is_empty() {
+            "none".into()
+        } else {
+            parts.join(", ")
+        }
+    }
+}
+
+/// The roots of `p`: rational roots, then the roots of quadratic factors in Q(√d).
+///
+/// ```
+/// use observer_workbench::algebra::{Rational, Ring};
+/// use observer_workbench::poly::{exact_roots, Poly};
+/// // RC ladder n = 3: (s + 2)(s^2 + 4s + 2)
+/// let p = Poly::from_descending(&[1, 6, 10, 4].map(Rational::from_i64), "s");
+/// assert_eq!(exact_roots(&p).render(), "-2, √2 − 2, -√2 − 2");
+/// ```
+pub fn exact_roots(p: &Poly<Rational>) -> ExactRoots {
+    let f = Factored::of(p);
+    let mut roots = Vec::new();
+    let mut unresolved = Vec::new();
+    for (factor, m) in &f.factors {
+        match factor.degree() {
+            Some(1) => roots.push((Quadratic::rational(-factor.coeff(0)), *m)),
+            Some(2) => {
+                // s^2 + b s + c (monic): (−b ± √(b² − 4c)) / 2
+                let b = factor.coeff(1);
+                let c = factor.coeff(0);
+                let disc = b.clone() * b.clone() - Rational::from_i64(4) * c;
+                match Quadratic::sqrt_of_rational(&disc) {
+                    Ok(root) => {
+                        let half = Quadratic::rational(Rational::new(1.into(), 2.into()));
+                        let minus_b = Quadratic::rational(-b);
+                        roots.push(((minus_b.clone() + root.clone()) * half.clone(), *m));
+                        roots.push(((minus_b - root) * half, *m));
+                    }
+                    Err(_) => unresolved.push((factor.clone(), *m)),
+                }
+            }
+            _ => unresolved.push((factor.clone(), *m)),
+        }
+    }
+    ExactRoots { roots, unresolved }
+}

@@ -10,6 +10,6 @@ mod factor;
 mod rational_function;
 mod univariate;
 
-pub use factor::{rational_roots, Factored, RootSearch};
+pub use factor::{exact_roots, rational_roots, ExactRoots, Factored, RootSearch};
 pub use rational_function::RationalFunction;
 pub use univariate::Poly;

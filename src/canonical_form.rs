@@ -1,0 +1,218 @@
+//! Observer and controller canonical forms of single-output (single-input) systems.
+//!
+//! * Di Ruscio's `ss2ocf` (eq. (16)–(22)): `T_o = (Mᵀ O_n)⁻¹`, with `M` the upper-triangular
+//!   Toeplitz matrix whose first row is `[1, a_1, …, a_(n−1)]` (eq. (18)) from
+//!   `det(λI − A) = λⁿ + a_1 λⁿ⁻¹ + … + a_n`. The form has `−a_i` in the first column of `A_o`.
+//! * Stoustrup's procedure (Lecture 3, "observable canonical form"): `t_n = O⁻¹ e_n`,
+//!   `t_(k−1) = A t_k`, `T = [t_1 … t_n]`. Stoustrup writes the first column of `A_o` as
+//!   `(a_1, …, a_n)` with `det(λI − A_o) = λⁿ − a_1 λⁿ⁻¹ − … − a_n`: the same matrix, with his
+//!   `a_i` the negatives of Di Ruscio's. Both procedures give the same `T` (a tested property).
+//! * Controller form through `T_c = C_n M` (Di Ruscio §3.2).
+
+use crate::algebra::Field;
+use crate::linalg::{self, LinalgError, Matrix};
+use crate::observability::{controllability_matrix, require_observable, ObservabilityError};
+use crate::poly::Poly;
+
+/// Which textbook procedure produced the transformation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CanonicalProcedure {
+    /// Di Ruscio's `T_o = (Mᵀ O_n)⁻¹`.
+    DiRuscio,
+    /// Stoustrup's `t_n = O⁻¹ e_n`, `t_(k−1) = A t_k`.
+    Stoustrup,
+}
+
+/// A canonical form with its working: `x = T x_o`, `A_o = T⁻¹AT`, `B_o = T⁻¹B`, `C_o = CT`.
+#[derive(Clone, PartialEq, Debug)]
+pub struct CanonicalForm<F: Field> {
+    /// The procedure used.
+    pub procedure: CanonicalProcedure,
+    /// `det(λI − A)`.
+    pub open_loop: Poly<F>,
+    /// `O_n` (observer form) or `C_n` (controller form).
+    pub test_matrix: Matrix<F>,
+    /// The Toeplitz matrix `M` of eq. (18).
+    pub toeplitz: Matrix<F>,
+    /// `T`.
+    pub t: Matrix<F>,
+    /// `T⁻¹`.
+    pub t_inv: Matrix<F>,
+    /// `A_o = T⁻¹AT`.
+    pub a: Matrix<F>,
+    /// `B_o = T⁻¹B` (zero columns if no B was given).
+    pub b: Matrix<F>,
+    /// `C_o = CT`.
+    pub c: Matrix<F>,
+}
+
+/// Why a canonical form could not be computed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CanonicalFormError {
+    /// Only single-output (observer form) or single-input (controller form) systems have it here.
+    #[error("the {form} canonical form needs a single {what}; the system has {found}")]
+    NotSingle {
+        /// `"observer"` or `"controller"`.
+        form: &'static str,
+        /// `"output"` or `"input"`.
+        what: &'static str,
+        /// How many there are.
+        found: usize,
+    },
+    /// The pair is not observable.
+    #[error(transparent)]
+    Observability(#[from] ObservabilityError),
+    /// The pair is not controllable.
+    #[error("the pair (A, B) is not controllable: rank of the controllability matrix is {rank}, the order is {order}")]
+    Uncontrollable {
+        /// Rank of `C_n`.
+        rank: usize,
+        /// Order.
+        order: usize,
+    },
+    /// A matrix computation failed.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+}
+
+/// Di Ruscio's `M`: upper triangular Toeplitz, first row `[1, a_1, …, a_(n−1)]` (eq. (18)).
+pub fn toeplitz_m<F: Field>(open_loop: &Poly<F>) -> Matrix<F> {
+    let n = open_loop.degree().unwrap_or(0);
+    // a_k is the coefficient of λ^(n−k)
+    Matrix::from_fn(n, n, |i, j| {
+        if j >= i {
+            open_loop.coeff(n - (j - i))
+        } else {
+            F::zero()
+        }
+    })
+}
+
+fn finish<F: Field>(
+    procedure: CanonicalProcedure,
+    a: &Matrix<F>,
+    b: Option<&Matrix<F>>,
+    c: &Matrix<F>,
+    open_loop: Poly<F>,
+    test_matrix: Matrix<F>,
+    toeplitz: Matrix<F>,
+    t: Matrix<F>,
+) -> Result<CanonicalForm<F>, LinalgError> {
+    let t_inv = linalg::inverse(&t)?;
+    let n = a.rows();
+    let b = b.cloned().unwrap_or_else(|| Matrix::zeros(n, 0));
+    Ok(CanonicalForm {
+        procedure,
+        a: t_inv.mul(a)?.mul(&t)?,
+        b: t_inv.mul(&b)?,
+        c: c.mul(&t)?,
+        open_loop,
+        test_matrix,
+        toeplitz,
+        t,
+        t_inv,
+    })
+}
+
+fn single_output<F: Field>(c: &Matrix<F>) -> Result<(), CanonicalFormError> {
+    if c.rows() == 1 {
+        Ok(())
+    } else {
+        Err(CanonicalFormError::NotSingle {
+            form: "observer",
+            what: "output",
+            found: c.rows(),
+        })
+    }
+}
+
+/// Di Ruscio's `ss2ocf`: `T_o = (Mᵀ O_n)⁻¹`.
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::Rational;
+/// use observer_workbench::canonical_form::observer_form_di_ruscio;
+/// use observer_workbench::syntax::parse_matrix;
+/// let a = parse_matrix::<Rational>("[2 -3; 4 -5]").unwrap();
+/// let c = parse_matrix::<Rational>("[-3 2]").unwrap();
+/// let f = observer_form_di_ruscio(&a, None, &c).unwrap();
+/// assert_eq!(f.t.to_input(), "[-5, 2; -7, 3]");
+/// assert_eq!(f.a.to_input(), "[-3, 1; -2, 0]");
+/// ```
+///
+/// # Errors
+/// [`CanonicalFormError`] for several outputs or an unobservable pair.
+pub fn observer_form_di_ruscio<F: Field>(
+    a: &Matrix<F>,
+    b: Option<&Matrix<F>>,
+    c: &Matrix<F>,
+) -> Result<CanonicalForm<F>, CanonicalFormError> {
+    single_output(c)?;
+    let o = require_observable(a, c)?;
+    let open_loop = linalg::characteristic_polynomial(a, "s")?;
+    let m = toeplitz_m(&open_loop);
+    let t = linalg::inverse(&m.transpose().mul(&o)?)?;
+    Ok(finish(CanonicalProcedure::DiRuscio, a, b, c, open_loop, o, m, t)?)
+}
+
+/// Stoustrup's procedure: `t_n = O⁻¹ e_n`, `t_(k−1) = A t_k`.
+///
+/// # Errors
+/// [`CanonicalFormError`] for several outputs or an unobservable pair.
+pub fn observer_form_stoustrup<F: Field>(
+    a: &Matrix<F>,
+    b: Option<&Matrix<F>>,
+    c: &Matrix<F>,
+) -> Result<CanonicalForm<F>, CanonicalFormError> {
+    single_output(c)?;
+    let o = require_observable(a, c)?;
+    let n = a.rows();
+    let open_loop = linalg::characteristic_polynomial(a, "s")?;
+    let mut cols = vec![linalg::solve(&o, &Matrix::unit(n, n - 1))?];
+    for _ in 1..n {
+        let next = a.mul(cols.last().expect("nonempty"))?;
+        cols.push(next);
+    }
+    cols.reverse();
+    let t = Matrix::from_fn(n, n, |i, j| cols[j].get(i, 0).clone());
+    let m = toeplitz_m(&open_loop);
+    Ok(finish(CanonicalProcedure::Stoustrup, a, b, c, open_loop, o, m, t)?)
+}
+
+/// The controller canonical form through `T_c = C_n M` (Di Ruscio §3.2).
+///
+/// # Errors
+/// [`CanonicalFormError`] for several inputs or an uncontrollable pair.
+pub fn controller_form<F: Field>(
+    a: &Matrix<F>,
+    b: &Matrix<F>,
+    c: Option<&Matrix<F>>,
+) -> Result<CanonicalForm<F>, CanonicalFormError> {
+    if b.cols() != 1 {
+        return Err(CanonicalFormError::NotSingle {
+            form: "controller",
+            what: "input",
+            found: b.cols(),
+        });
+    }
+    let n = a.rows();
+    let cn = controllability_matrix(a, b)?;
+    let rank = linalg::rank(&cn);
+    if rank < n {
+        return Err(CanonicalFormError::Uncontrollable { rank, order: n });
+    }
+    let open_loop = linalg::characteristic_polynomial(a, "s")?;
+    let m = toeplitz_m(&open_loop);
+    let t = cn.mul(&m)?;
+    let c = c.cloned().unwrap_or_else(|| Matrix::zeros(0, n));
+    Ok(finish(
+        CanonicalProcedure::DiRuscio,
+        a,
+        Some(b),
+        &c,
+        open_loop,
+        cn,
+        m,
+        t,
+    )?)
+}

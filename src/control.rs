@@ -1,0 +1,218 @@
+//! Observer-based control: state feedback, the separation principle, and exact transfer
+//! functions (Stoustrup, Lecture 3, "Observer based control", "The separation principle").
+//!
+//! Conventions follow Stoustrup: `u = F x̂`, observer `x̂' = Ax̂ + Bu + L(Cx̂ − y)`, so the closed
+//! loop in `(x, e)` has the block-triangular matrix `[A + BF, BF; 0, A + LC]`.
+//!
+//! Transfer functions are computed without inverting `sI − A` symbolically: for a column `b` and
+//! a row `c`, the matrix determinant lemma gives
+//! `c (sI − A)⁻¹ b = (det(sI − A + b c) − det(sI − A)) / det(sI − A)`, two characteristic
+//! polynomials by Berkowitz.
+
+use crate::algebra::{Field, Rational};
+use crate::derivation::Derivation;
+use crate::linalg::{self, LinalgError, Matrix};
+use crate::observability::require_observable;
+use crate::observer::{ackermann_gain, DesignError};
+use crate::poly::{Factored, Poly, RationalFunction};
+
+/// Why a control computation failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ControlError {
+    /// The gain design failed (uncontrollable, unobservable, wrong degree…).
+    #[error(transparent)]
+    Design(#[from] DesignError),
+    /// A matrix computation failed.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+    /// A single-input, single-output system was needed.
+    #[error("{what} needs a single-input single-output plant; it has {inputs} inputs and {outputs} outputs")]
+    NotSiso {
+        /// What was attempted.
+        what: &'static str,
+        /// Inputs.
+        inputs: usize,
+        /// Outputs.
+        outputs: usize,
+    },
+    /// `1 − K(s)G(s)` is identically zero.
+    #[error("the loop 1 − K(s)G(s) is identically zero: the closed loop is not defined")]
+    DegenerateLoop,
+}
+
+/// State feedback `F` (row) placing the eigenvalues of `A + BF` at the roots of `desired`
+/// (Ackermann on the dual pair `(Aᵀ, Bᵀ)`).
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::Rational;
+/// use observer_workbench::control::state_feedback;
+/// use observer_workbench::syntax::{parse_matrix, parse_polynomial};
+/// let a = parse_matrix::<Rational>("[2 -3; 4 -5]").unwrap();
+/// let b = parse_matrix::<Rational>("[2; 3]").unwrap();
+/// let p = parse_polynomial::<Rational>("s^2 + 9s + 20", "s").unwrap();
+/// assert_eq!(state_feedback(&a, &b, &p).unwrap().to_input(), "[42, -30]");
+/// ```
+///
+/// # Errors
+/// [`ControlError::Design`] for an uncontrollable pair or a polynomial of the wrong degree.
+pub fn state_feedback<F: Field>(a: &Matrix<F>, b: &Matrix<F>, desired: &Poly<F>) -> Result<Matrix<F>, ControlError> {
+    let at = a.transpose();
+    let bt = b.transpose();
+    let o = require_observable(&at, &bt).map_err(DesignError::from)?;
+    // (A + BF)ᵀ = Aᵀ − (−Fᵀ) Bᵀ: K for the dual in A − KC, F = −Kᵀ.
+    let k = ackermann_gain(&at, &o, desired)?;
+    Ok(k.transpose().neg())
+}
+
+/// `c (sI − A)⁻¹ b + d` for a column `b` and a row `c`, in lowest terms.
+///
+/// # Errors
+/// [`LinalgError`] on mismatched dimensions.
+pub fn siso_transfer_function<F: Field>(
+    a: &Matrix<F>,
+    b: &Matrix<F>,
+    c: &Matrix<F>,
+    d: &F,
+) -> Result<RationalFunction<F>, LinalgError> {
+    let open = linalg::characteristic_polynomial(a, "s")?;
+    let perturbed = linalg::characteristic_polynomial(&a.sub(&b.mul(c)?)?, "s")?;
+    let num = perturbed - open.clone() + open.scale(d);
+    Ok(RationalFunction::new(num, open).expect("a characteristic polynomial is monic, never zero"))
+}
+
+/// The transfer matrix `C (sI − A)⁻¹ B + D`, entry by entry.
+///
+/// # Errors
+/// [`LinalgError`] on mismatched dimensions.
+pub fn transfer_matrix<F: Field>(
+    a: &Matrix<F>,
+    b: &Matrix<F>,
+    c: &Matrix<F>,
+    d: &Matrix<F>,
+) -> Result<Vec<Vec<RationalFunction<F>>>, LinalgError> {
+    (0..c.rows())
+        .map(|i| {
+            (0..b.cols())
+                .map(|j| {
+                    let bj = Matrix::column(b.col(j));
+                    let ci = Matrix::row_vector(c.row(i).to_vec());
+                    siso_transfer_function(a, &bj, &ci, d.get(i, j))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// An observer-based controller with its working.
+#[derive(Clone, PartialEq, Debug)]
+pub struct ObserverBasedControl {
+    /// `det(sI − (A + BF))`.
+    pub feedback_polynomial: Poly<Rational>,
+    /// `det(sI − (A + LC))`.
+    pub observer_polynomial: Poly<Rational>,
+    /// `det(sI − [A + BF, BF; 0, A + LC])`.
+    pub closed_loop_polynomial: Poly<Rational>,
+    /// Whether the closed-loop polynomial is the product of the two (it must be).
+    pub separation_holds: bool,
+    /// The plant `G(s) = C (sI − A)⁻¹ B`.
+    pub plant: RationalFunction<Rational>,
+    /// The controller `K(s) = −F (sI − A − BF − LC)⁻¹ L` (from y to u).
+    pub controller: RationalFunction<Rational>,
+    /// `G (1 − K G)⁻¹`.
+    pub closed_loop: RationalFunction<Rational>,
+    /// The steps.
+    pub derivation: Derivation,
+}
+
+/// Analyses the observer-based controller `u = F x̂` with observer gain `L` (A + LC) on a SISO
+/// plant.
+///
+/// # Errors
+/// [`ControlError`] for non-SISO plants or mismatched dimensions.
+pub fn observer_based_control(
+    a: &Matrix<Rational>,
+    b: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    f: &Matrix<Rational>,
+    l: &Matrix<Rational>,
+) -> Result<ObserverBasedControl, ControlError> {
+    if b.cols() != 1 || c.rows() != 1 {
+        return Err(ControlError::NotSiso {
+            what: "the controller transfer function",
+            inputs: b.cols(),
+            outputs: c.rows(),
+        });
+    }
+    let mut d = Derivation::new("Observer-based control (u = F x̂, observer matrix A + LC)");
+    let bf = b.mul(f)?;
+    let a_bf = a.add(&bf)?;
+    let a_lc = a.add(&l.mul(c)?)?;
+    d.push("A + BF", "state-feedback matrix", &a_bf);
+    d.push("A + LC", "observer matrix", &a_lc);
+    let feedback_polynomial = linalg::characteristic_polynomial(&a_bf, "s")?;
+    let observer_polynomial = linalg::characteristic_polynomial(&a_lc, "s")?;
+    d.push("det(sI − (A + BF))", "", &Factored::of(&feedback_polynomial));
+    d.push("det(sI − (A + LC))", "", &Factored::of(&observer_polynomial));
+    let n = a.rows();
+    let top = a_bf.hstack(&bf)?;
+    let bottom = Matrix::zeros(n, n).hstack(&a_lc)?;
+    let closed = top.vstack(&bottom)?;
+    d.push("A_cl", "[A + BF, BF; 0, A + LC] in (x, e)", &closed);
+    let closed_loop_polynomial = linalg::characteristic_polynomial(&closed, "s")?;
+    d.push("det(sI − A_cl)", "", &Factored::of(&closed_loop_polynomial));
+    let separation_holds =
+        closed_loop_polynomial == feedback_polynomial.clone() * observer_polynomial.clone();
+    let zero = Rational::from(num_bigint::BigInt::from(0));
+    let plant = siso_transfer_function(a, b, c, &zero)?;
+    d.push("G(s)", "C (sI − A)⁻¹ B", &plant);
+    let a_k = a_bf.add(&l.mul(c)?)?;
+    d.push("A + BF + LC", "controller state matrix", &a_k);
+    let controller = siso_transfer_function(&a_k, l, &f.neg(), &zero)?;
+    d.push("K(s)", "−F (sI − A − BF − LC)⁻¹ L", &controller);
+    let one = RationalFunction::from_poly(Poly::constant(Rational::from(num_bigint::BigInt::from(1)), "s"));
+    let loop_tf = one - controller.clone() * plant.clone();
+    let closed_loop = plant
+        .checked_div(&loop_tf)
+        .ok_or(ControlError::DegenerateLoop)?;
+    d.push("G (1 − K G)⁻¹", "closed loop", &closed_loop);
+    d.push(
+        "denominator",
+        "factored",
+        &Factored::of(closed_loop.denominator()),
+    );
+    Ok(ObserverBasedControl {
+        feedback_polynomial,
+        observer_polynomial,
+        closed_loop_polynomial,
+        separation_holds,
+        plant,
+        controller,
+        closed_loop,
+        derivation: d,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::syntax::parse_matrix;
+
+    #[test]
+    fn stoustrup_observer_based_control() {
+        let m = |s: &str| parse_matrix::<Rational>(s).unwrap();
+        let r = observer_based_control(
+            &m("[2 -3; 4 -5]"),
+            &m("[2; 3]"),
+            &m("[-3 2]"),
+            &m("[42 -30]"),
+            &m("[-6; -12]"),
+        )
+        .unwrap();
+        assert!(r.separation_holds);
+        assert_eq!(Factored::of(&r.closed_loop_polynomial).to_string(), "(s + 4)^2(s + 5)^2");
+        assert_eq!(r.plant.to_string(), "1/(s^2 + 3s + 2)");
+        assert_eq!(r.controller.to_string(), "(-108s − 252)/(s^2 + 15s + 74)");
+        assert_eq!(r.closed_loop.to_string(), "(s^2 + 15s + 74)/(s^4 + 18s^3 + 121s^2 + 360s + 400)");
+    }
+}

@@ -1,0 +1,192 @@
+//! Observability: the observability and controllability matrices, the rank test, and — when a
+//! pair is not observable — the evidence: a basis of the unobservable subspace and the
+//! unobservable eigenvalues (the modes the output cannot see, PBH test).
+//!
+//! Stoustrup, Lecture 3, "Observability" and the two "series connection" examples; Di Ruscio
+//! eq. (16) uses `O_n` for the canonical form.
+
+use crate::algebra::{Field, Quadratic, Rational, Ring};
+use crate::linalg::{self, LinalgError, Matrix};
+use crate::poly::{exact_roots, ExactRoots, Poly};
+
+/// Why an observability computation failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ObservabilityError {
+    /// The matrices do not fit.
+    #[error(transparent)]
+    Dimension(#[from] LinalgError),
+    /// The pair is not observable (for designs that need it).
+    #[error("the pair (A, C) is not observable: rank of the observability matrix is {rank}, the order is {order}; unobservable direction {direction}")]
+    Unobservable {
+        /// Rank of `O_n`.
+        rank: usize,
+        /// Order `n`.
+        order: usize,
+        /// One vector `x ≠ 0` with `O_n x = 0`, printed.
+        direction: String,
+    },
+}
+
+/// `O_n = [C; CA; …; CA^(n−1)]`.
+///
+/// # Errors
+/// [`LinalgError`] when `A` is not square or `C` has the wrong width.
+pub fn observability_matrix<R: Ring>(a: &Matrix<R>, c: &Matrix<R>) -> Result<Matrix<R>, LinalgError> {
+    let n = a.rows();
+    if !a.is_square() {
+        return Err(LinalgError::NotSquare {
+            operation: "observability matrix",
+            rows: a.rows(),
+            cols: a.cols(),
+        });
+    }
+    if c.cols() != n {
+        return Err(c.mismatch(a, "observability matrix (C against A)"));
+    }
+    let mut block = c.clone();
+    let mut out = c.clone();
+    for _ in 1..n {
+        block = block.mul(a)?;
+        out = out.vstack(&block)?;
+    }
+    Ok(out)
+}
+
+/// `C_n = [B, AB, …, A^(n−1)B]`.
+///
+/// # Errors
+/// [`LinalgError`] when `A` is not square or `B` has the wrong height.
+pub fn controllability_matrix<R: Ring>(a: &Matrix<R>, b: &Matrix<R>) -> Result<Matrix<R>, LinalgError> {
+    Ok(observability_matrix(&a.transpose(), &b.transpose())?.transpose())
+}
+
+/// The result of the observability test, with its working.
+#[derive(Clone, PartialEq, Debug)]
+pub struct ObservabilityReport {
+    /// `O_n`.
+    pub matrix: Matrix<Rational>,
+    /// `det O_n` for a single output (square `O_n`).
+    pub determinant: Option<Rational>,
+    /// `rank O_n`.
+    pub rank: usize,
+    /// The order `n`.
+    pub order: usize,
+    /// A basis of the unobservable subspace `ker O_n` (empty when observable).
+    pub unobservable_subspace: Vec<Matrix<Rational>>,
+    /// `det(λI − A|ker O_n)`: the characteristic polynomial of the unobservable part.
+    pub unobservable_polynomial: Poly<Rational>,
+    /// Its roots, exact where rational or in a quadratic field.
+    pub unobservable_eigenvalues: ExactRoots,
+    /// For each exact unobservable eigenvalue λ: `rank [λI − A; C] < n` (PBH), checked.
+    pub pbh_confirmed: bool,
+}
+
+impl ObservabilityReport {
+    /// Whether `(A, C)` is observable.
+    pub fn observable(&self) -> bool {
+        self.rank == self.order
+    }
+}
+
+/// The observability test over the rationals, with evidence when it fails.
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::Rational;
+/// use observer_workbench::observability::observability_report;
+/// use observer_workbench::syntax::parse_matrix;
+/// // Stoustrup's series connection with y = x1: the second tank is invisible.
+/// let a = parse_matrix::<Rational>("[-1 0; 1 -1]").unwrap();
+/// let c = parse_matrix::<Rational>("[1 0]").unwrap();
+/// let r = observability_report(&a, &c).unwrap();
+/// assert!(!r.observable());
+/// assert_eq!(r.matrix.to_input(), "[1, 0; -1, 0]");
+/// assert_eq!(r.unobservable_subspace[0].to_input(), "[0; 1]");
+/// assert_eq!(r.unobservable_polynomial.to_string(), "s + 1");
+/// ```
+///
+/// # Errors
+/// [`LinalgError`] for mismatched dimensions.
+pub fn observability_report(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+) -> Result<ObservabilityReport, LinalgError> {
+    let o = observability_matrix(a, c)?;
+    let n = a.rows();
+    let rank = linalg::rank(&o);
+    let determinant = if o.is_square() {
+        Some(linalg::determinant(&o)?)
+    } else {
+        None
+    };
+    let basis = linalg::null_space(&o);
+    let restricted = restriction(a, &basis)?;
+    let unobservable_polynomial = linalg::characteristic_polynomial(&restricted, "s")?;
+    let unobservable_eigenvalues = exact_roots(&unobservable_polynomial);
+    let pbh_confirmed = unobservable_eigenvalues
+        .roots
+        .iter()
+        .all(|(lambda, _)| pbh_rank(a, c, lambda) < n);
+    Ok(ObservabilityReport {
+        matrix: o,
+        determinant,
+        rank,
+        order: n,
+        unobservable_subspace: basis,
+        unobservable_polynomial,
+        unobservable_eigenvalues,
+        pbh_confirmed,
+    })
+}
+
+/// `A` restricted to an `A`-invariant subspace spanned by the columns `basis`: the matrix `R`
+/// with `A·N = N·R`.
+fn restriction(a: &Matrix<Rational>, basis: &[Matrix<Rational>]) -> Result<Matrix<Rational>, LinalgError> {
+    let k = basis.len();
+    if k == 0 {
+        return Ok(Matrix::zeros(0, 0));
+    }
+    let n = a.rows();
+    let nmat = Matrix::from_fn(n, k, |i, j| basis[j].get(i, 0).clone());
+    let an = a.mul(&nmat)?;
+    // N has full column rank: solve on k independent rows.
+    let rows = linalg::rref(&nmat.transpose()).pivot_columns;
+    let sub_n = Matrix::from_fn(k, k, |i, j| nmat.get(rows[i], j).clone());
+    let sub_an = Matrix::from_fn(k, k, |i, j| an.get(rows[i], j).clone());
+    linalg::solve(&sub_n, &sub_an)
+}
+
+/// `rank [λI − A; C]` in the field of λ.
+pub fn pbh_rank(a: &Matrix<Rational>, c: &Matrix<Rational>, lambda: &Quadratic) -> usize {
+    let n = a.rows();
+    let aq = a.map(|x| Quadratic::rational(x.clone()));
+    let shifted = Matrix::<Quadratic>::identity(n)
+        .scale(lambda)
+        .sub(&aq)
+        .expect("square");
+    let stacked = shifted
+        .vstack(&c.map(|x| Quadratic::rational(x.clone())))
+        .expect("same width");
+    linalg::rank(&stacked)
+}
+
+/// Requires observability: `Ok(O_n)` or the evidence why not.
+///
+/// # Errors
+/// [`ObservabilityError::Unobservable`] with a direction in `ker O_n`.
+pub fn require_observable<F: Field>(a: &Matrix<F>, c: &Matrix<F>) -> Result<Matrix<F>, ObservabilityError> {
+    let o = observability_matrix(a, c)?;
+    let rank = linalg::rank(&o);
+    if rank < a.rows() {
+        let direction = linalg::null_space(&o)
+            .first()
+            .map(|v| v.to_input())
+            .unwrap_or_default();
+        return Err(ObservabilityError::Unobservable {
+            rank,
+            order: a.rows(),
+            direction,
+        });
+    }
+    Ok(o)
+}

@@ -1,0 +1,18 @@
+//! Observer design: sign conventions, desired observer polynomials, gain methods and the float
+//! check.
+//!
+//! Sign conventions are explicit: Di Ruscio and Baranowski write the observer matrix `A − KC`
+//! (gain `K` or `G`), Stoustrup writes `A + LC` (gain `L`); [`ObserverGain`] carries its
+//! [`Convention`] and converts with one call.
+
+mod convention;
+pub mod float_check;
+mod gain;
+pub mod polynomial;
+
+pub use convention::{Convention, ObserverGain};
+pub use gain::{
+    ackermann_gain, bass_gura_gain, canonical_gain, design, lemma_3_1_gain, DesignError,
+    GainMethod, ObserverDesign,
+};
+pub use polynomial::{DesiredPolynomial, PolynomialFamily};

@@ -1,0 +1,352 @@
+//! Desired observer polynomials: from poles, from coefficients, or from a family.
+//!
+//! * repeated root `(s + 1/T)ⁿ` — Di Ruscio eq. (48)–(51);
+//! * Butterworth of order n with time constant T, `Bₙ(Ts)/Tⁿ` made monic — Di Ruscio §6
+//!   (eq. (56), (63), citing Haugen 2009). Exact for n = 1, 2, 3 (coefficients in Q(√2)) and
+//!   n = 5 (in Q(√5)); for other orders a coefficient such as `√(4 + 2√2)` (n = 4) lies in no
+//!   quadratic field, and the polynomial is given in `f64`, which the design then says;
+//! * Bessel (Thomson) of order n, normalised to a low-frequency group delay of T — the classical
+//!   maximally-flat-delay polynomial (W. E. Thomson, "Delay networks having maximally flat
+//!   frequency characteristics", Proc. IEE 96, 1949): `θₙ(s) = Σ (2n−k)! / (2ⁿ⁻ᵏ k! (n−k)!) sᵏ`,
+//!   rational, so always exact. Its step response has almost no overshoot, a middle way between
+//!   the double root and Butterworth.
+
+use crate::algebra::{Field, Quadratic, Rational, Ring, Zero};
+use crate::poly::Poly;
+use num_bigint::BigInt;
+use std::fmt;
+
+/// Where a desired polynomial came from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PolynomialFamily {
+    /// Given poles.
+    Poles(Vec<Quadratic>),
+    /// Given coefficients.
+    Coefficients,
+    /// All n poles at `−1/T`.
+    Repeated {
+        /// The time constant.
+        time_constant: Rational,
+    },
+    /// Butterworth with time constant T.
+    Butterworth {
+        /// The time constant.
+        time_constant: Rational,
+    },
+    /// Bessel (Thomson) with delay T.
+    Bessel {
+        /// The time constant (low-frequency group delay).
+        time_constant: Rational,
+    },
+}
+
+impl fmt::Display for PolynomialFamily {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PolynomialFamily::Poles(p) => {
+                let list: Vec<String> = p.iter().map(|x| x.to_string()).collect();
+                write!(f, "poles {}", list.join(", "))
+            }
+            PolynomialFamily::Coefficients => f.write_str("given coefficients"),
+            PolynomialFamily::Repeated { time_constant } => {
+                write!(f, "repeated root at −1/T, T = {time_constant}")
+            }
+            PolynomialFamily::Butterworth { time_constant } => {
+                write!(f, "Butterworth, T = {time_constant}")
+            }
+            PolynomialFamily::Bessel { time_constant } => {
+                write!(f, "Bessel (Thomson), T = {time_constant}")
+            }
+        }
+    }
+}
+
+/// A monic desired observer polynomial, exact when it can be.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesiredPolynomial {
+    /// Where it came from.
+    pub family: PolynomialFamily,
+    /// The exact polynomial, when its coefficients are rational or in one quadratic field.
+    pub exact: Option<Poly<Quadratic>>,
+    /// The float polynomial (always present).
+    pub float: Poly<f64>,
+    /// Why there is no exact polynomial, when there is none.
+    pub inexact_reason: Option<String>,
+}
+
+/// Why a desired polynomial could not be formed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PolynomialError {
+    /// Complex poles without their conjugates.
+    #[error("the poles do not give a real polynomial: complex poles must come in conjugate pairs (found {pole} without {conjugate})")]
+    NotReal {
+        /// The pole.
+        pole: String,
+        /// Its missing conjugate.
+        conjugate: String,
+    },
+    /// Poles in two different quadratic fields.
+    #[error("poles from two different quadratic fields ({first} and {second}) are not supported together")]
+    MixedFields {
+        /// One pole.
+        first: String,
+        /// Another.
+        second: String,
+    },
+    /// A time constant that is not positive.
+    #[error("the time constant must be positive, got {0}")]
+    TimeConstant(String),
+    /// A polynomial that is not monic or of the wrong degree.
+    #[error("the desired polynomial must be monic of degree {expected}; got {found}")]
+    Shape {
+        /// The order n.
+        expected: usize,
+        /// The polynomial given.
+        found: String,
+    },
+}
+
+fn float_of(p: &Poly<Quadratic>) -> Poly<f64> {
+    p.map(|c| c.to_complex_f64().0)
+}
+
+impl DesiredPolynomial {
+    /// An exact polynomial.
+    fn exact(family: PolynomialFamily, p: Poly<Quadratic>) -> Self {
+        DesiredPolynomial {
+            family,
+            float: float_of(&p),
+            exact: Some(p),
+            inexact_reason: None,
+        }
+    }
+
+    /// `∏ (s − p_i)`; complex poles in conjugate pairs.
+    ///
+    /// # Errors
+    /// [`PolynomialError::NotReal`] for an unpaired complex pole.
+    pub fn from_poles(poles: &[Quadratic]) -> Result<Self, PolynomialError> {
+        for p in poles {
+            if let Some(q) = poles.iter().find(|q| p.compatible(q).is_err()) {
+                return Err(PolynomialError::MixedFields {
+                    first: p.to_string(),
+                    second: q.to_string(),
+                });
+            }
+            if !p.is_real() {
+                let count = |x: &Quadratic| poles.iter().filter(|q| *q == x).count();
+                if count(p) != count(&p.conjugate()) {
+                    return Err(PolynomialError::NotReal {
+                        pole: p.to_string(),
+                        conjugate: p.conjugate().to_string(),
+                    });
+                }
+            }
+        }
+        let p = Poly::from_roots(poles, "s");
+        Ok(DesiredPolynomial::exact(PolynomialFamily::Poles(poles.to_vec()), p))
+    }
+
+    /// A polynomial given by its coefficients; checked to be monic of degree `n`.
+    ///
+    /// # Errors
+    /// [`PolynomialError::Shape`].
+    pub fn from_polynomial(p: Poly<Quadratic>, n: usize) -> Result<Self, PolynomialError> {
+        if p.degree() != Some(n) || !p.is_monic() {
+            return Err(PolynomialError::Shape {
+                expected: n,
+                found: p.to_string(),
+            });
+        }
+        Ok(DesiredPolynomial::exact(PolynomialFamily::Coefficients, p))
+    }
+
+    /// `(s + 1/T)ⁿ`.
+    ///
+    /// # Errors
+    /// [`PolynomialError::TimeConstant`] for `T ≤ 0`.
+    pub fn repeated(t: &Rational, n: usize) -> Result<Self, PolynomialError> {
+        positive(t)?;
+        let root = Quadratic::rational(-t.recip());
+        let p = Poly::from_roots(&vec![root; n], "s");
+        Ok(DesiredPolynomial::exact(
+            PolynomialFamily::Repeated {
+                time_constant: t.clone(),
+            },
+            p,
+        ))
+    }
+
+    /// Butterworth of order `n` with time constant `T`: monic `Bₙ(Ts)/Tⁿ`.
+    ///
+    /// ```
+    /// use observer_workbench::algebra::{Rational, Ring};
+    /// use observer_workbench::observer::DesiredPolynomial;
+    /// let b = DesiredPolynomial::butterworth(&Rational::from_i64(1), 2).unwrap();
+    /// assert_eq!(b.exact.unwrap().to_string(), "s^2 + √2 s + 1");
+    /// let b4 = DesiredPolynomial::butterworth(&Rational::from_i64(1), 4).unwrap();
+    /// assert!(b4.exact.is_none()); // √(4 + 2√2) is in no quadratic field
+    /// ```
+    ///
+    /// # Errors
+    /// [`PolynomialError::TimeConstant`] for `T ≤ 0`.
+    pub fn butterworth(t: &Rational, n: usize) -> Result<Self, PolynomialError> {
+        positive(t)?;
+        let family = PolynomialFamily::Butterworth {
+            time_constant: t.clone(),
+        };
+        match normalised_butterworth(n) {
+            Some(b) => Ok(DesiredPolynomial::exact(family, with_time_constant(&b, t))),
+            None => {
+                let tf = crate::algebra::rational_to_f64(t);
+                let mut p = Poly::constant(1.0, "s");
+                // poles e^{iπ(2k+n−1)/(2n)}, in conjugate pairs
+                for k in 1..=n / 2 {
+                    let theta = std::f64::consts::PI * (2 * k + n - 1) as f64 / (2 * n) as f64;
+                    p = p * Poly::new(vec![1.0, -2.0 * theta.cos(), 1.0], "s");
+                }
+                if n % 2 == 1 {
+                    p = p * Poly::new(vec![1.0, 1.0], "s");
+                }
+                let coeffs: Vec<f64> = (0..=n).map(|k| p.coeff(k) / tf.powi((n - k) as i32)).collect();
+                Ok(DesiredPolynomial {
+                    family,
+                    exact: None,
+                    float: Poly::new(coeffs, "s"),
+                    inexact_reason: Some(format!(
+                        "the order-{n} Butterworth coefficients lie in no single quadratic field; computed in f64"
+                    )),
+                })
+            }
+        }
+    }
+
+    /// Bessel (Thomson) polynomial of order `n`, low-frequency group delay `T`, monic.
+    ///
+    /// ```
+    /// use observer_workbench::algebra::{Rational, Ring};
+    /// use observer_workbench::observer::DesiredPolynomial;
+    /// let b = DesiredPolynomial::bessel(&Rational::from_i64(1), 3).unwrap();
+    /// assert_eq!(b.exact.unwrap().to_string(), "s^3 + 6s^2 + 15s + 15");
+    /// ```
+    ///
+    /// # Errors
+    /// [`PolynomialError::TimeConstant`] for `T ≤ 0`.
+    pub fn bessel(t: &Rational, n: usize) -> Result<Self, PolynomialError> {
+        positive(t)?;
+        let fact = |k: usize| (1..=k).fold(BigInt::from(1), |acc, i| acc * i);
+        let coeffs: Vec<Quadratic> = (0..=n)
+            .map(|k| {
+                let num = fact(2 * n - k);
+                let den = BigInt::from(2).pow((n - k) as u32) * fact(k) * fact(n - k);
+                Quadratic::rational(Rational::new(num, den))
+            })
+            .collect();
+        let theta = Poly::new(coeffs, "s");
+        Ok(DesiredPolynomial::exact(
+            PolynomialFamily::Bessel {
+                time_constant: t.clone(),
+            },
+            with_time_constant(&theta, t),
+        ))
+    }
+
+    /// The degree.
+    pub fn degree(&self) -> usize {
+        self.float.degree().unwrap_or(0)
+    }
+
+    /// The exact polynomial over the rationals, when all coefficients are rational.
+    pub fn rational(&self) -> Option<Poly<Rational>> {
+        let p = self.exact.as_ref()?;
+        let c: Option<Vec<Rational>> = p.coeffs().iter().map(|c| c.as_rational().cloned()).collect();
+        Some(Poly::new(c?, "s"))
+    }
+}
+
+fn positive(t: &Rational) -> Result<(), PolynomialError> {
+    if t > &Rational::zero() {
+        Ok(())
+    } else {
+        Err(PolynomialError::TimeConstant(t.to_string()))
+    }
+}
+
+/// The monic `p(Ts)/(p_n Tⁿ)`: coefficient of `sᵏ` is `p_k / (p_n T^(n−k))`.
+fn with_time_constant(p: &Poly<Quadratic>, t: &Rational) -> Poly<Quadratic> {
+    let n = p.degree().unwrap_or(0);
+    let lead = p.leading();
+    let coeffs = (0..=n)
+        .map(|k| {
+            let scale = Quadratic::rational(num_traits::pow(t.recip(), n - k));
+            p.coeff(k).checked_div(&lead).unwrap_or_else(Quadratic::zero) * scale
+        })
+        .collect();
+    Poly::new(coeffs, "s")
+}
+
+/// Normalised Butterworth polynomials whose coefficients are exact in one quadratic field.
+fn normalised_butterworth(n: usize) -> Option<Poly<Quadratic>> {
+    let q = |a: i64, b: i64, d: i64| Quadratic::new(Rational::from_i64(a), Rational::from_i64(b), d);
+    let desc: Vec<Quadratic> = match n {
+        1 => vec![q(1, 0, 0)?, q(1, 0, 0)?],
+        2 => vec![q(1, 0, 0)?, q(0, 1, 2)?, q(1, 0, 0)?],
+        3 => [1, 2, 2, 1].iter().map(|&c| Quadratic::from_i64(c)).collect(),
+        // (s + 1)(s² + φ⁻¹… ): coefficients 1, 1+√5, 3+√5, 3+√5, 1+√5, 1
+        5 => vec![
+            q(1, 0, 0)?,
+            q(1, 1, 5)?,
+            q(3, 1, 5)?,
+            q(3, 1, 5)?,
+            q(1, 1, 5)?,
+            q(1, 0, 0)?,
+        ],
+        _ => return None,
+    };
+    Some(Poly::from_descending(&desc, "s"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The defining property of the Butterworth polynomial: B(s)·B(−s) = 1 + (−1)ⁿ s²ⁿ.
+    #[test]
+    fn exact_butterworth_polynomials_are_butterworth() {
+        for n in [1usize, 2, 3, 5] {
+            let b = normalised_butterworth(n).unwrap();
+            let minus_s = Poly::new(vec![Quadratic::zero(), -Quadratic::from_i64(1)], "s");
+            let product = b.clone() * b.compose(&minus_s);
+            let sign = if n % 2 == 0 { 1 } else { -1 };
+            let expected = Poly::constant(Quadratic::from_i64(1), "s")
+                + Poly::monomial(Quadratic::from_i64(sign), 2 * n, "s");
+            assert_eq!(product, expected, "order {n}");
+        }
+    }
+
+    #[test]
+    fn di_ruscio_third_order_butterworth_with_time_constant() {
+        // eq. (63): s^3 + (2/T)s^2 + (2/T^2)s + 1/T^3, here T = 1/2
+        let b = DesiredPolynomial::butterworth(&Rational::new(1.into(), 2.into()), 3).unwrap();
+        assert_eq!(b.exact.unwrap().to_string(), "s^3 + 4s^2 + 8s + 8");
+    }
+
+    #[test]
+    fn float_butterworth_order_four_matches_the_table() {
+        let b = DesiredPolynomial::butterworth(&Rational::from_i64(1), 4).unwrap();
+        let c = b.float.coeffs_descending();
+        let table = [1.0, 2.613_126, 3.414_214, 2.613_126, 1.0];
+        for (x, y) in c.iter().zip(table) {
+            assert!((x - y).abs() < 1e-6, "{x} vs {y}");
+        }
+        assert!(b.inexact_reason.is_some());
+    }
+
+    #[test]
+    fn unpaired_complex_poles_are_refused() {
+        let z = Quadratic::new(Rational::from_i64(-1), Rational::from_i64(2), -1).unwrap();
+        assert!(DesiredPolynomial::from_poles(&[z.clone()]).is_err());
+        let p = DesiredPolynomial::from_poles(&[z.clone(), z.conjugate()]).unwrap();
+        assert_eq!(p.rational().unwrap().to_string(), "s^2 + 2s + 5");
+    }
+}

@@ -1,0 +1,81 @@
+//! Exact-core benchmarks: characteristic polynomial, solve, inverse and the full exact observer
+//! gain `K = P(A)·O⁻¹·eₙ` on the RC ladder (tridiagonal −2, 1) and on dense random integer
+//! matrices with entries in [−9, 9], for n = 5 … 80.
+//!
+//! Run with `cargo bench`; `OWB_BENCH_MAX_N` lowers the largest order (default 80).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use observer_workbench::algebra::{Rational, Ring};
+use observer_workbench::linalg::{characteristic_polynomial, inverse, solve, Matrix};
+use observer_workbench::poly::Poly;
+use std::time::Duration;
+
+/// A reproducible dense integer matrix with entries in [−9, 9] (xorshift, fixed seed).
+fn dense_random(n: usize, seed: u64) -> Matrix<Rational> {
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    Matrix::from_fn(n, n, |_, _| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        Rational::from_i64((state % 19) as i64 - 9)
+    })
+}
+
+fn rc_ladder(n: usize) -> Matrix<Rational> {
+    Matrix::from_fn(n, n, |i, j| match i.abs_diff(j) {
+        0 => Rational::from_i64(-2),
+        1 => Rational::from_i64(1),
+        _ => Rational::from_i64(0),
+    })
+}
+
+fn first_state_output(n: usize) -> Matrix<Rational> {
+    Matrix::from_fn(1, n, |_, j| Rational::from_i64(i64::from(j == 0)))
+}
+
+/// `K = P(A) O⁻¹ eₙ` with all observer poles at −4 (single output).
+fn exact_gain(a: &Matrix<Rational>, c: &Matrix<Rational>) -> Matrix<Rational> {
+    let n = a.rows();
+    let obs = observer_workbench::observability::observability_matrix(a, c).expect("square A");
+    let desired = Poly::from_roots(&vec![Rational::from_i64(-4); n], "s");
+    observer_workbench::observer::ackermann_gain(a, &obs, &desired).expect("observable")
+}
+
+fn orders() -> Vec<usize> {
+    let max: usize = std::env::var("OWB_BENCH_MAX_N")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(80);
+    [5, 10, 20, 40, 60, 80].into_iter().filter(|&n| n <= max).collect()
+}
+
+fn bench(c: &mut Criterion) {
+    for (family, make) in [
+        ("rc_ladder", rc_ladder as fn(usize) -> Matrix<Rational>),
+        ("dense_random", |n| dense_random(n, 7)),
+    ] {
+        let mut g = c.benchmark_group(family);
+        g.sample_size(10).warm_up_time(Duration::from_millis(200));
+        for n in orders() {
+            let a = make(n);
+            let cm = first_state_output(n);
+            let b = Matrix::unit(n, n - 1);
+            g.bench_with_input(BenchmarkId::new("charpoly", n), &a, |bch, a| {
+                bch.iter(|| characteristic_polynomial(a, "s").unwrap())
+            });
+            g.bench_with_input(BenchmarkId::new("solve", n), &a, |bch, a| {
+                bch.iter(|| solve(a, &b))
+            });
+            g.bench_with_input(BenchmarkId::new("inverse", n), &a, |bch, a| {
+                bch.iter(|| inverse(a))
+            });
+            g.bench_with_input(BenchmarkId::new("gain", n), &a, |bch, a| {
+                bch.iter(|| exact_gain(a, &cm))
+            });
+        }
+        g.finish();
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

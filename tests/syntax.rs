@@ -1,0 +1,83 @@
+//! Round trips: what the workbench prints in its input syntax parses back to the same value.
+
+mod common;
+
+use common::{polynomial, rational_matrix, small_rational};
+use observer_workbench::algebra::{MultiPoly, Quadratic, Rational, Ring, Zero};
+use observer_workbench::syntax::{parse_matrix, parse_polynomial, parse_scalar, SyntaxError};
+use proptest::prelude::*;
+
+fn quadratic() -> impl Strategy<Value = Quadratic> {
+    (small_rational(), small_rational(), prop::sample::select(vec![2i64, 3, 5, -1, 6]))
+        .prop_map(|(a, b, d)| Quadratic::new(a, b, d).unwrap())
+}
+
+fn symbolic() -> impl Strategy<Value = MultiPoly> {
+    let var = prop::sample::select(vec!["k1", "k2", "a", "T", "λ"]);
+    proptest::collection::vec((small_rational(), var.clone(), var, 0u32..3), 0..5).prop_map(|terms| {
+        terms.into_iter().fold(MultiPoly::zero(), |acc, (c, x, y, e)| {
+            let mut t = MultiPoly::constant(c) * MultiPoly::var(x);
+            for _ in 0..e {
+                t = t * MultiPoly::var(y);
+            }
+            acc + t
+        })
+    })
+}
+
+proptest! {
+    #[test]
+    fn rationals_round_trip(x in small_rational()) {
+        prop_assert_eq!(parse_scalar::<Rational>(&x.to_input()).unwrap(), x.clone());
+        prop_assert_eq!(parse_scalar::<Rational>(&x.to_string()).unwrap(), x);
+    }
+
+    #[test]
+    fn quadratic_numbers_round_trip(x in quadratic()) {
+        prop_assert_eq!(parse_scalar::<Quadratic>(&x.to_input()).unwrap(), x.clone());
+        // the human form (with √ and −) parses too
+        prop_assert_eq!(parse_scalar::<Quadratic>(&x.to_string()).unwrap(), x);
+    }
+
+    #[test]
+    fn symbolic_polynomials_round_trip(p in symbolic()) {
+        prop_assert_eq!(parse_scalar::<MultiPoly>(&p.to_input()).unwrap(), p.clone());
+        prop_assert_eq!(parse_scalar::<MultiPoly>(&p.to_string()).unwrap(), p);
+    }
+
+    #[test]
+    fn matrices_round_trip(m in (1usize..5, 1usize..5).prop_flat_map(|(r, c)| rational_matrix(r, c))) {
+        prop_assert_eq!(parse_matrix::<Rational>(&m.to_input()).unwrap(), m);
+    }
+
+    #[test]
+    fn polynomials_round_trip(p in polynomial(5)) {
+        prop_assert_eq!(parse_polynomial::<Rational>(&p.to_input(), "s").unwrap(), p.clone());
+        prop_assert_eq!(parse_polynomial::<Rational>(&p.to_string(), "s").unwrap(), p);
+    }
+
+    #[test]
+    fn garbage_never_panics(s in "[\\[\\]0-9a-z+\\-*/^(),;. √]{0,24}") {
+        let _ = parse_matrix::<Rational>(&s);
+        let _ = parse_scalar::<Quadratic>(&s);
+        let _ = parse_polynomial::<Rational>(&s, "s");
+    }
+}
+
+#[test]
+fn huge_exponents_are_refused_not_computed() {
+    let e = parse_scalar::<Rational>("2^100000").unwrap_err();
+    assert!(matches!(e, SyntaxError::TooLarge { .. }), "{e}");
+    let e = parse_scalar::<Rational>("1e99999").unwrap_err();
+    assert!(matches!(e, SyntaxError::TooLarge { .. }), "{e}");
+}
+
+#[test]
+fn caret_display_points_at_the_error() {
+    let input = "[1 2; 3 x]";
+    let e = parse_matrix::<Rational>(input).unwrap_err();
+    assert_eq!(
+        e.show_in(input),
+        "[1 2; 3 x]\n        ^ column 9: the symbol 'x' is not allowed in a rational number"
+    );
+}
