@@ -16,3 +16,4 @@ pub mod observer;
 pub mod poly;
 pub mod syntax;
 pub mod system;
+pub mod worked;

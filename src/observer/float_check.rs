@@ -58,8 +58,10 @@ pub struct FloatCheck {
     pub condition_number: f64,
     /// The float gain (A − KC), or `None` when the float solve failed.
     pub float_gain: Option<Vec<f64>>,
-    /// `‖K_float − K‖ / ‖K‖`.
+    /// `‖K_float − K‖ / ‖K‖` (0 when there is no exact gain to compare with).
     pub gain_relative_error: f64,
+    /// Whether an exact gain was available for the comparison.
+    pub compared_with_exact: bool,
     /// A-priori bound `n · cond(O_n) · ε` on that relative error.
     pub gain_error_bound: f64,
     /// Eigenvalues of `A − K_float C` as `(re, im)`.
@@ -90,7 +92,7 @@ pub fn float_check(
     c: &Matrix<Rational>,
     desired: &Poly<f64>,
     desired_exact: Option<&Poly<Rational>>,
-    exact_gain: &Matrix<Quadratic>,
+    exact_gain: Option<&Matrix<Quadratic>>,
     tolerance: f64,
 ) -> FloatCheck {
     let n = a.rows();
@@ -101,7 +103,6 @@ pub fn float_check(
         .unwrap_or_else(|_| DMatrix::zeros(n, n));
     let condition_number = float::condition_number(&of);
     let gain_error_bound = n as f64 * condition_number * EPS;
-    let k_exact: DVector<f64> = DVector::from_iterator(n, (0..n).map(|i| exact_gain.get(i, 0).to_f64()));
 
     let mut en = DVector::zeros(n);
     en[n - 1] = 1.0;
@@ -112,6 +113,13 @@ pub fn float_check(
         }
         acc
     });
+    // Without an exact gain (a desired polynomial known only in f64) the float gain is the
+    // reference, and only the poles are checked.
+    let k_exact: DVector<f64> = match (exact_gain, &k_float) {
+        (Some(g), _) => DVector::from_iterator(n, (0..n).map(|i| g.get(i, 0).to_f64())),
+        (None, Some(k)) => k.clone(),
+        (None, None) => DVector::zeros(n),
+    };
     let k_norm = k_exact.norm().max(f64::MIN_POSITIVE);
     let gain_relative_error = k_float
         .as_ref()
@@ -154,7 +162,7 @@ pub fn float_check(
         None => (Vec::new(), f64::INFINITY, None),
     };
     let scale = requested.iter().map(|(p, _)| p.norm()).fold(1.0, f64::max);
-    let verdict = if !(gain_relative_error <= tolerance) {
+    let verdict = if gain_relative_error.is_nan() || gain_relative_error > tolerance {
         FloatVerdict::GainUnreliable
     } else if max_pole_distance <= tolerance * scale {
         FloatVerdict::Reliable
@@ -167,6 +175,7 @@ pub fn float_check(
         condition_number,
         float_gain: k_float.map(|k| k.iter().copied().collect()),
         gain_relative_error,
+        compared_with_exact: exact_gain.is_some(),
         gain_error_bound,
         eigenvalues,
         max_pole_distance,

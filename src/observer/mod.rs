@@ -7,6 +7,7 @@
 
 mod convention;
 pub mod float_check;
+pub mod perfect;
 mod gain;
 pub mod polynomial;
 

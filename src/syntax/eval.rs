@@ -61,12 +61,16 @@ impl<T: FromExpr> ParseValue for T {
     }
 }
 
+/// Values substituted for symbols while evaluating (parameters such as `T = 1/8`).
+pub type Environment = std::collections::BTreeMap<String, Rational>;
+
 #[derive(Default)]
-struct Context {
+struct Context<'a> {
     field: Option<(i64, usize)>,
+    env: Option<&'a Environment>,
 }
 
-impl Context {
+impl Context<'_> {
     fn note_field(&mut self, tag: i64, column: usize) -> Result<(), SyntaxError> {
         if tag == 0 {
             return Ok(());
@@ -109,9 +113,11 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
     let c = e.column;
     let v = match &e.kind {
         ExprKind::Number(r) => T::from_rational(r.clone()),
-        ExprKind::Symbol(name) => {
-            T::symbol(name).ok_or_else(|| not_allowed(c, format!("the symbol '{name}'"), T::TARGET))?
-        }
+        ExprKind::Symbol(name) => match ctx.env.and_then(|e| e.get(name)) {
+            Some(v) => T::from_rational(v.clone()),
+            None => T::symbol(name)
+                .ok_or_else(|| not_allowed(c, format!("the symbol '{name}'"), T::TARGET))?,
+        },
         ExprKind::ImaginaryUnit => T::imaginary_unit()
             .ok_or_else(|| not_allowed(c, "the imaginary unit i", T::TARGET))?,
         ExprKind::Sqrt(arg) => {
@@ -164,8 +170,36 @@ pub(crate) fn rational_function<F: Field + FromExpr>(
     e: &Expr,
     var: &str,
 ) -> Result<RationalFunction<F>, SyntaxError> {
-    let mut ctx = Context::default();
+    rational_function_with(e, var, None)
+}
+
+/// Evaluates into a rational function of `var` over `F`, other symbols taken from `env`.
+///
+/// # Errors
+/// [`SyntaxError`] naming the column of a symbol without a value or a division by zero.
+pub fn rational_function_with<F: Field + FromExpr>(
+    e: &Expr,
+    var: &str,
+    env: Option<&Environment>,
+) -> Result<RationalFunction<F>, SyntaxError> {
+    let mut ctx = Context {
+        env,
+        ..Context::default()
+    };
     rf(e, var, &mut ctx)
+}
+
+/// Evaluates a scalar with symbols taken from `env` (symbols not in `env` stay symbols when the
+/// type has them).
+///
+/// # Errors
+/// [`SyntaxError`] naming the column.
+pub fn evaluate_with<T: FromExpr>(e: &Expr, env: &Environment) -> Result<T, SyntaxError> {
+    let mut ctx = Context {
+        env: Some(env),
+        ..Context::default()
+    };
+    scalar(e, &mut ctx)
 }
 
 /// Evaluates into a polynomial in `var` over `F`.
@@ -191,6 +225,9 @@ fn rf<F: Field + FromExpr>(
     let constant = |v: F| RationalFunction::from_poly(Poly::constant(v, var));
     Ok(match &e.kind {
         ExprKind::Symbol(name) if name == var => RationalFunction::from_poly(Poly::x(var)),
+        ExprKind::Symbol(name) if ctx.env.is_some_and(|e| e.contains_key(name)) => {
+            constant(scalar::<F>(e, ctx)?)
+        }
         ExprKind::Symbol(name) => {
             return Err(not_allowed(
                 c,

@@ -15,7 +15,7 @@ mod eval;
 mod lexer;
 mod parser;
 
-pub use eval::{FromExpr, ParseValue};
+pub use eval::{evaluate_with, rational_function_with, Environment, FromExpr, ParseValue};
 pub use parser::{Expr, ExprKind};
 
 use crate::algebra::Field;
@@ -127,6 +127,22 @@ impl SyntaxError {
 pub fn parse_scalar<T: FromExpr>(input: &str) -> Result<T, SyntaxError> {
     let e = parser::parse_expression(input)?;
     T::from_expr(&e)
+}
+
+/// Parses one expression into its tree (for evaluation later, e.g. with parameter values).
+///
+/// # Errors
+/// [`SyntaxError`] naming the column.
+pub fn parse_expression(input: &str) -> Result<Expr, SyntaxError> {
+    parser::parse_expression(input)
+}
+
+/// Parses a matrix into expression trees, row by row.
+///
+/// # Errors
+/// [`SyntaxError`] naming the column.
+pub fn parse_matrix_expressions(input: &str) -> Result<Vec<Vec<Expr>>, SyntaxError> {
+    parser::parse_matrix_rows(input)
 }
 
 /// Parses a matrix: `[2 -3; 4 -5]`, `[[2,-3],[4,-5]]`, or a bare scalar as a 1×1 matrix.

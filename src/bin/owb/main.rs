@@ -1,1 +1,64 @@
-fn main() {}
+//! `owb`, the observer workbench's command line. One file per subcommand; the library never
+//! depends on clap. Exit codes: 0 success, 1 a verification found a mismatch (or a check found a
+//! wrong answer), 2 bad input (malformed numbers, mismatched dimensions, an unobservable pair…).
+
+mod args;
+mod canonical;
+mod control;
+mod gain;
+mod observe;
+mod verify;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "owb", version, about = "Exact design and verification of state observers")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Recompute the worked examples of the source documents and compare with what they printed.
+    Verify(verify::Args),
+    /// Observability report: O_n, rank, unobservable subspace and eigenvalues.
+    Observe(observe::Args),
+    /// Observer canonical form (Di Ruscio's ss2ocf and Stoustrup's procedure).
+    Canonical(canonical::Args),
+    /// Observer gain for a desired polynomial, exact, with the float path checked.
+    Gain(gain::Args),
+    /// Observer-based control: separation principle, controller and closed-loop transfer functions.
+    Control(control::Args),
+}
+
+/// What a subcommand reports back.
+pub enum Outcome {
+    /// All good.
+    Ok,
+    /// A verification or check found something wrong.
+    Failed,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Verify(a) => verify::run(a),
+        Command::Observe(a) => observe::run(a),
+        Command::Canonical(a) => canonical::run(a),
+        Command::Gain(a) => gain::run(a),
+        Command::Control(a) => control::run(a),
+    };
+    match result {
+        Ok(Outcome::Ok) => ExitCode::SUCCESS,
+        Ok(Outcome::Failed) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
+            for cause in e.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::from(2)
+        }
+    }
+}

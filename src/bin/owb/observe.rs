@@ -1,0 +1,67 @@
+//! `owb observe`: the observability report.
+
+use crate::args::{json_matrix, matrix, print_json};
+use crate::Outcome;
+use anyhow::Result;
+use observer_workbench::algebra::Rational;
+use observer_workbench::observability::observability_report;
+use serde_json::json;
+
+/// Arguments of `owb observe`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The system matrix A, e.g. "[-1 0; 1 -1]".
+    #[arg(long = "a")]
+    a: String,
+    /// The output matrix C, e.g. "[1 0]".
+    #[arg(long = "c")]
+    c: String,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let a = matrix::<Rational>("--a", &args.a)?;
+    let c = matrix::<Rational>("--c", &args.c)?;
+    let r = observability_report(&a, &c)?;
+    if args.json {
+        print_json(&json!({
+            "observability_matrix": json_matrix(&r.matrix),
+            "rank": r.rank,
+            "order": r.order,
+            "observable": r.observable(),
+            "determinant": r.determinant.as_ref().map(|d| d.to_string()),
+            "unobservable_subspace": r.unobservable_subspace.iter().map(json_matrix).collect::<Vec<_>>(),
+            "unobservable_polynomial": r.unobservable_polynomial.to_input(),
+            "unobservable_eigenvalues": r.unobservable_eigenvalues.roots.iter().map(|(x, m)| json!({"value": observer_workbench::algebra::Ring::to_input(x), "multiplicity": m})).collect::<Vec<_>>(),
+            "pbh_confirmed": r.pbh_confirmed,
+        }));
+    } else {
+        println!("Observability of (A, C)");
+        println!("  O_n = [C; CA; …; CA^(n−1)]:");
+        for line in r.matrix.render().lines() {
+            println!("      {line}");
+        }
+        if let Some(d) = &r.determinant {
+            println!("  det O_n = {d}");
+        }
+        println!("  rank O_n = {} (order n = {})", r.rank, r.order);
+        if r.observable() {
+            println!("  observable");
+        } else {
+            println!("  NOT observable");
+            println!("  unobservable subspace ker O_n, basis:");
+            for v in &r.unobservable_subspace {
+                println!("      {}", v.to_input());
+            }
+            println!("  unobservable modes: det(sI − A|ker O_n) = {}", r.unobservable_polynomial);
+            println!("  unobservable eigenvalues: {}", r.unobservable_eigenvalues.render());
+            println!(
+                "  PBH test rank [λI − A; C] < n at each: {}",
+                if r.pbh_confirmed { "confirmed" } else { "NOT confirmed" }
+            );
+        }
+    }
+    Ok(Outcome::Ok)
+}

@@ -1,0 +1,134 @@
+//! The worked-example file format (TOML), documented for teachers in
+//! `worked_examples/README.md`.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// One worked example: a system, and what a document printed about it.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExampleFile {
+    /// Stable identifier (`stoustrup-pole-assignment`).
+    pub id: String,
+    /// Human title.
+    pub title: String,
+    /// The source document's file name in `shared/seeds/`.
+    pub document: String,
+    /// A short description in our own words.
+    #[serde(default)]
+    pub summary: String,
+    /// Exact values for symbols (`T = "0.125"`); symbols without a value stay symbolic.
+    #[serde(default)]
+    pub parameters: BTreeMap<String, String>,
+    /// The state-space matrices (input syntax; may contain symbols).
+    #[serde(default)]
+    pub system: SystemSpec,
+    /// What the document printed, each to be recomputed.
+    #[serde(default)]
+    pub claims: Vec<ClaimSpec>,
+    /// Printed values recorded now and verified by a later part of the workbench.
+    #[serde(default)]
+    pub printed_only: Vec<PrintedRecord>,
+}
+
+/// Matrices of a state-space model, as text.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SystemSpec {
+    /// System matrix.
+    #[serde(rename = "A")]
+    pub a: Option<String>,
+    /// Input matrix.
+    #[serde(rename = "B")]
+    pub b: Option<String>,
+    /// Output matrix.
+    #[serde(rename = "C")]
+    pub c: Option<String>,
+    /// Feedthrough matrix.
+    #[serde(rename = "D")]
+    pub d: Option<String>,
+}
+
+/// One printed claim.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClaimSpec {
+    /// Identifier, unique in the file.
+    pub id: String,
+    /// Where the document prints it: `eq. (77)`, `slide 'Example: pole assignment'`.
+    pub source: String,
+    /// The computation that recomputes it (see the README for the list).
+    pub what: String,
+    /// The value exactly as printed (in input syntax; decimals as printed).
+    pub printed: String,
+    /// A remark shown with the claim.
+    #[serde(default)]
+    pub note: String,
+    /// Per-claim matrices replacing those of `[system]`.
+    #[serde(rename = "A")]
+    pub a: Option<String>,
+    /// Per-claim B.
+    #[serde(rename = "B")]
+    pub b: Option<String>,
+    /// Per-claim C.
+    #[serde(rename = "C")]
+    pub c: Option<String>,
+    /// Gain method (`ackermann`, `bass-gura`, `canonical`, `lemma-3.1`).
+    pub method: Option<String>,
+    /// `a-kc` or `a+lc`.
+    pub convention: Option<String>,
+    /// Canonical-form procedure: `di-ruscio` or `stoustrup`.
+    pub procedure: Option<String>,
+    /// Desired poles.
+    pub poles: Option<String>,
+    /// Desired polynomial.
+    pub poly: Option<String>,
+    /// Repeated root: time constant T.
+    pub repeated: Option<String>,
+    /// Butterworth: time constant T.
+    pub butterworth: Option<String>,
+    /// Bessel: time constant T.
+    pub bessel: Option<String>,
+    /// Order of a desired polynomial when no system is given.
+    pub order: Option<usize>,
+    /// A gain matrix (numbers or symbols such as `[k1; k2]`).
+    pub gain: Option<String>,
+    /// A state-feedback row `F` (u = F x̂).
+    pub feedback: Option<String>,
+    /// The variable of printed polynomials (default `s`, or `λ` when the print uses it).
+    pub var: Option<String>,
+    /// For `what = "identity"`: which identity.
+    pub identity: Option<String>,
+    /// Definitions used by the printed value (`k2 = "-c2/a"`).
+    #[serde(default, rename = "where")]
+    pub definitions: BTreeMap<String, String>,
+    /// The documented erratum, when the print is wrong.
+    pub erratum: Option<ErratumSpec>,
+}
+
+/// A documented, checkable erratum.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ErratumSpec {
+    /// What is wrong, in our words.
+    pub explanation: String,
+    /// Parameter values with which the printed value is reproduced (the tool confirms).
+    #[serde(default)]
+    pub parameters: BTreeMap<String, String>,
+    /// The corrected value (the tool confirms that it holds).
+    pub corrected: Option<String>,
+}
+
+/// A printed value recorded for a later part of the workbench to verify.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrintedRecord {
+    /// Identifier.
+    pub id: String,
+    /// Where printed.
+    pub source: String,
+    /// As printed.
+    pub printed: String,
+    /// What will verify it.
+    pub verified_by: String,
+}

@@ -1,0 +1,21 @@
+//! Worked examples as data: load a document's printed claims, recompute each one exactly, and
+//! say whether the print holds, is a documented (and checked) erratum, or is a mismatch.
+//!
+//! The format is described for teachers in `worked_examples/README.md`. A claim names a
+//! computation (`what`) and its inputs; the printed value is kept verbatim. Claims whose inputs
+//! keep free symbols are computed symbolically when the computation never divides (observability
+//! matrices, characteristic polynomials, pole-placement equations); otherwise they are checked in
+//! exact arithmetic at several seeded random rational values of those symbols, and the report
+//! says so.
+
+mod compute;
+mod format;
+mod report;
+mod value;
+mod verify;
+
+pub use compute::{compute, ComputeError, Computed, Inputs, COMPUTATIONS, IDENTITIES};
+pub use format::{ClaimSpec, ErratumSpec, ExampleFile, PrintedRecord, SystemSpec};
+pub use report::{errata_markdown, render_derivations, render_table, report_json};
+pub use value::{compare, Agreement, Value};
+pub use verify::{load_example, load_folder, verify_example, ClaimReport, ExampleReport, Summary, Verdict, WorkedError};

@@ -1,0 +1,383 @@
+//! Recomputed values and their comparison with what a document printed.
+
+use crate::algebra::{MultiPoly, Quadratic, Rational, Ring};
+use crate::derivation::Show;
+use crate::linalg::Matrix;
+use crate::poly::{Factored, Poly, RationalFunction};
+use crate::syntax::{evaluate_with, parse_expression, parse_matrix_expressions, rational_function_with, Environment};
+use num_traits::Zero;
+
+/// A recomputed value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    /// An exact matrix.
+    Matrix(Matrix<Quadratic>),
+    /// A matrix with symbolic entries.
+    SymbolicMatrix(Matrix<MultiPoly>),
+    /// An exact polynomial in one variable.
+    Polynomial(Poly<Quadratic>),
+    /// A polynomial in `var` with symbolic coefficients (`var` is one of its symbols).
+    SymbolicPolynomial(MultiPoly, String),
+    /// An exact number.
+    Scalar(Quadratic),
+    /// A symbolic expression.
+    Symbolic(MultiPoly),
+    /// Yes or no.
+    Bool(bool),
+    /// A multiset of exact roots.
+    Roots(Vec<Quadratic>),
+    /// A transfer function.
+    Transfer(RationalFunction<Rational>),
+    /// Polynomial equations `p_i = 0`, in order.
+    Equations(Vec<MultiPoly>),
+    /// A linear system `M g = r`.
+    LinearSystem(Matrix<Rational>, Matrix<Rational>),
+}
+
+impl Value {
+    /// The value in the workbench's input syntax.
+    pub fn input(&self) -> String {
+        match self {
+            Value::Matrix(m) => m.to_input(),
+            Value::SymbolicMatrix(m) => m.to_input(),
+            Value::Polynomial(p) => p.to_input(),
+            Value::SymbolicPolynomial(p, _) => p.to_input(),
+            Value::Scalar(x) => x.to_input(),
+            Value::Symbolic(x) => x.to_input(),
+            Value::Bool(b) => b.to_string(),
+            Value::Roots(r) => r.iter().map(Ring::to_input).collect::<Vec<_>>().join(", "),
+            Value::Transfer(t) => t.to_input(),
+            Value::Equations(e) => e.iter().map(|p| format!("{} = 0", p.to_input())).collect::<Vec<_>>().join("; "),
+            Value::LinearSystem(m, r) => format!("{} g = {}", m.to_input(), r.to_input()),
+        }
+    }
+    /// Terminal text.
+    pub fn text(&self) -> String {
+        match self {
+            Value::Matrix(m) => m.render(),
+            Value::SymbolicMatrix(m) => m.render(),
+            Value::Polynomial(p) => factored_text(p).unwrap_or_else(|| p.to_string()),
+            Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, false),
+            Value::Scalar(x) => x.to_string(),
+            Value::Symbolic(x) => x.to_string(),
+            Value::Bool(b) => if *b { "yes".into() } else { "no".into() },
+            Value::Roots(r) => r.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", "),
+            Value::Transfer(t) => {
+                let den = Factored::of(t.denominator());
+                format!("{t}   (denominator {den})")
+            }
+            Value::Equations(e) => e.iter().map(|p| format!("{p} = 0")).collect::<Vec<_>>().join("\n"),
+            Value::LinearSystem(m, r) => format!("{}\n  g =\n{}", m.render(), r.render()),
+        }
+    }
+    /// LaTeX.
+    pub fn latex(&self) -> String {
+        match self {
+            Value::Matrix(m) => m.to_latex(),
+            Value::SymbolicMatrix(m) => m.to_latex(),
+            Value::Polynomial(p) => p.to_latex(),
+            Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, true),
+            Value::Scalar(x) => x.to_latex(),
+            Value::Symbolic(x) => x.to_latex(),
+            Value::Bool(b) => format!("\\text{{{}}}", if *b { "yes" } else { "no" }),
+            Value::Roots(r) => r.iter().map(Ring::to_latex).collect::<Vec<_>>().join(",\\ "),
+            Value::Transfer(t) => t.to_latex(),
+            Value::Equations(e) => e.iter().map(|p| format!("{} = 0", p.to_latex())).collect::<Vec<_>>().join(",\\quad "),
+            Value::LinearSystem(m, r) => format!("{} g = {}", m.to_latex(), r.to_latex()),
+        }
+    }
+}
+
+impl Show for Value {
+    fn text(&self) -> String {
+        Value::text(self)
+    }
+    fn latex(&self) -> String {
+        Value::latex(self)
+    }
+    fn input(&self) -> String {
+        Value::input(self)
+    }
+}
+
+fn factored_text(p: &Poly<Quadratic>) -> Option<String> {
+    let c: Option<Vec<Rational>> = p.coeffs().iter().map(|c| c.as_rational().cloned()).collect();
+    let q = Poly::new(c?, p.var());
+    let f = Factored::of(&q);
+    let plain = q.to_string();
+    let fact = f.to_string();
+    Some(if fact == plain || f.factors.len() <= 1 && f.factors.iter().all(|(_, m)| *m == 1) {
+        plain
+    } else {
+        format!("{plain} = {fact}")
+    })
+}
+
+/// A symbolic polynomial printed by powers of `var`: `λ^2 + (k1 + k2 − a)λ − a k2`.
+fn symbolic_poly_text(p: &MultiPoly, var: &str, latex: bool) -> String {
+    let coeffs = p.coefficients_in(var);
+    let mut out = String::new();
+    for (k, c) in coeffs.iter().enumerate().rev() {
+        if c.is_zero() {
+            continue;
+        }
+        let body = if latex { c.to_latex() } else { c.to_string() };
+        let compound = c.terms().count() > 1;
+        let (neg, body) = match body.strip_prefix('-') {
+            Some(rest) if !compound => (true, rest.to_string()),
+            _ => (false, body),
+        };
+        if !out.is_empty() {
+            out.push_str(if neg { if latex { " - " } else { " − " } } else { " + " });
+        } else if neg {
+            out.push('-');
+        }
+        let v = if latex { crate::algebra::latex_symbol(var) } else { var.to_string() };
+        let power = match k {
+            0 => String::new(),
+            1 => v,
+            _ if latex => format!("{v}^{{{k}}}"),
+            _ => format!("{v}^{k}"),
+        };
+        let coef = if compound {
+            if latex { format!("\\left({body}\\right)") } else { format!("({body})") }
+        } else {
+            body
+        };
+        out.push_str(&match (coef.as_str(), power.is_empty()) {
+            (_, true) => coef,
+            ("1", false) => power,
+            (_, false) => format!("{coef} {power}"),
+        });
+    }
+    if out.is_empty() {
+        "0".into()
+    } else {
+        out
+    }
+}
+
+/// How a printed value compared.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Agreement {
+    /// Equal exactly.
+    Exact,
+    /// Equal to the precision printed (`digits` decimals, rounding).
+    Rounded {
+        /// Decimals printed.
+        digits: u32,
+    },
+    /// Not equal; the reason.
+    Differs(String),
+}
+
+impl Agreement {
+    /// Whether the print holds.
+    pub fn holds(&self) -> bool {
+        !matches!(self, Agreement::Differs(_))
+    }
+}
+
+/// Decimals printed: the largest number of digits after a decimal point in `text`.
+fn printed_decimals(text: &str) -> Option<u32> {
+    let chars: Vec<char> = text.chars().collect();
+    let mut best = None;
+    for i in 0..chars.len() {
+        if chars[i] == '.' && i > 0 && chars[i - 1].is_ascii_digit() {
+            let d = chars[i + 1..].iter().take_while(|c| c.is_ascii_digit()).count() as u32;
+            best = Some(best.map_or(d, |b: u32| b.max(d)));
+        }
+    }
+    best
+}
+
+fn close(x: &Quadratic, p: &Quadratic, digits: Option<u32>) -> bool {
+    match digits {
+        None => x == p,
+        Some(d) => {
+            let (xr, xi) = x.to_complex_f64();
+            let (pr, pi) = p.to_complex_f64();
+            let tol = 0.5 * 10f64.powi(-(d as i32)) * (1.0 + 1e-9);
+            (xr - pr).abs() <= tol && (xi - pi).abs() <= tol
+        }
+    }
+}
+
+fn agreement(ok: bool, digits: Option<u32>, why: impl FnOnce() -> String) -> Agreement {
+    match (ok, digits) {
+        (true, None) => Agreement::Exact,
+        (true, Some(d)) => Agreement::Rounded { digits: d },
+        (false, _) => Agreement::Differs(why()),
+    }
+}
+
+/// Compares a recomputed value with printed text, symbols in the print taken from `env`.
+///
+/// # Errors
+/// A message when the printed text cannot be read as that kind of value.
+pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreement, String> {
+    let digits = printed_decimals(printed);
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    match value {
+        Value::Matrix(m) => {
+            let rows = parse_matrix_expressions(printed).map_err(syntax)?;
+            let p: Vec<Vec<Quadratic>> = rows
+                .iter()
+                .map(|r| r.iter().map(|e| evaluate_with::<Quadratic>(e, env)).collect::<Result<_, _>>())
+                .collect::<Result<_, _>>()
+                .map_err(syntax)?;
+            let shape_ok = p.len() == m.rows() && p.iter().all(|r| r.len() == m.cols());
+            if !shape_ok {
+                return Ok(Agreement::Differs(format!(
+                    "printed {}×{}, recomputed {}×{}",
+                    p.len(),
+                    p.first().map_or(0, Vec::len),
+                    m.rows(),
+                    m.cols()
+                )));
+            }
+            let mut bad = Vec::new();
+            for i in 0..m.rows() {
+                for j in 0..m.cols() {
+                    if !close(m.get(i, j), &p[i][j], digits) {
+                        bad.push(format!("({}, {}): printed {}, recomputed {}", i + 1, j + 1, p[i][j], m.get(i, j)));
+                    }
+                }
+            }
+            Ok(agreement(bad.is_empty(), digits, || bad.join("; ")))
+        }
+        Value::SymbolicMatrix(m) => {
+            let rows = parse_matrix_expressions(printed).map_err(syntax)?;
+            let p: Vec<Vec<MultiPoly>> = rows
+                .iter()
+                .map(|r| r.iter().map(|e| evaluate_with::<MultiPoly>(e, env)).collect::<Result<_, _>>())
+                .collect::<Result<_, _>>()
+                .map_err(syntax)?;
+            let pm = Matrix::from_rows(p).map_err(|e| e.to_string())?;
+            let ok = pm == *m;
+            Ok(agreement(ok, None, || format!("printed {}, recomputed {}", pm.to_input(), m.to_input())))
+        }
+        Value::Polynomial(q) => {
+            let e = parse_expression(printed).map_err(syntax)?;
+            let rf = rational_function_with::<Quadratic>(&e, q.var(), Some(env)).map_err(syntax)?;
+            if rf.denominator().degree() != Some(0) {
+                return Err(format!("the printed value {printed} is not a polynomial in {}", q.var()));
+            }
+            let p = rf.numerator().clone().with_var(q.var());
+            let n = p.degree().unwrap_or(0).max(q.degree().unwrap_or(0));
+            let ok = (0..=n).all(|k| close(&q.coeff(k), &p.coeff(k), digits));
+            Ok(agreement(ok, digits, || format!("printed {p}, recomputed {q}")))
+        }
+        Value::SymbolicPolynomial(q, _) | Value::Symbolic(q) => {
+            let e = parse_expression(printed).map_err(syntax)?;
+            let p = evaluate_with::<MultiPoly>(&e, env).map_err(syntax)?;
+            let ok = &p == q;
+            Ok(agreement(ok, None, || format!("printed {p}, recomputed {q}; difference {}", p.clone() - q.clone())))
+        }
+        Value::Scalar(x) => {
+            let e = parse_expression(printed).map_err(syntax)?;
+            let p = evaluate_with::<Quadratic>(&e, env).map_err(syntax)?;
+            Ok(agreement(close(x, &p, digits), digits, || format!("printed {p}, recomputed {x}")))
+        }
+        Value::Bool(b) => {
+            let t = printed.trim().to_lowercase();
+            let p = match t.as_str() {
+                "true" | "yes" | "observable" | "holds" => true,
+                "false" | "no" | "unobservable" | "not observable" => false,
+                _ => return Err(format!("expected yes/no (true, false, observable, unobservable), found '{printed}'")),
+            };
+            Ok(agreement(p == *b, None, || format!("printed {p}, recomputed {b}")))
+        }
+        Value::Roots(r) => {
+            let rows = parse_matrix_expressions(printed).map_err(syntax)?;
+            let mut p: Vec<Quadratic> = rows
+                .iter()
+                .flatten()
+                .map(|e| evaluate_with::<Quadratic>(e, env))
+                .collect::<Result<_, _>>()
+                .map_err(syntax)?;
+            let mut unmatched = Vec::new();
+            for x in r {
+                match p.iter().position(|y| close(x, y, digits)) {
+                    Some(k) => {
+                        p.remove(k);
+                    }
+                    None => unmatched.push(x.to_string()),
+                }
+            }
+            let ok = unmatched.is_empty() && p.is_empty();
+            Ok(agreement(ok, digits, || {
+                format!(
+                    "recomputed roots not printed: [{}]; printed roots not recomputed: [{}]",
+                    unmatched.join(", "),
+                    p.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
+                )
+            }))
+        }
+        Value::Transfer(t) => {
+            let e = parse_expression(printed).map_err(syntax)?;
+            let p = rational_function_with::<Rational>(&e, "s", Some(env)).map_err(syntax)?;
+            Ok(agreement(&p == t, None, || format!("printed {p}, recomputed {t}")))
+        }
+        Value::Equations(eqs) => {
+            let parts: Vec<&str> = printed.split(';').map(str::trim).filter(|s| !s.is_empty()).collect();
+            if parts.len() != eqs.len() {
+                return Ok(Agreement::Differs(format!("printed {} equations, recomputed {}", parts.len(), eqs.len())));
+            }
+            let mut bad = Vec::new();
+            for (k, (text, q)) in parts.iter().zip(eqs).enumerate() {
+                let p = equation(text, env)?;
+                if !proportional(&p, q) {
+                    bad.push(format!("equation {}: printed {} = 0, recomputed {} = 0", k + 1, p, q));
+                }
+            }
+            Ok(agreement(bad.is_empty(), None, || bad.join("; ")))
+        }
+        Value::LinearSystem(m, r) => {
+            let (lhs, rhs) = printed
+                .split_once('=')
+                .ok_or_else(|| format!("expected 'M g = r', found '{printed}'"))?;
+            let close_bracket = lhs.rfind(']').ok_or_else(|| format!("expected a matrix before the gain in '{lhs}'"))?;
+            let pm = crate::syntax::parse_matrix::<Rational>(&lhs[..=close_bracket]).map_err(syntax)?;
+            let pr = crate::syntax::parse_matrix::<Rational>(rhs.trim()).map_err(syntax)?;
+            // a system of equations does not depend on the order of its rows
+            let rows = |m: &Matrix<Rational>, r: &Matrix<Rational>| {
+                let mut v: Vec<Vec<Rational>> = (0..m.rows())
+                    .map(|i| {
+                        let mut row = m.row(i).to_vec();
+                        row.push(r.get(i, 0).clone());
+                        row
+                    })
+                    .collect();
+                v.sort();
+                v
+            };
+            let ok = pm.shape() == m.shape() && pr.shape() == r.shape() && rows(&pm, &pr) == rows(m, r);
+            Ok(agreement(ok, None, || format!("printed {} g = {}, recomputed {} g = {}", pm.to_input(), pr.to_input(), m.to_input(), r.to_input())))
+        }
+    }
+}
+
+/// `lhs = rhs` as the polynomial `lhs − rhs`.
+fn equation(text: &str, env: &Environment) -> Result<MultiPoly, String> {
+    let (l, r) = text.split_once('=').ok_or_else(|| format!("expected an equation 'lhs = rhs', found '{text}'"))?;
+    let side = |s: &str| -> Result<MultiPoly, String> {
+        let e = parse_expression(s).map_err(|e| e.show_in(s))?;
+        evaluate_with::<MultiPoly>(&e, env).map_err(|e| e.show_in(s))
+    };
+    Ok(side(l)? - side(r)?)
+}
+
+/// Whether `p = c·q` for a nonzero rational `c`.
+fn proportional(p: &MultiPoly, q: &MultiPoly) -> bool {
+    let Some((m, c)) = q.terms().next() else {
+        return p.is_zero();
+    };
+    let pc = p.coefficient(m);
+    if pc.is_zero() {
+        return false;
+    }
+    let ratio = pc / c.clone();
+    *p == q.clone() * MultiPoly::constant(ratio)
+}
+

@@ -1,0 +1,475 @@
+//! Verdicts: holds, documented erratum (checked), or mismatch.
+
+use super::compute::{compute, ComputeError, Inputs};
+use super::format::{ClaimSpec, ExampleFile, PrintedRecord};
+use super::value::{compare, Agreement};
+use crate::algebra::Rational;
+use crate::derivation::Derivation;
+use crate::syntax::{evaluate_with, parse_expression, parse_scalar, Environment};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// A verdict on one printed claim.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// The print is right (exactly, or to the precision printed).
+    Holds,
+    /// The print is wrong, and the example documents why; the explanation was checked.
+    Erratum,
+    /// The print is wrong and unexplained (or the explanation does not check).
+    Mismatch,
+}
+
+impl Verdict {
+    /// The word used in reports.
+    pub fn word(self) -> &'static str {
+        match self {
+            Verdict::Holds => "holds",
+            Verdict::Erratum => "erratum",
+            Verdict::Mismatch => "mismatch",
+        }
+    }
+}
+
+/// One claim, recomputed and judged.
+#[derive(Debug, Clone, Serialize)]
+pub struct ClaimReport {
+    /// Claim identifier.
+    pub id: String,
+    /// Where the document prints it.
+    pub source: String,
+    /// As printed.
+    pub printed: String,
+    /// As recomputed (input syntax), or how it was checked.
+    pub recomputed: String,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// Why (precision, erratum and its check, or the difference).
+    pub explanation: String,
+    /// The computation's working.
+    #[serde(skip)]
+    pub derivation: Derivation,
+}
+
+/// One example, verified.
+#[derive(Debug, Clone, Serialize)]
+pub struct ExampleReport {
+    /// Example identifier.
+    pub id: String,
+    /// Title.
+    #[serde(skip)]
+    pub title: String,
+    /// Source document file name.
+    pub document: String,
+    /// The claims.
+    pub claims: Vec<ClaimReport>,
+    /// Printed values awaiting another part of the workbench.
+    #[serde(skip)]
+    pub printed_only: Vec<PrintedRecord>,
+}
+
+/// Counts of verdicts.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct Summary {
+    /// Claims that hold.
+    pub holds: usize,
+    /// Documented errata.
+    pub erratum: usize,
+    /// Mismatches.
+    pub mismatch: usize,
+}
+
+impl Summary {
+    /// Counts over reports.
+    pub fn of(reports: &[ExampleReport]) -> Summary {
+        let mut s = Summary::default();
+        for c in reports.iter().flat_map(|r| &r.claims) {
+            match c.verdict {
+                Verdict::Holds => s.holds += 1,
+                Verdict::Erratum => s.erratum += 1,
+                Verdict::Mismatch => s.mismatch += 1,
+            }
+        }
+        s
+    }
+}
+
+/// A worked-example file that cannot be used, located by file, line and field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}:{line}: {field}: {message}")]
+pub struct WorkedError {
+    /// The file.
+    pub file: String,
+    /// 1-based line (0 when unknown).
+    pub line: usize,
+    /// The field or claim.
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// The 1-based line of `field` inside the claim `claim_id` (or at top level when `None`).
+fn locate(raw: &str, claim_id: Option<&str>, field: &str) -> usize {
+    let lines: Vec<&str> = raw.lines().collect();
+    let start = match claim_id {
+        Some(id) => lines
+            .iter()
+            .position(|l| {
+                let t = l.trim_start();
+                t.starts_with("id") && t.contains(&format!("\"{id}\""))
+            })
+            .unwrap_or(0),
+        None => 0,
+    };
+    let key = |l: &str| {
+        let t = l.trim_start();
+        t.strip_prefix(field).is_some_and(|r| r.trim_start().starts_with('='))
+    };
+    lines
+        .iter()
+        .enumerate()
+        .skip(start)
+        .find(|(_, l)| key(l))
+        .map_or(start + 1, |(i, _)| i + 1)
+}
+
+/// Reads and checks one example file.
+///
+/// # Errors
+/// [`WorkedError`] naming file, line and field for malformed TOML, unknown fields, bad
+/// parameter values, duplicate or unknown claim kinds.
+pub fn load_example(path: &Path) -> Result<(ExampleFile, String), WorkedError> {
+    let file = path.display().to_string();
+    let raw = std::fs::read_to_string(path).map_err(|e| WorkedError {
+        file: file.clone(),
+        line: 0,
+        field: "file".into(),
+        message: e.to_string(),
+    })?;
+    let ex: ExampleFile = toml::from_str(&raw).map_err(|e| {
+        let line = e.span().map_or(0, |s| raw[..s.start.min(raw.len())].lines().count().max(1));
+        WorkedError {
+            file: file.clone(),
+            line,
+            field: "toml".into(),
+            message: e.message().to_string(),
+        }
+    })?;
+    for (name, value) in &ex.parameters {
+        parse_scalar::<Rational>(value).map_err(|e| WorkedError {
+            file: file.clone(),
+            line: locate(&raw, None, name),
+            field: format!("parameters.{name}"),
+            message: e.show_in(value),
+        })?;
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    for c in &ex.claims {
+        if !seen.insert(c.id.clone()) {
+            return Err(WorkedError {
+                file: file.clone(),
+                line: locate(&raw, Some(&c.id), "id"),
+                field: "id".into(),
+                message: format!("claim id '{}' appears twice", c.id),
+            });
+        }
+        if !super::compute::COMPUTATIONS.contains(&c.what.as_str()) {
+            return Err(WorkedError {
+                file: file.clone(),
+                line: locate(&raw, Some(&c.id), "what"),
+                field: format!("claims.{}.what", c.id),
+                message: format!("unknown computation '{}'; known: {}", c.what, super::compute::COMPUTATIONS.join(", ")),
+            });
+        }
+    }
+    Ok((ex, raw))
+}
+
+/// Every `*.toml` in a folder (not recursive), sorted by file name.
+///
+/// # Errors
+/// [`WorkedError`] for an unreadable folder.
+pub fn load_folder(dir: &Path) -> Result<Vec<PathBuf>, WorkedError> {
+    let entries = std::fs::read_dir(dir).map_err(|e| WorkedError {
+        file: dir.display().to_string(),
+        line: 0,
+        field: "folder".into(),
+        message: e.to_string(),
+    })?;
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+fn parameter_env(params: &std::collections::BTreeMap<String, String>) -> Environment {
+    params
+        .iter()
+        .filter_map(|(k, v)| parse_scalar::<Rational>(v).ok().map(|r| (k.clone(), r)))
+        .collect()
+}
+
+/// Small deterministic generator for sample points (xorshift).
+struct Sampler(u64);
+
+impl Sampler {
+    fn new(seed: &str) -> Self {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in seed.bytes() {
+            h = (h ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+        Sampler(h | 1)
+    }
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    /// A nonzero rational p/q, |p| ≤ 9, 1 ≤ q ≤ 4; positive for time constants (`T…`).
+    fn value(&mut self, name: &str) -> Rational {
+        let p = (self.next() % 9 + 1) as i64;
+        let q = (self.next() % 4 + 1) as i64;
+        let negative = !name.starts_with('T') && self.next() % 2 == 0;
+        Rational::new((if negative { -p } else { p }).into(), q.into())
+    }
+}
+
+/// The outcome of checking one printed text under one environment.
+struct Check {
+    agreement: Agreement,
+    recomputed: String,
+    derivation: Derivation,
+    sampled: Vec<String>,
+}
+
+/// Adds the claim's `where` definitions (evaluated in `env`) to `env`.
+fn with_definitions(claim: &ClaimSpec, env: &Environment) -> Result<Environment, String> {
+    let mut env = env.clone();
+    for _ in 0..=claim.definitions.len() {
+        for (name, text) in &claim.definitions {
+            if env.contains_key(name) {
+                continue;
+            }
+            let e = parse_expression(text).map_err(|e| format!("where.{name}: {}", e.show_in(text)))?;
+            if let Ok(v) = evaluate_with::<Rational>(&e, &env) {
+                env.insert(name.clone(), v);
+            }
+        }
+    }
+    Ok(env)
+}
+
+const SAMPLES: usize = 5;
+const SAMPLE_ATTEMPTS: usize = 40;
+
+/// Recomputes and compares `printed` in `env`, sampling free symbols when needed.
+fn check(file: &ExampleFile, claim: &ClaimSpec, printed: &str, env: &Environment) -> Result<Check, ComputeError> {
+    let attempt = |env: &Environment| -> Result<Check, ComputeError> {
+        let computed = compute(&Inputs { file, claim, env })?;
+        let penv = with_definitions(claim, env).map_err(ComputeError::Failed)?;
+        let agreement = compare(&computed.value, printed, &penv).map_err(|m| ComputeError::Input {
+            field: "printed".into(),
+            message: m,
+        })?;
+        Ok(Check {
+            agreement,
+            recomputed: computed.value.input(),
+            derivation: computed.derivation,
+            sampled: Vec::new(),
+        })
+    };
+    // Exact first; free symbols that a division needs are sampled.
+    let mut env0 = env.clone();
+    let mut sampled: Vec<String> = Vec::new();
+    let mut sampler = Sampler::new(&format!("{}/{}", file.id, claim.id));
+    for _ in 0..8 {
+        match attempt(&env0) {
+            Err(ComputeError::NeedsValues(names)) => {
+                for n in names {
+                    if !env0.contains_key(&n) {
+                        let v = sampler.value(&n);
+                        env0.insert(n.clone(), v);
+                        sampled.push(n);
+                    }
+                }
+            }
+            Err(ComputeError::Failed(_)) if !sampled.is_empty() => {
+                for n in &sampled {
+                    let v = sampler.value(n);
+                    env0.insert(n.clone(), v);
+                }
+            }
+            other => {
+                if sampled.is_empty() {
+                    return other;
+                }
+                break;
+            }
+        }
+    }
+    if sampled.is_empty() {
+        return attempt(&env0);
+    }
+    // Sampled: SAMPLES independent points, each exact.
+    let mut good = 0;
+    let mut first: Option<Check> = None;
+    let mut last_error = String::new();
+    for _ in 0..SAMPLE_ATTEMPTS {
+        let mut e = env.clone();
+        for n in &sampled {
+            e.insert(n.clone(), sampler.value(n));
+        }
+        match attempt(&e) {
+            Ok(c) => {
+                let point: Vec<String> = sampled.iter().map(|n| format!("{n} = {}", e[n])).collect();
+                if !c.agreement.holds() {
+                    return Ok(Check {
+                        recomputed: format!("at {}: {}", point.join(", "), c.recomputed),
+                        sampled: sampled.clone(),
+                        ..c
+                    });
+                }
+                good += 1;
+                if first.is_none() {
+                    first = Some(Check {
+                        recomputed: format!(
+                            "agrees exactly at {SAMPLES} random rational points of {}; e.g. at {}: {}",
+                            sampled.join(", "),
+                            point.join(", "),
+                            c.recomputed
+                        ),
+                        sampled: sampled.clone(),
+                        ..c
+                    });
+                }
+                if good == SAMPLES {
+                    break;
+                }
+            }
+            Err(ComputeError::Input { field, message }) => return Err(ComputeError::Input { field, message }),
+            Err(e) => last_error = e.to_string(),
+        }
+    }
+    match first {
+        Some(c) if good == SAMPLES => Ok(c),
+        _ => Err(ComputeError::Failed(format!(
+            "could not find {SAMPLES} sample points where the computation is defined ({last_error})"
+        ))),
+    }
+}
+
+fn how(a: &Agreement, sampled: &[String]) -> String {
+    let base = match a {
+        Agreement::Exact => "exactly".to_string(),
+        Agreement::Rounded { digits } => format!("to the {digits} decimals printed (rounding)"),
+        Agreement::Differs(d) => d.clone(),
+    };
+    if sampled.is_empty() {
+        base
+    } else {
+        format!("{base}, as an identity in {} (exact random-point test)", sampled.join(", "))
+    }
+}
+
+/// Recomputes every claim of an example.
+///
+/// # Errors
+/// [`WorkedError`] when a claim's inputs are malformed (bad matrix, unknown method…).
+pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<ExampleReport, WorkedError> {
+    let env = parameter_env(&ex.parameters);
+    let file = path.display().to_string();
+    let input_error = |claim: &ClaimSpec, field: &str, message: String| WorkedError {
+        file: file.clone(),
+        line: locate(raw, Some(&claim.id), field.split('.').next().unwrap_or(field)),
+        field: format!("claims.{}.{field}", claim.id),
+        message,
+    };
+    let mut claims = Vec::new();
+    for claim in &ex.claims {
+        let primary = match check(ex, claim, &claim.printed, &env) {
+            Ok(c) => c,
+            Err(ComputeError::Input { field, message }) => return Err(input_error(claim, &field, message)),
+            Err(e) => Check {
+                agreement: Agreement::Differs(format!("could not recompute: {e}")),
+                recomputed: "—".into(),
+                derivation: Derivation::new(&claim.id),
+                sampled: Vec::new(),
+            },
+        };
+        let (verdict, explanation) = match (&primary.agreement, &claim.erratum) {
+            (a, None) if a.holds() => (Verdict::Holds, how(a, &primary.sampled)),
+            (a, Some(_)) if a.holds() => (
+                Verdict::Mismatch,
+                format!("an erratum is documented, but the print holds ({})", how(a, &primary.sampled)),
+            ),
+            (Agreement::Differs(d), None) => (Verdict::Mismatch, d.clone()),
+            (Agreement::Differs(d), Some(err)) => {
+                let mut checks = Vec::new();
+                let mut ok = true;
+                if !err.parameters.is_empty() {
+                    let mut env2 = env.clone();
+                    env2.extend(parameter_env(&err.parameters));
+                    let list: Vec<String> = err.parameters.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                    match check(ex, claim, &claim.printed, &env2) {
+                        Ok(c) if c.agreement.holds() => checks.push(format!(
+                            "checked: with {} the print is reproduced {}",
+                            list.join(", "),
+                            how(&c.agreement, &c.sampled)
+                        )),
+                        Ok(c) => {
+                            ok = false;
+                            checks.push(format!("NOT confirmed: with {} the print is still not reproduced ({})", list.join(", "), how(&c.agreement, &c.sampled)));
+                        }
+                        Err(e) => {
+                            ok = false;
+                            checks.push(format!("NOT confirmed: {e}"));
+                        }
+                    }
+                }
+                if let Some(corrected) = &err.corrected {
+                    match check(ex, claim, corrected, &env) {
+                        Ok(c) if c.agreement.holds() => {
+                            checks.push(format!("checked: the corrected value {corrected} holds {}", how(&c.agreement, &c.sampled)))
+                        }
+                        Ok(c) => {
+                            ok = false;
+                            checks.push(format!("NOT confirmed: the corrected value {corrected} does not hold either ({})", how(&c.agreement, &c.sampled)));
+                        }
+                        Err(ComputeError::Input { message, .. }) => return Err(input_error(claim, "erratum.corrected", message)),
+                        Err(e) => {
+                            ok = false;
+                            checks.push(format!("NOT confirmed: {e}"));
+                        }
+                    }
+                }
+                if checks.is_empty() {
+                    ok = false;
+                    checks.push("the erratum gives nothing to check (parameters or corrected)".into());
+                }
+                let text = format!("{} Printed vs recomputed: {d}. {}", err.explanation.trim(), checks.join("; "));
+                (if ok { Verdict::Erratum } else { Verdict::Mismatch }, text)
+            }
+            (Agreement::Exact | Agreement::Rounded { .. }, _) => unreachable!("handled above"),
+        };
+        claims.push(ClaimReport {
+            id: claim.id.clone(),
+            source: claim.source.clone(),
+            printed: claim.printed.clone(),
+            recomputed: primary.recomputed,
+            verdict,
+            explanation: if claim.note.is_empty() { explanation } else { format!("{explanation}. Note: {}", claim.note) },
+            derivation: primary.derivation,
+        });
+    }
+    Ok(ExampleReport {
+        id: ex.id.clone(),
+        title: ex.title.clone(),
+        document: ex.document.clone(),
+        claims,
+        printed_only: ex.printed_only.clone(),
+    })
+}
