@@ -99,6 +99,9 @@ pub struct ClaimSpec {
     pub var: Option<String>,
     /// For `what = "identity"`: which identity.
     pub identity: Option<String>,
+    /// Parameters kept symbolic for this claim (a general formula stated before the numbers).
+    #[serde(default)]
+    pub symbols: Vec<String>,
     /// Definitions used by the printed value (`k2 = "-c2/a"`).
     #[serde(default, rename = "where")]
     pub definitions: BTreeMap<String, String>,
