@@ -88,16 +88,27 @@ pub fn toeplitz_m<F: Field>(open_loop: &Poly<F>) -> Matrix<F> {
     })
 }
 
+/// The pieces every procedure computes before the transformation is applied.
+struct Working<F: Field> {
+    open_loop: Poly<F>,
+    test_matrix: Matrix<F>,
+    toeplitz: Matrix<F>,
+    t: Matrix<F>,
+}
+
 fn finish<F: Field>(
     procedure: CanonicalProcedure,
     a: &Matrix<F>,
     b: Option<&Matrix<F>>,
     c: &Matrix<F>,
-    open_loop: Poly<F>,
-    test_matrix: Matrix<F>,
-    toeplitz: Matrix<F>,
-    t: Matrix<F>,
+    w: Working<F>,
 ) -> Result<CanonicalForm<F>, LinalgError> {
+    let Working {
+        open_loop,
+        test_matrix,
+        toeplitz,
+        t,
+    } = w;
     let t_inv = linalg::inverse(&t)?;
     let n = a.rows();
     let b = b.cloned().unwrap_or_else(|| Matrix::zeros(n, 0));
@@ -152,7 +163,18 @@ pub fn observer_form_di_ruscio<F: Field>(
     let open_loop = linalg::characteristic_polynomial(a, "s")?;
     let m = toeplitz_m(&open_loop);
     let t = linalg::inverse(&m.transpose().mul(&o)?)?;
-    Ok(finish(CanonicalProcedure::DiRuscio, a, b, c, open_loop, o, m, t)?)
+    Ok(finish(
+        CanonicalProcedure::DiRuscio,
+        a,
+        b,
+        c,
+        Working {
+            open_loop,
+            test_matrix: o,
+            toeplitz: m,
+            t,
+        },
+    )?)
 }
 
 /// Stoustrup's procedure: `t_n = O⁻¹ e_n`, `t_(k−1) = A t_k`.
@@ -176,7 +198,18 @@ pub fn observer_form_stoustrup<F: Field>(
     cols.reverse();
     let t = Matrix::from_fn(n, n, |i, j| cols[j].get(i, 0).clone());
     let m = toeplitz_m(&open_loop);
-    Ok(finish(CanonicalProcedure::Stoustrup, a, b, c, open_loop, o, m, t)?)
+    Ok(finish(
+        CanonicalProcedure::Stoustrup,
+        a,
+        b,
+        c,
+        Working {
+            open_loop,
+            test_matrix: o,
+            toeplitz: m,
+            t,
+        },
+    )?)
 }
 
 /// The controller canonical form through `T_c = C_n M` (Di Ruscio §3.2).
@@ -210,9 +243,11 @@ pub fn controller_form<F: Field>(
         a,
         Some(b),
         &c,
-        open_loop,
-        cn,
-        m,
-        t,
+        Working {
+            open_loop,
+            test_matrix: cn,
+            toeplitz: m,
+            t,
+        },
     )?)
 }

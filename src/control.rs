@@ -56,7 +56,11 @@ pub enum ControlError {
 ///
 /// # Errors
 /// [`ControlError::Design`] for an uncontrollable pair or a polynomial of the wrong degree.
-pub fn state_feedback<F: Field>(a: &Matrix<F>, b: &Matrix<F>, desired: &Poly<F>) -> Result<Matrix<F>, ControlError> {
+pub fn state_feedback<F: Field>(
+    a: &Matrix<F>,
+    b: &Matrix<F>,
+    desired: &Poly<F>,
+) -> Result<Matrix<F>, ControlError> {
     let at = a.transpose();
     let bt = b.transpose();
     let o = require_observable(&at, &bt).map_err(DesignError::from)?;
@@ -152,8 +156,16 @@ pub fn observer_based_control(
     d.push("A + LC", "observer matrix", &a_lc);
     let feedback_polynomial = linalg::characteristic_polynomial(&a_bf, "s")?;
     let observer_polynomial = linalg::characteristic_polynomial(&a_lc, "s")?;
-    d.push("det(sI − (A + BF))", "", &Factored::of(&feedback_polynomial));
-    d.push("det(sI − (A + LC))", "", &Factored::of(&observer_polynomial));
+    d.push(
+        "det(sI − (A + BF))",
+        "",
+        &Factored::of(&feedback_polynomial),
+    );
+    d.push(
+        "det(sI − (A + LC))",
+        "",
+        &Factored::of(&observer_polynomial),
+    );
     let n = a.rows();
     let top = a_bf.hstack(&bf)?;
     let bottom = Matrix::zeros(n, n).hstack(&a_lc)?;
@@ -170,7 +182,10 @@ pub fn observer_based_control(
     d.push("A + BF + LC", "controller state matrix", &a_k);
     let controller = siso_transfer_function(&a_k, l, &f.neg(), &zero)?;
     d.push("K(s)", "−F (sI − A − BF − LC)⁻¹ L", &controller);
-    let one = RationalFunction::from_poly(Poly::constant(Rational::from(num_bigint::BigInt::from(1)), "s"));
+    let one = RationalFunction::from_poly(Poly::constant(
+        Rational::from(num_bigint::BigInt::from(1)),
+        "s",
+    ));
     let loop_tf = one - controller.clone() * plant.clone();
     let closed_loop = plant
         .checked_div(&loop_tf)
@@ -210,9 +225,15 @@ mod tests {
         )
         .unwrap();
         assert!(r.separation_holds);
-        assert_eq!(Factored::of(&r.closed_loop_polynomial).to_string(), "(s + 4)^2(s + 5)^2");
+        assert_eq!(
+            Factored::of(&r.closed_loop_polynomial).to_string(),
+            "(s + 4)^2(s + 5)^2"
+        );
         assert_eq!(r.plant.to_string(), "1/(s^2 + 3s + 2)");
         assert_eq!(r.controller.to_string(), "(-108s − 252)/(s^2 + 15s + 74)");
-        assert_eq!(r.closed_loop.to_string(), "(s^2 + 15s + 74)/(s^4 + 18s^3 + 121s^2 + 360s + 400)");
+        assert_eq!(
+            r.closed_loop.to_string(),
+            "(s^2 + 15s + 74)/(s^4 + 18s^3 + 121s^2 + 360s + 400)"
+        );
     }
 }

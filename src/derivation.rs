@@ -2,9 +2,9 @@
 //! terminal text, LaTeX (for the book) and input syntax (for `--json` and round trips).
 
 use crate::algebra::Ring;
+use crate::algebra::{Field, Rational};
 use crate::linalg::Matrix;
 use crate::poly::{Factored, Poly, RationalFunction};
-use crate::algebra::{Field, Rational};
 use serde::Serialize;
 
 /// Something a derivation step can show.
@@ -167,13 +167,20 @@ impl Derivation {
             .iter()
             .map(|s| format!("{} &= {}", latex_label(&s.label), s.latex))
             .collect();
-        format!("\\begin{{aligned}}\n{}\n\\end{{aligned}}", lines.join(" \\\\\n"))
+        format!(
+            "\\begin{{aligned}}\n{}\n\\end{{aligned}}",
+            lines.join(" \\\\\n")
+        )
     }
 }
 
 /// A step label in LaTeX: `O_n` stays, words become `\text{…}`.
 fn latex_label(label: &str) -> String {
-    if label.chars().all(|c| c.is_ascii_alphanumeric() || "_^(){}−-+ ".contains(c)) && !label.contains(' ') {
+    if label
+        .chars()
+        .all(|c| c.is_ascii_alphanumeric() || "_^(){}−-+ ".contains(c))
+        && !label.contains(' ')
+    {
         label.replace('−', "-")
     } else {
         format!("\\text{{{}}}", label.replace('_', "\\_"))

@@ -31,7 +31,10 @@ pub enum ObservabilityError {
 ///
 /// # Errors
 /// [`LinalgError`] when `A` is not square or `C` has the wrong width.
-pub fn observability_matrix<R: Ring>(a: &Matrix<R>, c: &Matrix<R>) -> Result<Matrix<R>, LinalgError> {
+pub fn observability_matrix<R: Ring>(
+    a: &Matrix<R>,
+    c: &Matrix<R>,
+) -> Result<Matrix<R>, LinalgError> {
     let n = a.rows();
     if !a.is_square() {
         return Err(LinalgError::NotSquare {
@@ -56,7 +59,10 @@ pub fn observability_matrix<R: Ring>(a: &Matrix<R>, c: &Matrix<R>) -> Result<Mat
 ///
 /// # Errors
 /// [`LinalgError`] when `A` is not square or `B` has the wrong height.
-pub fn controllability_matrix<R: Ring>(a: &Matrix<R>, b: &Matrix<R>) -> Result<Matrix<R>, LinalgError> {
+pub fn controllability_matrix<R: Ring>(
+    a: &Matrix<R>,
+    b: &Matrix<R>,
+) -> Result<Matrix<R>, LinalgError> {
     Ok(observability_matrix(&a.transpose(), &b.transpose())?.transpose())
 }
 
@@ -141,7 +147,10 @@ pub fn observability_report(
 
 /// `A` restricted to an `A`-invariant subspace spanned by the columns `basis`: the matrix `R`
 /// with `A·N = N·R`.
-fn restriction(a: &Matrix<Rational>, basis: &[Matrix<Rational>]) -> Result<Matrix<Rational>, LinalgError> {
+fn restriction(
+    a: &Matrix<Rational>,
+    basis: &[Matrix<Rational>],
+) -> Result<Matrix<Rational>, LinalgError> {
     let k = basis.len();
     if k == 0 {
         return Ok(Matrix::zeros(0, 0));
@@ -174,7 +183,10 @@ pub fn pbh_rank(a: &Matrix<Rational>, c: &Matrix<Rational>, lambda: &Quadratic) 
 ///
 /// # Errors
 /// [`ObservabilityError::Unobservable`] with a direction in `ker O_n`.
-pub fn require_observable<F: Field>(a: &Matrix<F>, c: &Matrix<F>) -> Result<Matrix<F>, ObservabilityError> {
+pub fn require_observable<F: Field>(
+    a: &Matrix<F>,
+    c: &Matrix<F>,
+) -> Result<Matrix<F>, ObservabilityError> {
     let o = observability_matrix(a, c)?;
     let rank = linalg::rank(&o);
     if rank < a.rows() {

@@ -5,8 +5,8 @@ mod common;
 use common::{invertible_matrix, rational_matrix, square_matrix};
 use observer_workbench::algebra::{MultiPoly, One, Rational, Zero};
 use observer_workbench::linalg::{
-    berkowitz, characteristic_polynomial, determinant, elimination::determinant_in_domain,
-    float, inverse, matrix_polynomial, null_space, polynomial_times_vector, rank, solve, Matrix,
+    berkowitz, characteristic_polynomial, determinant, elimination::determinant_in_domain, float,
+    inverse, matrix_polynomial, null_space, polynomial_times_vector, rank, solve, Matrix,
 };
 use proptest::prelude::*;
 

@@ -8,21 +8,29 @@ use observer_workbench::syntax::{parse_matrix, parse_polynomial, parse_scalar, S
 use proptest::prelude::*;
 
 fn quadratic() -> impl Strategy<Value = Quadratic> {
-    (small_rational(), small_rational(), prop::sample::select(vec![2i64, 3, 5, -1, 6]))
+    (
+        small_rational(),
+        small_rational(),
+        prop::sample::select(vec![2i64, 3, 5, -1, 6]),
+    )
         .prop_map(|(a, b, d)| Quadratic::new(a, b, d).unwrap())
 }
 
 fn symbolic() -> impl Strategy<Value = MultiPoly> {
     let var = prop::sample::select(vec!["k1", "k2", "a", "T", "λ"]);
-    proptest::collection::vec((small_rational(), var.clone(), var, 0u32..3), 0..5).prop_map(|terms| {
-        terms.into_iter().fold(MultiPoly::zero(), |acc, (c, x, y, e)| {
-            let mut t = MultiPoly::constant(c) * MultiPoly::var(x);
-            for _ in 0..e {
-                t = t * MultiPoly::var(y);
-            }
-            acc + t
-        })
-    })
+    proptest::collection::vec((small_rational(), var.clone(), var, 0u32..3), 0..5).prop_map(
+        |terms| {
+            terms
+                .into_iter()
+                .fold(MultiPoly::zero(), |acc, (c, x, y, e)| {
+                    let mut t = MultiPoly::constant(c) * MultiPoly::var(x);
+                    for _ in 0..e {
+                        t = t * MultiPoly::var(y);
+                    }
+                    acc + t
+                })
+        },
+    )
 }
 
 proptest! {

@@ -23,8 +23,8 @@ pub use num_bigint::BigInt;
 pub use quadratic::{Quadratic, QuadraticError};
 pub use scalars::{rational_to_f64, Rational};
 
-use std::fmt::{Debug, Display};
 pub use num_traits::{One, Zero};
+use std::fmt::{Debug, Display};
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// A commutative ring with one (`zero`, `one`, `is_zero` come from num-traits).

@@ -19,7 +19,9 @@ use std::ops::{Add, Mul, Neg, Sub};
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum QuadraticError {
     /// Two different square roots in one expression.
-    #[error("cannot mix √{first} and √{second} in one number (only one quadratic field at a time)")]
+    #[error(
+        "cannot mix √{first} and √{second} in one number (only one quadratic field at a time)"
+    )]
     MixedFields {
         /// The field already in use.
         first: i64,
@@ -68,7 +70,7 @@ impl Quadratic {
         if b.is_zero() {
             return Some(Quadratic::rational(a));
         }
-        if d == 0 || d == 1 || squarefree_part(d.unsigned_abs())? .1 != 1 {
+        if d == 0 || d == 1 || squarefree_part(d.unsigned_abs())?.1 != 1 {
             return None;
         }
         Some(Quadratic { a, b, d })
@@ -95,7 +97,11 @@ impl Quadratic {
         if d == 1 {
             Ok(Quadratic::rational(coeff))
         } else {
-            Ok(Quadratic { a: Rational::zero(), b: coeff, d })
+            Ok(Quadratic {
+                a: Rational::zero(),
+                b: coeff,
+                d,
+            })
         }
     }
 
@@ -134,7 +140,8 @@ impl Quadratic {
     }
     /// `a² − d b²`, rational.
     pub fn norm(&self) -> Rational {
-        self.a.clone() * self.a.clone() - Rational::from_i64(self.d) * self.b.clone() * self.b.clone()
+        self.a.clone() * self.a.clone()
+            - Rational::from_i64(self.d) * self.b.clone() * self.b.clone()
     }
     /// Whether the number is real (`d > 0` or rational).
     pub fn is_real(&self) -> bool {

@@ -38,11 +38,15 @@ pub fn berkowitz<R: Ring>(a: &Matrix<R>, var: &str) -> Result<Poly<R>, LinalgErr
         t.push(-a.get(r, r).clone());
         let mut mc: Vec<R> = (0..r).map(|i| a.get(i, r).clone()).collect();
         for _ in 0..r {
-            let rc = (0..r).fold(R::zero(), |acc, j| acc + a.get(r, j).clone() * mc[j].clone());
+            let rc = (0..r).fold(R::zero(), |acc, j| {
+                acc + a.get(r, j).clone() * mc[j].clone()
+            });
             t.push(-rc);
             mc = (0..r)
                 .map(|i| {
-                    (0..r).fold(R::zero(), |acc, j| acc + a.get(i, j).clone() * mc[j].clone())
+                    (0..r).fold(R::zero(), |acc, j| {
+                        acc + a.get(i, j).clone() * mc[j].clone()
+                    })
                 })
                 .collect();
         }

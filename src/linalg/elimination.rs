@@ -192,7 +192,11 @@ pub struct Rref<F> {
 
 impl<F: Ring> std::fmt::Debug for Rref<F> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Rref({:?}, pivots {:?})", self.matrix, self.pivot_columns)
+        write!(
+            f,
+            "Rref({:?}, pivots {:?})",
+            self.matrix, self.pivot_columns
+        )
     }
 }
 

@@ -27,7 +27,13 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
 
 /// Singular values, largest first.
 pub fn singular_values(a: &DMatrix<f64>) -> Vec<f64> {
-    let mut s: Vec<f64> = a.clone().svd(false, false).singular_values.iter().copied().collect();
+    let mut s: Vec<f64> = a
+        .clone()
+        .svd(false, false)
+        .singular_values
+        .iter()
+        .copied()
+        .collect();
     s.sort_by(|x, y| y.total_cmp(x));
     s
 }
@@ -58,6 +64,9 @@ mod tests {
         let ev = eigenvalues(&a);
         assert!((ev[0].re + 2.0).abs() < 1e-12 && (ev[1].re + 1.0).abs() < 1e-12);
         assert!(condition_number(&DMatrix::<f64>::identity(3, 3)) - 1.0 < 1e-15);
-        assert_eq!(rank(&DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 4.0]), 1e-12), 1);
+        assert_eq!(
+            rank(&DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 4.0]), 1e-12),
+            1
+        );
     }
 }

@@ -20,7 +20,7 @@ pub fn vectorize<R: Ring>(a: &Matrix<R>) -> Matrix<R> {
 
 /// The inverse of [`vectorize`]: an `m`-row matrix from a stacked column.
 pub fn unvectorize<R: Ring>(v: &Matrix<R>, m: usize) -> Matrix<R> {
-    let n = if m == 0 { 0 } else { v.rows() / m };
+    let n = v.rows().checked_div(m).unwrap_or(0);
     Matrix::from_fn(m, n, |i, j| v.get(j * m + i, 0).clone())
 }
 

@@ -247,13 +247,17 @@ impl<T: Ring> Matrix<T> {
         if self.rows != other.rows {
             return Err(self.mismatch(other, "horizontal stack"));
         }
-        Ok(Matrix::from_fn(self.rows, self.cols + other.cols, |i, j| {
-            if j < self.cols {
-                self.get(i, j).clone()
-            } else {
-                other.get(i, j - self.cols).clone()
-            }
-        }))
+        Ok(Matrix::from_fn(
+            self.rows,
+            self.cols + other.cols,
+            |i, j| {
+                if j < self.cols {
+                    self.get(i, j).clone()
+                } else {
+                    other.get(i, j - self.cols).clone()
+                }
+            },
+        ))
     }
     /// The block of rows `r0..r1`, columns `c0..c1`.
     pub fn block(&self, r0: usize, r1: usize, c0: usize, c1: usize) -> Self {
@@ -327,7 +331,10 @@ impl<T: Ring> Matrix<T> {
                     .join(" & ")
             })
             .collect();
-        format!("\\begin{{bmatrix}} {} \\end{{bmatrix}}", rows.join(" \\\\ "))
+        format!(
+            "\\begin{{bmatrix}} {} \\end{{bmatrix}}",
+            rows.join(" \\\\ ")
+        )
     }
 }
 

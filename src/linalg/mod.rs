@@ -15,7 +15,9 @@ pub mod float;
 pub mod kronecker;
 mod matrix;
 
-pub use charpoly::{berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_vector};
+pub use charpoly::{
+    berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_vector,
+};
 pub use elimination::{determinant, inverse, null_space, rank, rref, solve, Rref};
 pub use kronecker::{kronecker, vectorize};
 pub use matrix::Matrix;

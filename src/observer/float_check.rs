@@ -135,7 +135,10 @@ pub fn float_check(
                 (Complex::new(re, im), *m)
             })
             .collect(),
-        _ => companion_roots(desired).into_iter().map(|z| (z, 1)).collect(),
+        _ => companion_roots(desired)
+            .into_iter()
+            .map(|z| (z, 1))
+            .collect(),
     };
     let multiplicity = requested.iter().map(|(_, m)| *m).max().unwrap_or(1);
     let observer_exact = &af - &k_exact * &cf;
@@ -215,7 +218,9 @@ fn exact_polynomial_error(
     k: &DVector<f64>,
     desired: &Poly<Rational>,
 ) -> Option<f64> {
-    let kq = Matrix::from_fn(k.len(), 1, |i, _| Rational::from_f64(k[i]).unwrap_or_default());
+    let kq = Matrix::from_fn(k.len(), 1, |i, _| {
+        Rational::from_f64(k[i]).unwrap_or_default()
+    });
     let obs = a.sub(&kq.mul(c).ok()?).ok()?;
     let p = linalg::characteristic_polynomial(&obs, "s").ok()?;
     let n = desired.degree()?;

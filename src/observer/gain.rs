@@ -111,7 +111,9 @@ fn check_desired<F: Field>(a: &Matrix<F>, desired: &Poly<F>) -> Result<usize, De
 
 /// `c − a` as a column: `c_i − a_i`, the coefficients of `s^(n−i)`.
 fn coefficient_difference<F: Field>(desired: &Poly<F>, open_loop: &Poly<F>, n: usize) -> Matrix<F> {
-    Matrix::from_fn(n, 1, |i, _| desired.coeff(n - 1 - i) - open_loop.coeff(n - 1 - i))
+    Matrix::from_fn(n, 1, |i, _| {
+        desired.coeff(n - 1 - i) - open_loop.coeff(n - 1 - i)
+    })
 }
 
 /// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC).
@@ -159,7 +161,18 @@ pub fn bass_gura_gain<F: Field>(
     Ok(linalg::solve(o, &y)?)
 }
 
-/// Canonical-form gain: `K_o = c − a`, `K = T_o K_o` (A − KC). Returns `(K, K_o, T_o)`.
+/// The canonical-form design with its intermediate values.
+#[derive(Clone, PartialEq, Debug)]
+pub struct CanonicalGain<F: Field> {
+    /// `K = T_o K_o`.
+    pub gain: Matrix<F>,
+    /// `K_o = c − a`, the gain in canonical coordinates.
+    pub canonical: Matrix<F>,
+    /// `T_o`.
+    pub transformation: Matrix<F>,
+}
+
+/// Canonical-form gain: `K_o = c − a`, `K = T_o K_o` (A − KC).
 ///
 /// # Errors
 /// [`DesignError`] for several outputs or an unobservable pair.
@@ -167,11 +180,15 @@ pub fn canonical_gain<F: Field>(
     a: &Matrix<F>,
     c: &Matrix<F>,
     desired: &Poly<F>,
-) -> Result<(Matrix<F>, Matrix<F>, Matrix<F>), DesignError> {
+) -> Result<CanonicalGain<F>, DesignError> {
     let n = check_desired(a, desired)?;
     let form = observer_form_di_ruscio(a, None, c)?;
     let k_o = coefficient_difference(desired, &form.open_loop, n);
-    Ok((form.t.mul(&k_o)?, k_o, form.t))
+    Ok(CanonicalGain {
+        gain: form.t.mul(&k_o)?,
+        canonical: k_o,
+        transformation: form.t,
+    })
 }
 
 /// Lemma 3.1: `K̃_o = C P(A) O_n⁻¹`, `K_o = rot90(K̃_o)`, `K = T_o K_o`. Returns `(K, K̃_o)`.
@@ -235,10 +252,9 @@ pub fn design(
             (k.map(lift), d, ach.map(lift))
         }
         None => {
-            let p = desired
-                .exact
-                .clone()
-                .ok_or_else(|| DesignError::NotExact(desired.inexact_reason.clone().unwrap_or_default()))?;
+            let p = desired.exact.clone().ok_or_else(|| {
+                DesignError::NotExact(desired.inexact_reason.clone().unwrap_or_default())
+            })?;
             let lift = |x: &Rational| Quadratic::rational(x.clone());
             design_in(&a.map(lift), &c.map(lift), &p, method)?
         }
@@ -292,11 +308,11 @@ fn design_in<F: Field>(
             k
         }
         GainMethod::Canonical => {
-            let (k, k_o, t) = canonical_gain(a, c, desired)?;
-            d.push("T_o", "(Mᵀ O_n)⁻¹", &t);
-            d.push("K_o", "c − a", &k_o);
-            d.push("K", "T_o K_o", &k);
-            k
+            let g = canonical_gain(a, c, desired)?;
+            d.push("T_o", "(Mᵀ O_n)⁻¹", &g.transformation);
+            d.push("K_o", "c − a", &g.canonical);
+            d.push("K", "T_o K_o", &g.gain);
+            g.gain
         }
         GainMethod::Lemma31 => {
             let (k, k_tilde) = lemma_3_1_gain(a, c, desired)?;

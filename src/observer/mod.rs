@@ -7,13 +7,13 @@
 
 mod convention;
 pub mod float_check;
-pub mod perfect;
 mod gain;
+pub mod perfect;
 pub mod polynomial;
 
 pub use convention::{Convention, ObserverGain};
 pub use gain::{
-    ackermann_gain, bass_gura_gain, canonical_gain, design, lemma_3_1_gain, DesignError,
-    GainMethod, ObserverDesign,
+    ackermann_gain, bass_gura_gain, canonical_gain, design, lemma_3_1_gain, CanonicalGain,
+    DesignError, GainMethod, ObserverDesign,
 };
 pub use polynomial::{DesiredPolynomial, PolynomialFamily};

@@ -81,7 +81,8 @@ pub fn perfect_observer(
     let e = t.block(0, n - 1, 0, n).vstack(&zero_row)?;
     let f = t.block(1, n, 0, n).vstack(c)?;
     let input_matrix = tb.block(0, n - 1, 0, m).vstack(&d)?;
-    let output_matrix = Matrix::<Rational>::zeros(n - 1, 1).vstack(&Matrix::column(vec![-Rational::one()]))?;
+    let output_matrix =
+        Matrix::<Rational>::zeros(n - 1, 1).vstack(&Matrix::column(vec![-Rational::one()]))?;
     // det(Es − F) over the polynomials in s: Berkowitz is division-free, so use it on
     // the pencil written with a symbolic s.
     let s = crate::algebra::MultiPoly::var("s");
@@ -96,9 +97,14 @@ pub fn perfect_observer(
         .map(|c| c.as_constant().unwrap_or_default())
         .collect();
     let pencil_determinant = Poly::new(coeffs, "s");
-    let mut derivation = Derivation::new("Perfect observer E x̂' = F x̂ + G_u u + G_y y (single output)");
+    let mut derivation =
+        Derivation::new("Perfect observer E x̂' = F x̂ + G_u u + G_y y (single output)");
     derivation.push("T", "O_n = [C; CA; …]", &t);
-    derivation.push("T A T⁻¹", "shift form", &t.mul(a)?.mul(&linalg::inverse(&t)?)?);
+    derivation.push(
+        "T A T⁻¹",
+        "shift form",
+        &t.mul(a)?.mul(&linalg::inverse(&t)?)?,
+    );
     derivation.push("T B", "", &tb);
     derivation.push("E", "[rows 1…n−1 of T; 0]", &e);
     derivation.push("F", "[rows 2…n of T; C]", &f);

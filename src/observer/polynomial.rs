@@ -144,7 +144,10 @@ impl DesiredPolynomial {
             }
         }
         let p = Poly::from_roots(poles, "s");
-        Ok(DesiredPolynomial::exact(PolynomialFamily::Poles(poles.to_vec()), p))
+        Ok(DesiredPolynomial::exact(
+            PolynomialFamily::Poles(poles.to_vec()),
+            p,
+        ))
     }
 
     /// A polynomial given by its coefficients; checked to be monic of degree `n`.
@@ -208,7 +211,9 @@ impl DesiredPolynomial {
                 if n % 2 == 1 {
                     p = p * Poly::new(vec![1.0, 1.0], "s");
                 }
-                let coeffs: Vec<f64> = (0..=n).map(|k| p.coeff(k) / tf.powi((n - k) as i32)).collect();
+                let coeffs: Vec<f64> = (0..=n)
+                    .map(|k| p.coeff(k) / tf.powi((n - k) as i32))
+                    .collect();
                 Ok(DesiredPolynomial {
                     family,
                     exact: None,
@@ -259,7 +264,11 @@ impl DesiredPolynomial {
     /// The exact polynomial over the rationals, when all coefficients are rational.
     pub fn rational(&self) -> Option<Poly<Rational>> {
         let p = self.exact.as_ref()?;
-        let c: Option<Vec<Rational>> = p.coeffs().iter().map(|c| c.as_rational().cloned()).collect();
+        let c: Option<Vec<Rational>> = p
+            .coeffs()
+            .iter()
+            .map(|c| c.as_rational().cloned())
+            .collect();
         Some(Poly::new(c?, "s"))
     }
 }
@@ -279,7 +288,10 @@ fn with_time_constant(p: &Poly<Quadratic>, t: &Rational) -> Poly<Quadratic> {
     let coeffs = (0..=n)
         .map(|k| {
             let scale = Quadratic::rational(num_traits::pow(t.recip(), n - k));
-            p.coeff(k).checked_div(&lead).unwrap_or_else(Quadratic::zero) * scale
+            p.coeff(k)
+                .checked_div(&lead)
+                .unwrap_or_else(Quadratic::zero)
+                * scale
         })
         .collect();
     Poly::new(coeffs, "s")
@@ -287,11 +299,15 @@ fn with_time_constant(p: &Poly<Quadratic>, t: &Rational) -> Poly<Quadratic> {
 
 /// Normalised Butterworth polynomials whose coefficients are exact in one quadratic field.
 fn normalised_butterworth(n: usize) -> Option<Poly<Quadratic>> {
-    let q = |a: i64, b: i64, d: i64| Quadratic::new(Rational::from_i64(a), Rational::from_i64(b), d);
+    let q =
+        |a: i64, b: i64, d: i64| Quadratic::new(Rational::from_i64(a), Rational::from_i64(b), d);
     let desc: Vec<Quadratic> = match n {
         1 => vec![q(1, 0, 0)?, q(1, 0, 0)?],
         2 => vec![q(1, 0, 0)?, q(0, 1, 2)?, q(1, 0, 0)?],
-        3 => [1, 2, 2, 1].iter().map(|&c| Quadratic::from_i64(c)).collect(),
+        3 => [1, 2, 2, 1]
+            .iter()
+            .map(|&c| Quadratic::from_i64(c))
+            .collect(),
         // (s + 1)(s² + φ⁻¹… ): coefficients 1, 1+√5, 3+√5, 3+√5, 1+√5, 1
         5 => vec![
             q(1, 0, 0)?,
@@ -345,7 +361,7 @@ mod tests {
     #[test]
     fn unpaired_complex_poles_are_refused() {
         let z = Quadratic::new(Rational::from_i64(-1), Rational::from_i64(2), -1).unwrap();
-        assert!(DesiredPolynomial::from_poles(&[z.clone()]).is_err());
+        assert!(DesiredPolynomial::from_poles(std::slice::from_ref(&z)).is_err());
         let p = DesiredPolynomial::from_poles(&[z.clone(), z.conjugate()]).unwrap();
         assert_eq!(p.rational().unwrap().to_string(), "s^2 + 2s + 5");
     }

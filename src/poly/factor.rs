@@ -55,7 +55,11 @@ pub fn rational_roots(p: &Poly<Rational>) -> RootSearch {
     }
     // Integer coefficients, zero roots stripped.
     let den = Rational::common_denominator(p.coeffs());
-    let mut ints: Vec<BigInt> = p.coeffs().iter().map(|c| c.scale_to_integer(&den)).collect();
+    let mut ints: Vec<BigInt> = p
+        .coeffs()
+        .iter()
+        .map(|c| c.scale_to_integer(&den))
+        .collect();
     if ints[0].is_zero() {
         roots.push(Rational::zero());
         while ints.first().is_some_and(|c| c.is_zero()) {
@@ -75,7 +79,10 @@ pub fn rational_roots(p: &Poly<Rational>) -> RootSearch {
         if ps.len() * qs.len() > RootSearch::CANDIDATE_LIMIT {
             exhaustive = false;
         }
-        let reduced = Poly::new(ints.iter().map(|c| Rational::from(c.clone())).collect(), "s");
+        let reduced = Poly::new(
+            ints.iter().map(|c| Rational::from(c.clone())).collect(),
+            "s",
+        );
         'outer: for q in &qs {
             for pnum in &ps {
                 if roots.len() >= deg {
@@ -250,7 +257,6 @@ impl fmt::Display for Factored {
     }
 }
 
-
 /// Roots of a rational polynomial, exact where they are rational or lie in a quadratic field.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExactRoots {
@@ -278,11 +284,16 @@ impl ExactRoots {
                 }
             })
             .collect();
-        parts.extend(
-            self.unresolved
-                .iter()
-                .map(|(f, m)| format!("roots of {f}{}", if *m > 1 { format!(" (×{m})") } else { String::new() })),
-        );
+        parts.extend(self.unresolved.iter().map(|(f, m)| {
+            format!(
+                "roots of {f}{}",
+                if *m > 1 {
+                    format!(" (×{m})")
+                } else {
+                    String::new()
+                }
+            )
+        }));
         if parts.is_empty() {
             "none".into()
         } else {

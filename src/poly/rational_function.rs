@@ -84,7 +84,11 @@ impl<F: Field> RationalFunction<F> {
         if self.den.degree() == Some(0) {
             return self.num.to_latex();
         }
-        format!("\\frac{{{}}}{{{}}}", self.num.to_latex(), self.den.to_latex())
+        format!(
+            "\\frac{{{}}}{{{}}}",
+            self.num.to_latex(),
+            self.den.to_latex()
+        )
     }
     /// Input syntax, `(num)/(den)`.
     pub fn to_input(&self) -> String {
@@ -170,7 +174,10 @@ mod tests {
     use crate::algebra::{Rational, Ring};
 
     fn r(v: &[i64]) -> Poly<Rational> {
-        Poly::from_descending(&v.iter().map(|&x| Rational::from_i64(x)).collect::<Vec<_>>(), "s")
+        Poly::from_descending(
+            &v.iter().map(|&x| Rational::from_i64(x)).collect::<Vec<_>>(),
+            "s",
+        )
     }
 
     #[test]

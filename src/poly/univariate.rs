@@ -400,9 +400,15 @@ mod tests {
         assert_eq!(p(&[1, -2, 0, -1]).to_string(), "s^3 − 2s^2 − 1");
         assert_eq!(p(&[-1, 0]).to_input(), "-s");
         assert_eq!(p(&[1, 9, 20]).to_latex(), "s^{2} + 9 s + 20");
-        let third = Poly::new(vec![Rational::new(1.into(), 3.into()), Rational::from_i64(-7)], "s");
+        let third = Poly::new(
+            vec![Rational::new(1.into(), 3.into()), Rational::from_i64(-7)],
+            "s",
+        );
         assert_eq!(third.to_string(), "-7s + 1/3");
-        let half = Poly::new(vec![Rational::from_i64(0), Rational::new((-7).into(), 3.into())], "s");
+        let half = Poly::new(
+            vec![Rational::from_i64(0), Rational::new((-7).into(), 3.into())],
+            "s",
+        );
         assert_eq!(half.to_string(), "-(7/3)s");
         assert_eq!(half.to_input(), "-(7/3)*s");
     }
@@ -410,9 +416,15 @@ mod tests {
     #[test]
     fn butterworth_order_two_prints_with_sqrt2() {
         let sqrt2 = Quadratic::sqrt_of_rational(&Rational::from_i64(2)).unwrap();
-        let b = Poly::new(vec![Quadratic::from_i64(1), sqrt2, Quadratic::from_i64(1)], "s");
+        let b = Poly::new(
+            vec![Quadratic::from_i64(1), sqrt2, Quadratic::from_i64(1)],
+            "s",
+        );
         assert_eq!(b.to_string(), "s^2 + √2 s + 1");
-        let shifted = Poly::new(vec![Quadratic::from_i64(1), Quadratic::from_i64(-2) + b.coeff(1)], "s");
+        let shifted = Poly::new(
+            vec![Quadratic::from_i64(1), Quadratic::from_i64(-2) + b.coeff(1)],
+            "s",
+        );
         assert_eq!(shifted.to_string(), "(√2 − 2)s + 1");
     }
 

@@ -118,8 +118,9 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
             None => T::symbol(name)
                 .ok_or_else(|| not_allowed(c, format!("the symbol '{name}'"), T::TARGET))?,
         },
-        ExprKind::ImaginaryUnit => T::imaginary_unit()
-            .ok_or_else(|| not_allowed(c, "the imaginary unit i", T::TARGET))?,
+        ExprKind::ImaginaryUnit => {
+            T::imaginary_unit().ok_or_else(|| not_allowed(c, "the imaginary unit i", T::TARGET))?
+        }
         ExprKind::Sqrt(arg) => {
             let r = rational_argument(arg)?;
             T::sqrt_of(&r).map_err(|what| not_allowed(c, what, T::TARGET))?
@@ -251,7 +252,8 @@ fn rf<F: Field + FromExpr>(
             let b = rf::<F>(x, var, ctx)?;
             let p = (0..k.unsigned_abs()).fold(constant(F::one()), |acc, _| acc * b.clone());
             if *k < 0 {
-                p.inverse().ok_or(SyntaxError::DivisionByZero { column: c })?
+                p.inverse()
+                    .ok_or(SyntaxError::DivisionByZero { column: c })?
             } else {
                 p
             }
@@ -348,7 +350,9 @@ impl FromExpr for f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::syntax::{parse_list, parse_matrix, parse_polynomial, parse_rational_function, parse_scalar};
+    use crate::syntax::{
+        parse_list, parse_matrix, parse_polynomial, parse_rational_function, parse_scalar,
+    };
 
     #[test]
     fn numbers_in_every_spelling() {
@@ -389,13 +393,16 @@ mod tests {
         let poles = parse_list::<Quadratic>("-1+2i, -1-2i, -3").unwrap();
         assert_eq!(poles.len(), 3);
         let e = parse_matrix::<Rational>("[1 k]").unwrap_err();
-        assert_eq!(e.to_string(), "column 4: the symbol 'k' is not allowed in a rational number");
+        assert_eq!(
+            e.to_string(),
+            "column 4: the symbol 'k' is not allowed in a rational number"
+        );
     }
 
     #[test]
     fn transfer_functions_reduce() {
-        let g = parse_rational_function::<Rational>("-108 (s + 7/3)/(s^2 + 15 s + 74)", "s")
-            .unwrap();
+        let g =
+            parse_rational_function::<Rational>("-108 (s + 7/3)/(s^2 + 15 s + 74)", "s").unwrap();
         assert_eq!(g.to_string(), "(-108s − 252)/(s^2 + 15s + 74)");
         let p = parse_polynomial::<Rational>("s^2 + 9s + 20", "s").unwrap();
         assert_eq!(p.to_input(), "s^2 + 9*s + 20");

@@ -194,7 +194,10 @@ pub fn parse_list<T: FromExpr>(input: &str) -> Result<Vec<T>, SyntaxError> {
 ///
 /// # Errors
 /// [`SyntaxError`] naming the column.
-pub fn parse_polynomial<F: Field + FromExpr>(input: &str, var: &str) -> Result<Poly<F>, SyntaxError> {
+pub fn parse_polynomial<F: Field + FromExpr>(
+    input: &str,
+    var: &str,
+) -> Result<Poly<F>, SyntaxError> {
     let e = parser::parse_expression(input)?;
     eval::polynomial(&e, var)
 }

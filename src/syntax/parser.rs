@@ -264,9 +264,7 @@ impl Parser {
                 }
                 // Juxtaposition: 9s, 2(s + 1), √2 s, k1 k2 (not across spaces inside matrices,
                 // and never number after number).
-                Tok::Ident(_) | Tok::LParen | Tok::Sqrt
-                    if !(self.in_matrix && t.space_before) =>
-                {
+                Tok::Ident(_) | Tok::LParen | Tok::Sqrt if !(self.in_matrix && t.space_before) => {
                     let rhs = self.power()?;
                     lhs = Expr {
                         kind: ExprKind::Mul(Box::new(lhs), Box::new(rhs)),
@@ -320,18 +318,16 @@ impl Parser {
         };
         let t = self.next();
         let k: i64 = match &t.tok {
-            Tok::Number(n) if n.chars().all(|c| c.is_ascii_digit()) => {
-                match n.parse::<u32>() {
-                    Ok(k) if k <= MAX_EXPONENT => k as i64,
-                    _ => {
-                        return Err(SyntaxError::TooLarge {
-                            column: t.column,
-                            what: format!("the exponent {n}"),
-                            limit: MAX_EXPONENT as usize,
-                        })
-                    }
+            Tok::Number(n) if n.chars().all(|c| c.is_ascii_digit()) => match n.parse::<u32>() {
+                Ok(k) if k <= MAX_EXPONENT => k as i64,
+                _ => {
+                    return Err(SyntaxError::TooLarge {
+                        column: t.column,
+                        what: format!("the exponent {n}"),
+                        limit: MAX_EXPONENT as usize,
+                    })
                 }
-            }
+            },
             other => {
                 return Err(SyntaxError::Unexpected {
                     column: t.column,

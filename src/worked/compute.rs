@@ -3,15 +3,21 @@
 use super::format::{ClaimSpec, ExampleFile};
 use super::value::Value;
 use crate::algebra::{MultiPoly, Quadratic, Rational, Ring, Zero};
-use crate::canonical_form::{controller_form, observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm};
+use crate::canonical_form::{
+    controller_form, observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm,
+};
 use crate::control::{observer_based_control, state_feedback};
 use crate::derivation::Derivation;
 use crate::linalg::{self, elimination::determinant_in_domain, Matrix};
 use crate::observability::{controllability_matrix, observability_matrix};
 use crate::observer::perfect::perfect_observer;
-use crate::observer::{canonical_gain, design, Convention, DesiredPolynomial, GainMethod, ObserverGain};
+use crate::observer::{
+    canonical_gain, design, Convention, DesiredPolynomial, GainMethod, ObserverGain,
+};
 use crate::poly::exact_roots;
-use crate::syntax::{evaluate_with, parse_expression, parse_matrix_expressions, rational_function_with, Environment};
+use crate::syntax::{
+    evaluate_with, parse_expression, parse_matrix_expressions, rational_function_with, Environment,
+};
 
 /// The computations a claim may name.
 pub const COMPUTATIONS: &[&str] = &[
@@ -127,11 +133,18 @@ impl Inputs<'_> {
 
     /// A matrix with symbols (those with values substituted).
     pub fn symbolic(&self, name: &str) -> Result<Matrix<MultiPoly>, ComputeError> {
-        let text = self.matrix_text(name).ok_or_else(|| input_error(name, "missing"))?;
-        let rows = parse_matrix_expressions(text).map_err(|e| input_error(name, e.show_in(text)))?;
+        let text = self
+            .matrix_text(name)
+            .ok_or_else(|| input_error(name, "missing"))?;
+        let rows =
+            parse_matrix_expressions(text).map_err(|e| input_error(name, e.show_in(text)))?;
         let values = rows
             .iter()
-            .map(|r| r.iter().map(|e| evaluate_with::<MultiPoly>(e, self.env)).collect::<Result<Vec<_>, _>>())
+            .map(|r| {
+                r.iter()
+                    .map(|e| evaluate_with::<MultiPoly>(e, self.env))
+                    .collect::<Result<Vec<_>, _>>()
+            })
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| input_error(name, e.show_in(text)))?;
         Matrix::from_rows(values).map_err(|e| input_error(name, e.to_string()))
@@ -148,29 +161,36 @@ impl Inputs<'_> {
 
     fn rational(&self, field: &str, text: &str) -> Result<Rational, ComputeError> {
         let e = parse_expression(text).map_err(|e| input_error(field, e.show_in(text)))?;
-        let v = evaluate_with::<MultiPoly>(&e, self.env).map_err(|e| input_error(field, e.show_in(text)))?;
-        v.as_constant().ok_or_else(|| ComputeError::NeedsValues(v.variables()))
+        let v = evaluate_with::<MultiPoly>(&e, self.env)
+            .map_err(|e| input_error(field, e.show_in(text)))?;
+        v.as_constant()
+            .ok_or_else(|| ComputeError::NeedsValues(v.variables()))
     }
 
     fn order(&self) -> Result<usize, ComputeError> {
         if self.has("A") {
             Ok(self.symbolic("A")?.rows())
         } else {
-            self.claim.order.ok_or_else(|| input_error("order", "give A or order"))
+            self.claim
+                .order
+                .ok_or_else(|| input_error("order", "give A or order"))
         }
     }
 
     fn convention(&self, default: Convention) -> Result<Convention, ComputeError> {
         match &self.claim.convention {
             None => Ok(default),
-            Some(c) => Convention::parse(c).ok_or_else(|| input_error("convention", format!("'{c}' is neither a-kc nor a+lc"))),
+            Some(c) => Convention::parse(c).ok_or_else(|| {
+                input_error("convention", format!("'{c}' is neither a-kc nor a+lc"))
+            }),
         }
     }
 
     fn method(&self) -> Result<GainMethod, ComputeError> {
         match &self.claim.method {
             None => Ok(GainMethod::Ackermann),
-            Some(m) => GainMethod::parse(m).ok_or_else(|| input_error("method", format!("unknown method '{m}'"))),
+            Some(m) => GainMethod::parse(m)
+                .ok_or_else(|| input_error("method", format!("unknown method '{m}'"))),
         }
     }
 
@@ -190,7 +210,8 @@ impl Inputs<'_> {
         let n = self.order()?;
         let c = self.claim;
         let r = if let Some(p) = &c.poles {
-            let rows = parse_matrix_expressions(p).map_err(|e| input_error("poles", e.show_in(p)))?;
+            let rows =
+                parse_matrix_expressions(p).map_err(|e| input_error("poles", e.show_in(p)))?;
             let poles: Vec<Quadratic> = rows
                 .iter()
                 .flatten()
@@ -198,12 +219,16 @@ impl Inputs<'_> {
                 .collect::<Result<_, _>>()
                 .map_err(|e| symbol_or_input("poles", p, e))?;
             if poles.len() != n {
-                return Err(input_error("poles", format!("{} poles for order {n}", poles.len())));
+                return Err(input_error(
+                    "poles",
+                    format!("{} poles for order {n}", poles.len()),
+                ));
             }
             DesiredPolynomial::from_poles(&poles)
         } else if let Some(p) = &c.poly {
             let e = parse_expression(p).map_err(|e| input_error("poly", e.show_in(p)))?;
-            let rf = rational_function_with::<Quadratic>(&e, "s", Some(self.env)).map_err(|e| symbol_or_input("poly", p, e))?;
+            let rf = rational_function_with::<Quadratic>(&e, "s", Some(self.env))
+                .map_err(|e| symbol_or_input("poly", p, e))?;
             let poly = rf.numerator().clone();
             DesiredPolynomial::from_polynomial(poly, n)
         } else if let Some(t) = &c.repeated {
@@ -213,7 +238,10 @@ impl Inputs<'_> {
         } else if let Some(t) = &c.bessel {
             DesiredPolynomial::bessel(&self.rational("bessel", t)?, n)
         } else {
-            return Err(input_error("poles", "give poles, poly, repeated, butterworth or bessel"));
+            return Err(input_error(
+                "poles",
+                "give poles, poly, repeated, butterworth or bessel",
+            ));
         };
         r.map_err(|e| input_error("desired polynomial", e.to_string()))
     }
@@ -223,7 +251,10 @@ impl Inputs<'_> {
 /// input error.
 fn symbol_or_input(field: &str, text: &str, e: crate::syntax::SyntaxError) -> ComputeError {
     if let crate::syntax::SyntaxError::NotAllowed { what, .. } = &e {
-        if let Some(name) = what.strip_prefix("the symbol '").and_then(|s| s.strip_suffix('\'')) {
+        if let Some(name) = what
+            .strip_prefix("the symbol '")
+            .and_then(|s| s.strip_suffix('\''))
+        {
             return ComputeError::NeedsValues(vec![name.to_string()]);
         }
     }
@@ -267,11 +298,20 @@ fn one_step(title: &str, value: &Value) -> Derivation {
 fn canonical(inputs: &Inputs) -> Result<CanonicalForm<Rational>, ComputeError> {
     let a = inputs.numeric("A")?;
     let c = inputs.numeric("C")?;
-    let b = if inputs.has("B") { Some(inputs.numeric("B")?) } else { None };
+    let b = if inputs.has("B") {
+        Some(inputs.numeric("B")?)
+    } else {
+        None
+    };
     let r = match inputs.claim.procedure.as_deref().unwrap_or("stoustrup") {
         "stoustrup" => observer_form_stoustrup(&a, b.as_ref(), &c),
         "di-ruscio" => observer_form_di_ruscio(&a, b.as_ref(), &c),
-        other => return Err(input_error("procedure", format!("'{other}' is neither stoustrup nor di-ruscio"))),
+        other => {
+            return Err(input_error(
+                "procedure",
+                format!("'{other}' is neither stoustrup nor di-ruscio"),
+            ))
+        }
     };
     r.map_err(failed)
 }
@@ -284,23 +324,32 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
     let what = inputs.claim.what.as_str();
     let var = inputs.var();
     let title = format!("{} ({})", inputs.claim.id, what);
-    let simple = |value: Value| Ok(Computed { derivation: one_step(&title, &value), value });
+    let simple = |value: Value| {
+        Ok(Computed {
+            derivation: one_step(&title, &value),
+            value,
+        })
+    };
     match what {
         "observability_matrix" => {
-            let o = observability_matrix(&inputs.symbolic("A")?, &inputs.symbolic("C")?).map_err(failed)?;
+            let o = observability_matrix(&inputs.symbolic("A")?, &inputs.symbolic("C")?)
+                .map_err(failed)?;
             simple(Value::SymbolicMatrix(o))
         }
         "observability_matrix_inverse" => {
-            let o = observability_matrix(&inputs.numeric("A")?, &inputs.numeric("C")?).map_err(failed)?;
+            let o = observability_matrix(&inputs.numeric("A")?, &inputs.numeric("C")?)
+                .map_err(failed)?;
             simple(Value::Matrix(lift(&linalg::inverse(&o).map_err(failed)?)))
         }
         "observability_determinant" => {
-            let o = observability_matrix(&inputs.symbolic("A")?, &inputs.symbolic("C")?).map_err(failed)?;
+            let o = observability_matrix(&inputs.symbolic("A")?, &inputs.symbolic("C")?)
+                .map_err(failed)?;
             simple(Value::Symbolic(determinant_in_domain(&o).map_err(failed)?))
         }
         "observable" => {
             let a = inputs.numeric("A")?;
-            let r = crate::observability::observability_report(&a, &inputs.numeric("C")?).map_err(failed)?;
+            let r = crate::observability::observability_report(&a, &inputs.numeric("C")?)
+                .map_err(failed)?;
             let mut d = Derivation::new(&title);
             d.push("O_n", "[C; CA; …]", &r.matrix);
             d.push("rank O_n", "", &Rational::from_i64(r.rank as i64));
@@ -308,9 +357,16 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
                 for v in &r.unobservable_subspace {
                     d.push("unobservable direction", "ker O_n", v);
                 }
-                d.push("unobservable modes", "det(sI − A|ker O_n)", &r.unobservable_polynomial);
+                d.push(
+                    "unobservable modes",
+                    "det(sI − A|ker O_n)",
+                    &r.unobservable_polynomial,
+                );
             }
-            Ok(Computed { value: Value::Bool(r.observable()), derivation: d })
+            Ok(Computed {
+                value: Value::Bool(r.observable()),
+                derivation: d,
+            })
         }
         "characteristic_polynomial" => {
             let a = inputs.symbolic("A")?;
@@ -318,19 +374,34 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             simple(Value::SymbolicPolynomial(p, var))
         }
         "eigenvalues" => {
-            let p = linalg::characteristic_polynomial(&inputs.numeric("A")?, "s").map_err(failed)?;
+            let p =
+                linalg::characteristic_polynomial(&inputs.numeric("A")?, "s").map_err(failed)?;
             let r = exact_roots(&p);
             if !r.complete() {
-                return Err(failed(format!("the eigenvalues are not all rational or quadratic: {}", r.render())));
+                return Err(failed(format!(
+                    "the eigenvalues are not all rational or quadratic: {}",
+                    r.render()
+                )));
             }
-            let roots = r.roots.iter().flat_map(|(x, m)| std::iter::repeat_n(x.clone(), *m as usize)).collect();
+            let roots = r
+                .roots
+                .iter()
+                .flat_map(|(x, m)| std::iter::repeat_n(x.clone(), *m as usize))
+                .collect();
             let mut d = Derivation::new(&title);
             d.push("det(sI − A)", "", &p);
             let v = Value::Roots(roots);
             d.push("eigenvalues", "", &v);
-            Ok(Computed { value: v, derivation: d })
+            Ok(Computed {
+                value: v,
+                derivation: d,
+            })
         }
-        "canonical_transformation" | "canonical_transformation_inverse" | "canonical_a" | "canonical_b" | "canonical_c" => {
+        "canonical_transformation"
+        | "canonical_transformation_inverse"
+        | "canonical_a"
+        | "canonical_b"
+        | "canonical_c" => {
             let f = canonical(inputs)?;
             let m = match what {
                 "canonical_transformation" => &f.t,
@@ -345,19 +416,32 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             d.push("T⁻¹", "", &f.t_inv);
             d.push("A_o", "T⁻¹AT", &f.a);
             d.push("C_o", "CT", &f.c);
-            Ok(Computed { value: Value::Matrix(lift(m)), derivation: d })
+            Ok(Computed {
+                value: Value::Matrix(lift(m)),
+                derivation: d,
+            })
         }
         "desired_polynomial" => {
             let d = inputs.desired()?;
-            let p = d.exact.clone().ok_or_else(|| failed(d.inexact_reason.clone().unwrap_or_default()))?;
+            let p = d
+                .exact
+                .clone()
+                .ok_or_else(|| failed(d.inexact_reason.clone().unwrap_or_default()))?;
             simple(Value::Polynomial(p.with_var(&var)))
         }
         "canonical_gain" => {
             let desired = inputs.desired()?;
-            let p = desired.rational().ok_or_else(|| failed("the canonical gain claim needs a rational desired polynomial"))?;
-            let (_, k_o, _) = canonical_gain(&inputs.numeric("A")?, &inputs.numeric("C")?, &p).map_err(failed)?;
-            let g = ObserverGain { matrix: lift(&k_o), convention: Convention::AMinusKC }
-                .to_convention(inputs.convention(Convention::AMinusKC)?);
+            let p = desired.rational().ok_or_else(|| {
+                failed("the canonical gain claim needs a rational desired polynomial")
+            })?;
+            let k_o = canonical_gain(&inputs.numeric("A")?, &inputs.numeric("C")?, &p)
+                .map_err(failed)?
+                .canonical;
+            let g = ObserverGain {
+                matrix: lift(&k_o),
+                convention: Convention::AMinusKC,
+            }
+            .to_convention(inputs.convention(Convention::AMinusKC)?);
             simple(Value::Matrix(g.matrix))
         }
         "gain" => {
@@ -370,17 +454,30 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
                 inputs.convention(Convention::AMinusKC)?,
             )
             .map_err(failed)?;
-            Ok(Computed { value: Value::Matrix(d.gain.matrix.clone()), derivation: d.derivation })
+            Ok(Computed {
+                value: Value::Matrix(d.gain.matrix.clone()),
+                derivation: d.derivation,
+            })
         }
         "state_feedback" => {
-            let p = inputs.desired()?.rational().ok_or_else(|| failed("state feedback needs a rational desired polynomial"))?;
-            let f = state_feedback(&inputs.numeric("A")?, &inputs.numeric("B")?, &p).map_err(failed)?;
+            let p = inputs
+                .desired()?
+                .rational()
+                .ok_or_else(|| failed("state feedback needs a rational desired polynomial"))?;
+            let f =
+                state_feedback(&inputs.numeric("A")?, &inputs.numeric("B")?, &p).map_err(failed)?;
             simple(Value::Matrix(lift(&f)))
         }
-        "closed_loop_poles" | "closed_loop_polynomial" | "controller_transfer_function" | "closed_loop_transfer_function" => {
-            let l = ObserverGain { matrix: inputs.numeric("gain")?, convention: inputs.convention(Convention::APlusLC)? }
-                .to_convention(Convention::APlusLC)
-                .matrix;
+        "closed_loop_poles"
+        | "closed_loop_polynomial"
+        | "controller_transfer_function"
+        | "closed_loop_transfer_function" => {
+            let l = ObserverGain {
+                matrix: inputs.numeric("gain")?,
+                convention: inputs.convention(Convention::APlusLC)?,
+            }
+            .to_convention(Convention::APlusLC)
+            .matrix;
             let r = observer_based_control(
                 &inputs.numeric("A")?,
                 &inputs.numeric("B")?,
@@ -392,13 +489,26 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             let value = match what {
                 "closed_loop_poles" => {
                     let roots = exact_roots(&r.closed_loop_polynomial);
-                    Value::Roots(roots.roots.iter().flat_map(|(x, m)| std::iter::repeat_n(x.clone(), *m as usize)).collect())
+                    Value::Roots(
+                        roots
+                            .roots
+                            .iter()
+                            .flat_map(|(x, m)| std::iter::repeat_n(x.clone(), *m as usize))
+                            .collect(),
+                    )
                 }
-                "closed_loop_polynomial" => Value::Polynomial(r.closed_loop_polynomial.map(|x| Quadratic::rational(x.clone())).with_var(&var)),
+                "closed_loop_polynomial" => Value::Polynomial(
+                    r.closed_loop_polynomial
+                        .map(|x| Quadratic::rational(x.clone()))
+                        .with_var(&var),
+                ),
                 "controller_transfer_function" => Value::Transfer(r.controller.clone()),
                 _ => Value::Transfer(r.closed_loop.clone()),
             };
-            Ok(Computed { value, derivation: r.derivation })
+            Ok(Computed {
+                value,
+                derivation: r.derivation,
+            })
         }
         "observer_characteristic_polynomial" => {
             let a = inputs.symbolic("A")?;
@@ -412,28 +522,59 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             .map_err(failed)?;
             let p = symbolic_charpoly(&obs, &var)?;
             let mut d = Derivation::new(&title);
-            d.push("observer matrix", &inputs.convention(Convention::AMinusKC)?.to_string(), &obs);
+            d.push(
+                "observer matrix",
+                &inputs.convention(Convention::AMinusKC)?.to_string(),
+                &obs,
+            );
             let v = Value::SymbolicPolynomial(p, var);
             d.push("characteristic polynomial", "det(λI − observer matrix)", &v);
-            Ok(Computed { value: v, derivation: d })
+            Ok(Computed {
+                value: v,
+                derivation: d,
+            })
         }
         "gain_equations" | "pole_placement_constraints" => constraints(inputs, &title),
-        "perfect_observer_e" | "perfect_observer_f" | "perfect_observer_input_matrix" | "perfect_observer_output_matrix" | "perfect_observer_determinant" => {
-            let d = if inputs.has("D") { Some(inputs.numeric("D")?) } else { None };
-            let p = perfect_observer(&inputs.numeric("A")?, &inputs.numeric("B")?, &inputs.numeric("C")?, d.as_ref()).map_err(failed)?;
+        "perfect_observer_e"
+        | "perfect_observer_f"
+        | "perfect_observer_input_matrix"
+        | "perfect_observer_output_matrix"
+        | "perfect_observer_determinant" => {
+            let d = if inputs.has("D") {
+                Some(inputs.numeric("D")?)
+            } else {
+                None
+            };
+            let p = perfect_observer(
+                &inputs.numeric("A")?,
+                &inputs.numeric("B")?,
+                &inputs.numeric("C")?,
+                d.as_ref(),
+            )
+            .map_err(failed)?;
             let value = match what {
                 "perfect_observer_e" => Value::Matrix(lift(&p.e)),
                 "perfect_observer_f" => Value::Matrix(lift(&p.f)),
                 "perfect_observer_input_matrix" => Value::Matrix(lift(&p.input_matrix)),
                 "perfect_observer_output_matrix" => Value::Matrix(lift(&p.output_matrix)),
-                _ => Value::Polynomial(p.pencil_determinant.map(|x| Quadratic::rational(x.clone())).with_var(&var)),
+                _ => Value::Polynomial(
+                    p.pencil_determinant
+                        .map(|x| Quadratic::rational(x.clone()))
+                        .with_var(&var),
+                ),
             };
-            Ok(Computed { value, derivation: p.derivation })
+            Ok(Computed {
+                value,
+                derivation: p.derivation,
+            })
         }
         "identity" => identity(inputs, &title),
         other => Err(input_error(
             "what",
-            format!("unknown computation '{other}'; known: {}", COMPUTATIONS.join(", ")),
+            format!(
+                "unknown computation '{other}'; known: {}",
+                COMPUTATIONS.join(", ")
+            ),
         )),
     }
 }
@@ -442,7 +583,10 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
 fn symbolic_charpoly(m: &Matrix<MultiPoly>, var: &str) -> Result<MultiPoly, ComputeError> {
     let p = linalg::berkowitz(m, var).map_err(failed)?;
     let x = MultiPoly::var(var);
-    Ok(p.coeffs().iter().rev().fold(MultiPoly::zero(), |acc, c| acc * x.clone() + c.clone()))
+    Ok(p.coeffs()
+        .iter()
+        .rev()
+        .fold(MultiPoly::zero(), |acc, c| acc * x.clone() + c.clone()))
 }
 
 /// Pole-placement equations for a symbolic gain: coefficient by coefficient of
@@ -466,8 +610,15 @@ fn constraints(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
         .collect();
     if inputs.claim.what == "pole_placement_constraints" {
         let v = Value::Equations(eqs);
-        d.push("equations", "coefficients of det(λI − (A − GC)) = desired", &v);
-        return Ok(Computed { value: v, derivation: d });
+        d.push(
+            "equations",
+            "coefficients of det(λI − (A − GC)) = desired",
+            &v,
+        );
+        return Ok(Computed {
+            value: v,
+            derivation: d,
+        });
     }
     // linear in the gain symbols: M g = desired − constant part
     let symbols: Vec<String> = (0..g.rows())
@@ -487,16 +638,28 @@ fn constraints(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
             }
             rest = coeffs.first().cloned().unwrap_or_default();
         }
-        let constant = rest.as_constant().ok_or_else(|| failed(format!("equation {} has a non-constant remainder {rest}", i + 1)))?;
+        let constant = rest.as_constant().ok_or_else(|| {
+            failed(format!(
+                "equation {} has a non-constant remainder {rest}",
+                i + 1
+            ))
+        })?;
         rhs.set(i, 0, -constant);
     }
     let v = Value::LinearSystem(m, rhs);
     d.push("linear equations", "M g = r", &v);
-    Ok(Computed { value: v, derivation: d })
+    Ok(Computed {
+        value: v,
+        derivation: d,
+    })
 }
 
 fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
-    let name = inputs.claim.identity.as_deref().ok_or_else(|| input_error("identity", "missing"))?;
+    let name = inputs
+        .claim
+        .identity
+        .as_deref()
+        .ok_or_else(|| input_error("identity", "missing"))?;
     let a = inputs.numeric("A")?;
     let mut d = Derivation::new(title);
     let holds = match name {
@@ -521,8 +684,18 @@ fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
             let c = inputs.numeric("C")?;
             let o = observer_form_di_ruscio(&a, Some(&b), &c).map_err(failed)?;
             let k = controller_form(&a, &b, Some(&c)).map_err(failed)?;
-            let markov = |a: &Matrix<Rational>, b: &Matrix<Rational>, c: &Matrix<Rational>| -> Result<Vec<Matrix<Rational>>, ComputeError> {
-                (0..=a.rows()).map(|i| c.mul(&a.pow(i as u32).map_err(failed)?).map_err(failed)?.mul(b).map_err(failed)).collect()
+            let markov = |a: &Matrix<Rational>,
+                          b: &Matrix<Rational>,
+                          c: &Matrix<Rational>|
+             -> Result<Vec<Matrix<Rational>>, ComputeError> {
+                (0..=a.rows())
+                    .map(|i| {
+                        c.mul(&a.pow(i as u32).map_err(failed)?)
+                            .map_err(failed)?
+                            .mul(b)
+                            .map_err(failed)
+                    })
+                    .collect()
             };
             let h = markov(&a, &b, &c)?;
             let row = Matrix::row_vector(h.iter().map(|m| m.get(0, 0).clone()).collect());
@@ -534,7 +707,11 @@ fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
             let desired = inputs.desired()?;
             let gains: Vec<Matrix<Quadratic>> = GainMethod::ALL
                 .iter()
-                .map(|m| design(&a, &c, &desired, *m, Convention::AMinusKC).map(|d| d.gain.matrix).map_err(failed))
+                .map(|m| {
+                    design(&a, &c, &desired, *m, Convention::AMinusKC)
+                        .map(|d| d.gain.matrix)
+                        .map_err(failed)
+                })
                 .collect::<Result<_, _>>()?;
             for (m, g) in GainMethod::ALL.iter().zip(&gains) {
                 d.push(&format!("K by {m}"), "", g);
@@ -542,9 +719,11 @@ fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
             if name == "gain_methods_agree" {
                 gains.windows(2).all(|w| w[0] == w[1])
             } else {
-                let p = desired.rational().ok_or_else(|| failed("needs a rational desired polynomial"))?;
+                let p = desired
+                    .rational()
+                    .ok_or_else(|| failed("needs a rational desired polynomial"))?;
                 let (_, k_tilde) = crate::observer::lemma_3_1_gain(&a, &c, &p).map_err(failed)?;
-                let (_, k_o, _) = canonical_gain(&a, &c, &p).map_err(failed)?;
+                let k_o = canonical_gain(&a, &c, &p).map_err(failed)?.canonical;
                 let n = a.rows();
                 d.push("K̃_o", "C P(A) O_n⁻¹", &k_tilde);
                 d.push("c − a", "", &k_o);
@@ -560,17 +739,37 @@ fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
             x.t == y.t
         }
         "separation_principle" => {
-            let l = ObserverGain { matrix: inputs.numeric("gain")?, convention: inputs.convention(Convention::APlusLC)? }
-                .to_convention(Convention::APlusLC)
-                .matrix;
-            let r = observer_based_control(&a, &inputs.numeric("B")?, &inputs.numeric("C")?, &inputs.numeric("feedback")?, &l).map_err(failed)?;
+            let l = ObserverGain {
+                matrix: inputs.numeric("gain")?,
+                convention: inputs.convention(Convention::APlusLC)?,
+            }
+            .to_convention(Convention::APlusLC)
+            .matrix;
+            let r = observer_based_control(
+                &a,
+                &inputs.numeric("B")?,
+                &inputs.numeric("C")?,
+                &inputs.numeric("feedback")?,
+                &l,
+            )
+            .map_err(failed)?;
             d.extend(r.derivation);
             r.separation_holds
         }
-        other => return Err(input_error("identity", format!("unknown identity '{other}'; known: {}", IDENTITIES.join(", ")))),
+        other => {
+            return Err(input_error(
+                "identity",
+                format!(
+                    "unknown identity '{other}'; known: {}",
+                    IDENTITIES.join(", ")
+                ),
+            ))
+        }
     };
     let v = Value::Bool(holds);
     d.push("holds", "", &v);
-    Ok(Computed { value: v, derivation: d })
+    Ok(Computed {
+        value: v,
+        derivation: d,
+    })
 }
-

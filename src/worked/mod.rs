@@ -18,4 +18,7 @@ pub use compute::{compute, ComputeError, Computed, Inputs, COMPUTATIONS, IDENTIT
 pub use format::{ClaimSpec, ErratumSpec, ExampleFile, PrintedRecord, SystemSpec};
 pub use report::{errata_markdown, render_derivations, render_table, report_json};
 pub use value::{compare, Agreement, Value};
-pub use verify::{load_example, load_folder, verify_example, ClaimReport, ExampleReport, Summary, Verdict, WorkedError};
+pub use verify::{
+    load_example, load_folder, verify_example, ClaimReport, ExampleReport, Summary, Verdict,
+    WorkedError,
+};

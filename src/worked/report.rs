@@ -13,7 +13,15 @@ pub fn render_table(r: &ExampleReport) -> String {
     let rows: Vec<[String; 5]> = r
         .claims
         .iter()
-        .map(|c| [c.id.clone(), c.source.clone(), one_line(&c.printed), one_line(&c.recomputed), c.verdict.word().to_string()])
+        .map(|c| {
+            [
+                c.id.clone(),
+                c.source.clone(),
+                one_line(&c.printed),
+                one_line(&c.recomputed),
+                c.verdict.word().to_string(),
+            ]
+        })
         .collect();
     let headers = ["claim", "source", "printed", "recomputed", "verdict"];
     let cap = [28usize, 34, 44, 60, 8];
@@ -25,7 +33,14 @@ pub fn render_table(r: &ExampleReport) -> String {
         }
     };
     let widths: Vec<usize> = (0..5)
-        .map(|k| rows.iter().map(|r| r[k].chars().count()).chain([headers[k].len()]).max().unwrap_or(0).min(cap[k]))
+        .map(|k| {
+            rows.iter()
+                .map(|r| r[k].chars().count())
+                .chain([headers[k].len()])
+                .max()
+                .unwrap_or(0)
+                .min(cap[k])
+        })
         .collect();
     let line = |cells: [&str; 5]| {
         let parts: Vec<String> = cells
@@ -46,7 +61,13 @@ pub fn render_table(r: &ExampleReport) -> String {
         }
     }
     for p in &r.printed_only {
-        out.push_str(&format!("  (recorded, verified by {}) {} [{}]: {}\n", p.verified_by, p.id, p.source, one_line(&p.printed)));
+        out.push_str(&format!(
+            "  (recorded, verified by {}) {} [{}]: {}\n",
+            p.verified_by,
+            p.id,
+            p.source,
+            one_line(&p.printed)
+        ));
     }
     out
 }
@@ -55,9 +76,22 @@ pub fn render_table(r: &ExampleReport) -> String {
 pub fn render_derivations(r: &ExampleReport) -> String {
     let mut out = String::new();
     for c in &r.claims {
-        out.push_str(&format!("### {} [{}] — {}\n", c.id, c.source, c.verdict.word()));
-        out.push_str(&format!("printed:    {}\nrecomputed: {}\n", one_line(&c.printed), one_line(&c.recomputed)));
-        out.push_str(&format!("verdict:    {} — {}\n", c.verdict.word(), one_line(&c.explanation)));
+        out.push_str(&format!(
+            "### {} [{}] — {}\n",
+            c.id,
+            c.source,
+            c.verdict.word()
+        ));
+        out.push_str(&format!(
+            "printed:    {}\nrecomputed: {}\n",
+            one_line(&c.printed),
+            one_line(&c.recomputed)
+        ));
+        out.push_str(&format!(
+            "verdict:    {} — {}\n",
+            c.verdict.word(),
+            one_line(&c.explanation)
+        ));
         out.push_str(&c.derivation.render());
         out.push_str("LaTeX:\n");
         out.push_str(&c.derivation.to_latex());
@@ -95,14 +129,26 @@ pub fn errata_markdown(reports: &[ExampleReport]) -> String {
     );
     let mut any = false;
     for r in reports {
-        let items: Vec<_> = r.claims.iter().filter(|c| c.verdict != Verdict::Holds).collect();
+        let items: Vec<_> = r
+            .claims
+            .iter()
+            .filter(|c| c.verdict != Verdict::Holds)
+            .collect();
         if items.is_empty() {
             continue;
         }
         any = true;
         out.push_str(&format!("## {} (`{}`)\n\n", r.title, r.document));
         for c in items {
-            out.push_str(&format!("### {} — {}\n\n", c.source, if c.verdict == Verdict::Erratum { "erratum" } else { "MISMATCH (unexplained)" }));
+            out.push_str(&format!(
+                "### {} — {}\n\n",
+                c.source,
+                if c.verdict == Verdict::Erratum {
+                    "erratum"
+                } else {
+                    "MISMATCH (unexplained)"
+                }
+            ));
             out.push_str(&format!("- printed: `{}`\n", one_line(&c.printed)));
             out.push_str(&format!("- recomputed: `{}`\n", one_line(&c.recomputed)));
             out.push_str(&format!("- {}\n\n", one_line(&c.explanation)));
@@ -112,6 +158,9 @@ pub fn errata_markdown(reports: &[ExampleReport]) -> String {
         out.push_str("No errata: every printed claim holds.\n");
     }
     let s = Summary::of(reports);
-    out.push_str(&format!("\nSummary: {} claims hold, {} errata, {} mismatches.\n", s.holds, s.erratum, s.mismatch));
+    out.push_str(&format!(
+        "\nSummary: {} claims hold, {} errata, {} mismatches.\n",
+        s.holds, s.erratum, s.mismatch
+    ));
     out
 }

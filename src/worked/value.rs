@@ -4,7 +4,9 @@ use crate::algebra::{MultiPoly, Quadratic, Rational, Ring};
 use crate::derivation::Show;
 use crate::linalg::Matrix;
 use crate::poly::{Factored, Poly, RationalFunction};
-use crate::syntax::{evaluate_with, parse_expression, parse_matrix_expressions, rational_function_with, Environment};
+use crate::syntax::{
+    evaluate_with, parse_expression, parse_matrix_expressions, rational_function_with, Environment,
+};
 use num_traits::Zero;
 
 /// A recomputed value.
@@ -41,13 +43,17 @@ impl Value {
             Value::Matrix(m) => m.to_input(),
             Value::SymbolicMatrix(m) => m.to_input(),
             Value::Polynomial(p) => p.to_input(),
-            Value::SymbolicPolynomial(p, _) => p.to_input(),
+            Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, Style::Input),
             Value::Scalar(x) => x.to_input(),
             Value::Symbolic(x) => x.to_input(),
             Value::Bool(b) => b.to_string(),
             Value::Roots(r) => r.iter().map(Ring::to_input).collect::<Vec<_>>().join(", "),
             Value::Transfer(t) => t.to_input(),
-            Value::Equations(e) => e.iter().map(|p| format!("{} = 0", p.to_input())).collect::<Vec<_>>().join("; "),
+            Value::Equations(e) => e
+                .iter()
+                .map(|p| format!("{} = 0", p.to_input()))
+                .collect::<Vec<_>>()
+                .join("; "),
             Value::LinearSystem(m, r) => format!("{} g = {}", m.to_input(), r.to_input()),
         }
     }
@@ -57,16 +63,30 @@ impl Value {
             Value::Matrix(m) => m.render(),
             Value::SymbolicMatrix(m) => m.render(),
             Value::Polynomial(p) => factored_text(p).unwrap_or_else(|| p.to_string()),
-            Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, false),
+            Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, Style::Human),
             Value::Scalar(x) => x.to_string(),
             Value::Symbolic(x) => x.to_string(),
-            Value::Bool(b) => if *b { "yes".into() } else { "no".into() },
-            Value::Roots(r) => r.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", "),
+            Value::Bool(b) => {
+                if *b {
+                    "yes".into()
+                } else {
+                    "no".into()
+                }
+            }
+            Value::Roots(r) => r
+                .iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
             Value::Transfer(t) => {
                 let den = Factored::of(t.denominator());
                 format!("{t}   (denominator {den})")
             }
-            Value::Equations(e) => e.iter().map(|p| format!("{p} = 0")).collect::<Vec<_>>().join("\n"),
+            Value::Equations(e) => e
+                .iter()
+                .map(|p| format!("{p} = 0"))
+                .collect::<Vec<_>>()
+                .join("\n"),
             Value::LinearSystem(m, r) => format!("{}\n  g =\n{}", m.render(), r.render()),
         }
     }
@@ -76,13 +96,21 @@ impl Value {
             Value::Matrix(m) => m.to_latex(),
             Value::SymbolicMatrix(m) => m.to_latex(),
             Value::Polynomial(p) => p.to_latex(),
-            Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, true),
+            Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, Style::Latex),
             Value::Scalar(x) => x.to_latex(),
             Value::Symbolic(x) => x.to_latex(),
             Value::Bool(b) => format!("\\text{{{}}}", if *b { "yes" } else { "no" }),
-            Value::Roots(r) => r.iter().map(Ring::to_latex).collect::<Vec<_>>().join(",\\ "),
+            Value::Roots(r) => r
+                .iter()
+                .map(Ring::to_latex)
+                .collect::<Vec<_>>()
+                .join(",\\ "),
             Value::Transfer(t) => t.to_latex(),
-            Value::Equations(e) => e.iter().map(|p| format!("{} = 0", p.to_latex())).collect::<Vec<_>>().join(",\\quad "),
+            Value::Equations(e) => e
+                .iter()
+                .map(|p| format!("{} = 0", p.to_latex()))
+                .collect::<Vec<_>>()
+                .join(",\\quad "),
             Value::LinearSystem(m, r) => format!("{} g = {}", m.to_latex(), r.to_latex()),
         }
     }
@@ -101,53 +129,79 @@ impl Show for Value {
 }
 
 fn factored_text(p: &Poly<Quadratic>) -> Option<String> {
-    let c: Option<Vec<Rational>> = p.coeffs().iter().map(|c| c.as_rational().cloned()).collect();
+    let c: Option<Vec<Rational>> = p
+        .coeffs()
+        .iter()
+        .map(|c| c.as_rational().cloned())
+        .collect();
     let q = Poly::new(c?, p.var());
     let f = Factored::of(&q);
     let plain = q.to_string();
     let fact = f.to_string();
-    Some(if fact == plain || f.factors.len() <= 1 && f.factors.iter().all(|(_, m)| *m == 1) {
-        plain
-    } else {
-        format!("{plain} = {fact}")
-    })
+    Some(
+        if fact == plain || f.factors.len() <= 1 && f.factors.iter().all(|(_, m)| *m == 1) {
+            plain
+        } else {
+            format!("{plain} = {fact}")
+        },
+    )
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Style {
+    Human,
+    Input,
+    Latex,
 }
 
 /// A symbolic polynomial printed by powers of `var`: `λ^2 + (k1 + k2 − a)λ − a k2`.
-fn symbolic_poly_text(p: &MultiPoly, var: &str, latex: bool) -> String {
+fn symbolic_poly_text(p: &MultiPoly, var: &str, style: Style) -> String {
     let coeffs = p.coefficients_in(var);
     let mut out = String::new();
     for (k, c) in coeffs.iter().enumerate().rev() {
         if c.is_zero() {
             continue;
         }
-        let body = if latex { c.to_latex() } else { c.to_string() };
+        let body = match style {
+            Style::Human => c.to_string(),
+            Style::Input => c.to_input(),
+            Style::Latex => c.to_latex(),
+        };
         let compound = c.terms().count() > 1;
         let (neg, body) = match body.strip_prefix('-') {
             Some(rest) if !compound => (true, rest.to_string()),
             _ => (false, body),
         };
         if !out.is_empty() {
-            out.push_str(if neg { if latex { " - " } else { " − " } } else { " + " });
+            out.push_str(match (neg, style) {
+                (false, _) => " + ",
+                (true, Style::Human) => " − ",
+                (true, _) => " - ",
+            });
         } else if neg {
             out.push('-');
         }
-        let v = if latex { crate::algebra::latex_symbol(var) } else { var.to_string() };
+        let v = if style == Style::Latex {
+            crate::algebra::latex_symbol(var)
+        } else {
+            var.to_string()
+        };
         let power = match k {
             0 => String::new(),
             1 => v,
-            _ if latex => format!("{v}^{{{k}}}"),
+            _ if style == Style::Latex => format!("{v}^{{{k}}}"),
             _ => format!("{v}^{k}"),
         };
-        let coef = if compound {
-            if latex { format!("\\left({body}\\right)") } else { format!("({body})") }
-        } else {
-            body
+        let coef = match (compound, style) {
+            (true, Style::Latex) => format!("\\left({body}\\right)"),
+            (true, _) => format!("({body})"),
+            (false, _) => body,
         };
+        let join = if style == Style::Input { "*" } else { " " };
         out.push_str(&match (coef.as_str(), power.is_empty()) {
             (_, true) => coef,
             ("1", false) => power,
-            (_, false) => format!("{coef} {power}"),
+            (_, false) => format!("{coef}{join}{power}"),
         });
     }
     if out.is_empty() {
@@ -184,7 +238,10 @@ fn printed_decimals(text: &str) -> Option<u32> {
     let mut best = None;
     for i in 0..chars.len() {
         if chars[i] == '.' && i > 0 && chars[i - 1].is_ascii_digit() {
-            let d = chars[i + 1..].iter().take_while(|c| c.is_ascii_digit()).count() as u32;
+            let d = chars[i + 1..]
+                .iter()
+                .take_while(|c| c.is_ascii_digit())
+                .count() as u32;
             best = Some(best.map_or(d, |b: u32| b.max(d)));
         }
     }
@@ -223,7 +280,11 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
             let rows = parse_matrix_expressions(printed).map_err(syntax)?;
             let p: Vec<Vec<Quadratic>> = rows
                 .iter()
-                .map(|r| r.iter().map(|e| evaluate_with::<Quadratic>(e, env)).collect::<Result<_, _>>())
+                .map(|r| {
+                    r.iter()
+                        .map(|e| evaluate_with::<Quadratic>(e, env))
+                        .collect::<Result<_, _>>()
+                })
                 .collect::<Result<_, _>>()
                 .map_err(syntax)?;
             let shape_ok = p.len() == m.rows() && p.iter().all(|r| r.len() == m.cols());
@@ -240,7 +301,13 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
             for i in 0..m.rows() {
                 for j in 0..m.cols() {
                     if !close(m.get(i, j), &p[i][j], digits) {
-                        bad.push(format!("({}, {}): printed {}, recomputed {}", i + 1, j + 1, p[i][j], m.get(i, j)));
+                        bad.push(format!(
+                            "({}, {}): printed {}, recomputed {}",
+                            i + 1,
+                            j + 1,
+                            p[i][j],
+                            m.get(i, j)
+                        ));
                     }
                 }
             }
@@ -250,43 +317,67 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
             let rows = parse_matrix_expressions(printed).map_err(syntax)?;
             let p: Vec<Vec<MultiPoly>> = rows
                 .iter()
-                .map(|r| r.iter().map(|e| evaluate_with::<MultiPoly>(e, env)).collect::<Result<_, _>>())
+                .map(|r| {
+                    r.iter()
+                        .map(|e| evaluate_with::<MultiPoly>(e, env))
+                        .collect::<Result<_, _>>()
+                })
                 .collect::<Result<_, _>>()
                 .map_err(syntax)?;
             let pm = Matrix::from_rows(p).map_err(|e| e.to_string())?;
             let ok = pm == *m;
-            Ok(agreement(ok, None, || format!("printed {}, recomputed {}", pm.to_input(), m.to_input())))
+            Ok(agreement(ok, None, || {
+                format!("printed {}, recomputed {}", pm.to_input(), m.to_input())
+            }))
         }
         Value::Polynomial(q) => {
             let e = parse_expression(printed).map_err(syntax)?;
             let rf = rational_function_with::<Quadratic>(&e, q.var(), Some(env)).map_err(syntax)?;
             if rf.denominator().degree() != Some(0) {
-                return Err(format!("the printed value {printed} is not a polynomial in {}", q.var()));
+                return Err(format!(
+                    "the printed value {printed} is not a polynomial in {}",
+                    q.var()
+                ));
             }
             let p = rf.numerator().clone().with_var(q.var());
             let n = p.degree().unwrap_or(0).max(q.degree().unwrap_or(0));
             let ok = (0..=n).all(|k| close(&q.coeff(k), &p.coeff(k), digits));
-            Ok(agreement(ok, digits, || format!("printed {p}, recomputed {q}")))
+            Ok(agreement(ok, digits, || {
+                format!("printed {p}, recomputed {q}")
+            }))
         }
         Value::SymbolicPolynomial(q, _) | Value::Symbolic(q) => {
             let e = parse_expression(printed).map_err(syntax)?;
             let p = evaluate_with::<MultiPoly>(&e, env).map_err(syntax)?;
             let ok = &p == q;
-            Ok(agreement(ok, None, || format!("printed {p}, recomputed {q}; difference {}", p.clone() - q.clone())))
+            Ok(agreement(ok, None, || {
+                format!(
+                    "printed {p}, recomputed {q}; difference {}",
+                    p.clone() - q.clone()
+                )
+            }))
         }
         Value::Scalar(x) => {
             let e = parse_expression(printed).map_err(syntax)?;
             let p = evaluate_with::<Quadratic>(&e, env).map_err(syntax)?;
-            Ok(agreement(close(x, &p, digits), digits, || format!("printed {p}, recomputed {x}")))
+            Ok(agreement(close(x, &p, digits), digits, || {
+                format!("printed {p}, recomputed {x}")
+            }))
         }
         Value::Bool(b) => {
             let t = printed.trim().to_lowercase();
             let p = match t.as_str() {
                 "true" | "yes" | "observable" | "holds" => true,
                 "false" | "no" | "unobservable" | "not observable" => false,
-                _ => return Err(format!("expected yes/no (true, false, observable, unobservable), found '{printed}'")),
+                _ => {
+                    return Err(format!(
+                    "expected yes/no (true, false, observable, unobservable), found '{printed}'"
+                ))
+                }
             };
-            Ok(agreement(p == *b, None, || format!("printed {p}, recomputed {b}")))
+            Ok(agreement(p == *b, None, || {
+                format!("printed {p}, recomputed {b}")
+            }))
         }
         Value::Roots(r) => {
             let rows = parse_matrix_expressions(printed).map_err(syntax)?;
@@ -310,25 +401,43 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
                 format!(
                     "recomputed roots not printed: [{}]; printed roots not recomputed: [{}]",
                     unmatched.join(", "),
-                    p.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
+                    p.iter()
+                        .map(|x| x.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )
             }))
         }
         Value::Transfer(t) => {
             let e = parse_expression(printed).map_err(syntax)?;
             let p = rational_function_with::<Rational>(&e, "s", Some(env)).map_err(syntax)?;
-            Ok(agreement(&p == t, None, || format!("printed {p}, recomputed {t}")))
+            Ok(agreement(&p == t, None, || {
+                format!("printed {p}, recomputed {t}")
+            }))
         }
         Value::Equations(eqs) => {
-            let parts: Vec<&str> = printed.split(';').map(str::trim).filter(|s| !s.is_empty()).collect();
+            let parts: Vec<&str> = printed
+                .split(';')
+                .map(str::trim)
+                .filter(|s| !s.is_empty())
+                .collect();
             if parts.len() != eqs.len() {
-                return Ok(Agreement::Differs(format!("printed {} equations, recomputed {}", parts.len(), eqs.len())));
+                return Ok(Agreement::Differs(format!(
+                    "printed {} equations, recomputed {}",
+                    parts.len(),
+                    eqs.len()
+                )));
             }
             let mut bad = Vec::new();
             for (k, (text, q)) in parts.iter().zip(eqs).enumerate() {
                 let p = equation(text, env)?;
                 if !proportional(&p, q) {
-                    bad.push(format!("equation {}: printed {} = 0, recomputed {} = 0", k + 1, p, q));
+                    bad.push(format!(
+                        "equation {}: printed {} = 0, recomputed {} = 0",
+                        k + 1,
+                        p,
+                        q
+                    ));
                 }
             }
             Ok(agreement(bad.is_empty(), None, || bad.join("; ")))
@@ -337,8 +446,11 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
             let (lhs, rhs) = printed
                 .split_once('=')
                 .ok_or_else(|| format!("expected 'M g = r', found '{printed}'"))?;
-            let close_bracket = lhs.rfind(']').ok_or_else(|| format!("expected a matrix before the gain in '{lhs}'"))?;
-            let pm = crate::syntax::parse_matrix::<Rational>(&lhs[..=close_bracket]).map_err(syntax)?;
+            let close_bracket = lhs
+                .rfind(']')
+                .ok_or_else(|| format!("expected a matrix before the gain in '{lhs}'"))?;
+            let pm =
+                crate::syntax::parse_matrix::<Rational>(&lhs[..=close_bracket]).map_err(syntax)?;
             let pr = crate::syntax::parse_matrix::<Rational>(rhs.trim()).map_err(syntax)?;
             // a system of equations does not depend on the order of its rows
             let rows = |m: &Matrix<Rational>, r: &Matrix<Rational>| {
@@ -352,15 +464,26 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
                 v.sort();
                 v
             };
-            let ok = pm.shape() == m.shape() && pr.shape() == r.shape() && rows(&pm, &pr) == rows(m, r);
-            Ok(agreement(ok, None, || format!("printed {} g = {}, recomputed {} g = {}", pm.to_input(), pr.to_input(), m.to_input(), r.to_input())))
+            let ok =
+                pm.shape() == m.shape() && pr.shape() == r.shape() && rows(&pm, &pr) == rows(m, r);
+            Ok(agreement(ok, None, || {
+                format!(
+                    "printed {} g = {}, recomputed {} g = {}",
+                    pm.to_input(),
+                    pr.to_input(),
+                    m.to_input(),
+                    r.to_input()
+                )
+            }))
         }
     }
 }
 
 /// `lhs = rhs` as the polynomial `lhs − rhs`.
 fn equation(text: &str, env: &Environment) -> Result<MultiPoly, String> {
-    let (l, r) = text.split_once('=').ok_or_else(|| format!("expected an equation 'lhs = rhs', found '{text}'"))?;
+    let (l, r) = text
+        .split_once('=')
+        .ok_or_else(|| format!("expected an equation 'lhs = rhs', found '{text}'"))?;
     let side = |s: &str| -> Result<MultiPoly, String> {
         let e = parse_expression(s).map_err(|e| e.show_in(s))?;
         evaluate_with::<MultiPoly>(&e, env).map_err(|e| e.show_in(s))
@@ -380,4 +503,3 @@ fn proportional(p: &MultiPoly, q: &MultiPoly) -> bool {
     let ratio = pc / c.clone();
     *p == q.clone() * MultiPoly::constant(ratio)
 }
-

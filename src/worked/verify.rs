@@ -124,7 +124,8 @@ fn locate(raw: &str, claim_id: Option<&str>, field: &str) -> usize {
     };
     let key = |l: &str| {
         let t = l.trim_start();
-        t.strip_prefix(field).is_some_and(|r| r.trim_start().starts_with('='))
+        t.strip_prefix(field)
+            .is_some_and(|r| r.trim_start().starts_with('='))
     };
     lines
         .iter()
@@ -148,7 +149,9 @@ pub fn load_example(path: &Path) -> Result<(ExampleFile, String), WorkedError> {
         message: e.to_string(),
     })?;
     let ex: ExampleFile = toml::from_str(&raw).map_err(|e| {
-        let line = e.span().map_or(0, |s| raw[..s.start.min(raw.len())].lines().count().max(1));
+        let line = e.span().map_or(0, |s| {
+            raw[..s.start.min(raw.len())].matches('\n').count() + 1
+        });
         WorkedError {
             file: file.clone(),
             line,
@@ -179,7 +182,11 @@ pub fn load_example(path: &Path) -> Result<(ExampleFile, String), WorkedError> {
                 file: file.clone(),
                 line: locate(&raw, Some(&c.id), "what"),
                 field: format!("claims.{}.what", c.id),
-                message: format!("unknown computation '{}'; known: {}", c.what, super::compute::COMPUTATIONS.join(", ")),
+                message: format!(
+                    "unknown computation '{}'; known: {}",
+                    c.what,
+                    super::compute::COMPUTATIONS.join(", ")
+                ),
             });
         }
     }
@@ -254,7 +261,8 @@ fn with_definitions(claim: &ClaimSpec, env: &Environment) -> Result<Environment,
             if env.contains_key(name) {
                 continue;
             }
-            let e = parse_expression(text).map_err(|e| format!("where.{name}: {}", e.show_in(text)))?;
+            let e =
+                parse_expression(text).map_err(|e| format!("where.{name}: {}", e.show_in(text)))?;
             if let Ok(v) = evaluate_with::<Rational>(&e, &env) {
                 env.insert(name.clone(), v);
             }
@@ -267,14 +275,20 @@ const SAMPLES: usize = 5;
 const SAMPLE_ATTEMPTS: usize = 40;
 
 /// Recomputes and compares `printed` in `env`, sampling free symbols when needed.
-fn check(file: &ExampleFile, claim: &ClaimSpec, printed: &str, env: &Environment) -> Result<Check, ComputeError> {
+fn check(
+    file: &ExampleFile,
+    claim: &ClaimSpec,
+    printed: &str,
+    env: &Environment,
+) -> Result<Check, ComputeError> {
     let attempt = |env: &Environment| -> Result<Check, ComputeError> {
         let computed = compute(&Inputs { file, claim, env })?;
         let penv = with_definitions(claim, env).map_err(ComputeError::Failed)?;
-        let agreement = compare(&computed.value, printed, &penv).map_err(|m| ComputeError::Input {
-            field: "printed".into(),
-            message: m,
-        })?;
+        let agreement =
+            compare(&computed.value, printed, &penv).map_err(|m| ComputeError::Input {
+                field: "printed".into(),
+                message: m,
+            })?;
         Ok(Check {
             agreement,
             recomputed: computed.value.input(),
@@ -325,7 +339,8 @@ fn check(file: &ExampleFile, claim: &ClaimSpec, printed: &str, env: &Environment
         }
         match attempt(&e) {
             Ok(c) => {
-                let point: Vec<String> = sampled.iter().map(|n| format!("{n} = {}", e[n])).collect();
+                let point: Vec<String> =
+                    sampled.iter().map(|n| format!("{n} = {}", e[n])).collect();
                 if !c.agreement.holds() {
                     return Ok(Check {
                         recomputed: format!("at {}: {}", point.join(", "), c.recomputed),
@@ -350,7 +365,9 @@ fn check(file: &ExampleFile, claim: &ClaimSpec, printed: &str, env: &Environment
                     break;
                 }
             }
-            Err(ComputeError::Input { field, message }) => return Err(ComputeError::Input { field, message }),
+            Err(ComputeError::Input { field, message }) => {
+                return Err(ComputeError::Input { field, message })
+            }
             Err(e) => last_error = e.to_string(),
         }
     }
@@ -371,7 +388,10 @@ fn how(a: &Agreement, sampled: &[String]) -> String {
     if sampled.is_empty() {
         base
     } else {
-        format!("{base}, as an identity in {} (exact random-point test)", sampled.join(", "))
+        format!(
+            "{base}, as an identity in {} (exact random-point test)",
+            sampled.join(", ")
+        )
     }
 }
 
@@ -379,14 +399,38 @@ fn how(a: &Agreement, sampled: &[String]) -> String {
 ///
 /// # Errors
 /// [`WorkedError`] when a claim's inputs are malformed (bad matrix, unknown method…).
-pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<ExampleReport, WorkedError> {
+pub fn verify_example(
+    path: &Path,
+    ex: &ExampleFile,
+    raw: &str,
+) -> Result<ExampleReport, WorkedError> {
     let env = parameter_env(&ex.parameters);
     let file = path.display().to_string();
-    let input_error = |claim: &ClaimSpec, field: &str, message: String| WorkedError {
-        file: file.clone(),
-        line: locate(raw, Some(&claim.id), field.split('.').next().unwrap_or(field)),
-        field: format!("claims.{}.{field}", claim.id),
-        message,
+    let input_error = |claim: &ClaimSpec, field: &str, message: String| {
+        let key = field.split('.').next().unwrap_or(field);
+        // A matrix the claim does not override comes from [system].
+        let in_claim = match key {
+            "A" => claim.a.is_some(),
+            "B" => claim.b.is_some(),
+            "C" => claim.c.is_some(),
+            "D" => false,
+            _ => true,
+        };
+        if in_claim {
+            WorkedError {
+                file: file.clone(),
+                line: locate(raw, Some(&claim.id), key),
+                field: format!("claims.{}.{field}", claim.id),
+                message,
+            }
+        } else {
+            WorkedError {
+                file: file.clone(),
+                line: locate(raw, None, key),
+                field: format!("system.{field} (used by claim {})", claim.id),
+                message,
+            }
+        }
     };
     let mut claims = Vec::new();
     for claim in &ex.claims {
@@ -395,10 +439,16 @@ pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<Exampl
             env.remove(s);
         }
         // An identity claim prints a formula; the document asserts that it holds.
-        let asserted = if claim.what == "identity" { "true" } else { claim.printed.as_str() };
+        let asserted = if claim.what == "identity" {
+            "true"
+        } else {
+            claim.printed.as_str()
+        };
         let primary = match check(ex, claim, asserted, &env) {
             Ok(c) => c,
-            Err(ComputeError::Input { field, message }) => return Err(input_error(claim, &field, message)),
+            Err(ComputeError::Input { field, message }) => {
+                return Err(input_error(claim, &field, message))
+            }
             Err(e) => Check {
                 agreement: Agreement::Differs(format!("could not recompute: {e}")),
                 recomputed: "—".into(),
@@ -410,7 +460,10 @@ pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<Exampl
             (a, None) if a.holds() => (Verdict::Holds, how(a, &primary.sampled)),
             (a, Some(_)) if a.holds() => (
                 Verdict::Mismatch,
-                format!("an erratum is documented, but the print holds ({})", how(a, &primary.sampled)),
+                format!(
+                    "an erratum is documented, but the print holds ({})",
+                    how(a, &primary.sampled)
+                ),
             ),
             (Agreement::Differs(d), None) => (Verdict::Mismatch, d.clone()),
             (Agreement::Differs(d), Some(err)) => {
@@ -419,7 +472,11 @@ pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<Exampl
                 if !err.parameters.is_empty() {
                     let mut env2 = env.clone();
                     env2.extend(parameter_env(&err.parameters));
-                    let list: Vec<String> = err.parameters.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                    let list: Vec<String> = err
+                        .parameters
+                        .iter()
+                        .map(|(k, v)| format!("{k} = {v}"))
+                        .collect();
                     match check(ex, claim, asserted, &env2) {
                         Ok(c) if c.agreement.holds() => checks.push(format!(
                             "checked: with {} the print is reproduced {}",
@@ -428,7 +485,11 @@ pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<Exampl
                         )),
                         Ok(c) => {
                             ok = false;
-                            checks.push(format!("NOT confirmed: with {} the print is still not reproduced ({})", list.join(", "), how(&c.agreement, &c.sampled)));
+                            checks.push(format!(
+                                "NOT confirmed: with {} the print is still not reproduced ({})",
+                                list.join(", "),
+                                how(&c.agreement, &c.sampled)
+                            ));
                         }
                         Err(e) => {
                             ok = false;
@@ -438,14 +499,17 @@ pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<Exampl
                 }
                 if let Some(corrected) = &err.corrected {
                     match check(ex, claim, corrected, &env) {
-                        Ok(c) if c.agreement.holds() => {
-                            checks.push(format!("checked: the corrected value {corrected} holds {}", how(&c.agreement, &c.sampled)))
-                        }
+                        Ok(c) if c.agreement.holds() => checks.push(format!(
+                            "checked: the corrected value {corrected} holds {}",
+                            how(&c.agreement, &c.sampled)
+                        )),
                         Ok(c) => {
                             ok = false;
                             checks.push(format!("NOT confirmed: the corrected value {corrected} does not hold either ({})", how(&c.agreement, &c.sampled)));
                         }
-                        Err(ComputeError::Input { message, .. }) => return Err(input_error(claim, "erratum.corrected", message)),
+                        Err(ComputeError::Input { message, .. }) => {
+                            return Err(input_error(claim, "erratum.corrected", message))
+                        }
                         Err(e) => {
                             ok = false;
                             checks.push(format!("NOT confirmed: {e}"));
@@ -454,10 +518,23 @@ pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<Exampl
                 }
                 if checks.is_empty() {
                     ok = false;
-                    checks.push("the erratum gives nothing to check (parameters or corrected)".into());
+                    checks.push(
+                        "the erratum gives nothing to check (parameters or corrected)".into(),
+                    );
                 }
-                let text = format!("{} Printed vs recomputed: {d}. {}", err.explanation.trim(), checks.join("; "));
-                (if ok { Verdict::Erratum } else { Verdict::Mismatch }, text)
+                let text = format!(
+                    "{} Printed vs recomputed: {d}. {}",
+                    err.explanation.trim(),
+                    checks.join("; ")
+                );
+                (
+                    if ok {
+                        Verdict::Erratum
+                    } else {
+                        Verdict::Mismatch
+                    },
+                    text,
+                )
             }
             (Agreement::Exact | Agreement::Rounded { .. }, _) => unreachable!("handled above"),
         };
@@ -467,7 +544,11 @@ pub fn verify_example(path: &Path, ex: &ExampleFile, raw: &str) -> Result<Exampl
             printed: claim.printed.clone(),
             recomputed: primary.recomputed,
             verdict,
-            explanation: if claim.note.is_empty() { explanation } else { format!("{explanation}. Note: {}", claim.note) },
+            explanation: if claim.note.is_empty() {
+                explanation
+            } else {
+                format!("{explanation}. Note: {}", claim.note)
+            },
             derivation: primary.derivation,
         });
     }

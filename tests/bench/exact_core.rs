@@ -46,7 +46,10 @@ fn orders() -> Vec<usize> {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(80);
-    [5, 10, 20, 40, 60, 80].into_iter().filter(|&n| n <= max).collect()
+    [5, 10, 20, 40, 60, 80]
+        .into_iter()
+        .filter(|&n| n <= max)
+        .collect()
 }
 
 fn bench(c: &mut Criterion) {

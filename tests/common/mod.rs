@@ -63,7 +63,10 @@ pub fn polynomial(max_deg: usize) -> impl Strategy<Value = Poly<Rational>> {
 
 /// A nonzero polynomial of degree 1..=max_deg.
 pub fn nonconstant_polynomial(max_deg: usize) -> impl Strategy<Value = Poly<Rational>> {
-    (proptest::collection::vec(small_rational(), 1..=max_deg), 1i64..=4)
+    (
+        proptest::collection::vec(small_rational(), 1..=max_deg),
+        1i64..=4,
+    )
         .prop_map(|(mut c, lead)| {
             c.push(Rational::from_i64(lead));
             Poly::new(c, "s")

@@ -7,24 +7,38 @@ use observer_workbench::syntax::{parse_matrix, parse_scalar, FromExpr};
 
 /// Parses a matrix flag, e.g. `--a "[2 -3; 4 -5]"`.
 pub fn matrix<T: FromExpr>(flag: &str, text: &str) -> Result<Matrix<T>> {
-    parse_matrix::<T>(text).map_err(|e| anyhow!("{}", e.show_in(text))).with_context(|| format!("in {flag}"))
+    parse_matrix::<T>(text)
+        .map_err(|e| anyhow!("{}", e.show_in(text)))
+        .with_context(|| format!("in {flag}"))
 }
 
 /// Parses a rational flag, e.g. `--repeated 1/4`.
 pub fn rational(flag: &str, text: &str) -> Result<Rational> {
-    parse_scalar::<Rational>(text).map_err(|e| anyhow!("{}", e.show_in(text))).with_context(|| format!("in {flag}"))
+    parse_scalar::<Rational>(text)
+        .map_err(|e| anyhow!("{}", e.show_in(text)))
+        .with_context(|| format!("in {flag}"))
 }
 
 /// Prints a JSON value, pretty.
 pub fn print_json(v: &serde_json::Value) {
-    println!("{}", serde_json::to_string_pretty(v).unwrap_or_else(|_| "{}".into()));
+    println!(
+        "{}",
+        serde_json::to_string_pretty(v).unwrap_or_else(|_| "{}".into())
+    );
 }
 
 /// A matrix as a JSON list of rows of strings in input syntax.
 pub fn json_matrix<T: observer_workbench::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value {
     serde_json::Value::Array(
         (0..m.rows())
-            .map(|i| serde_json::Value::Array(m.row(i).iter().map(|x| serde_json::Value::String(x.to_input())).collect()))
+            .map(|i| {
+                serde_json::Value::Array(
+                    m.row(i)
+                        .iter()
+                        .map(|x| serde_json::Value::String(x.to_input()))
+                        .collect(),
+                )
+            })
             .collect(),
     )
 }

@@ -4,7 +4,9 @@ use crate::args::{json_matrix, matrix, print_json};
 use crate::Outcome;
 use anyhow::Result;
 use observer_workbench::algebra::Rational;
-use observer_workbench::canonical_form::{observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm};
+use observer_workbench::canonical_form::{
+    observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm,
+};
 use observer_workbench::derivation::Derivation;
 use serde_json::json;
 
@@ -29,7 +31,11 @@ fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Deri
     let mut d = Derivation::new(title);
     d.push("O_n", "[C; CA; …]", &f.test_matrix);
     d.push("det(sI − A)", "open-loop polynomial", &f.open_loop);
-    d.push("M", "upper-triangular Toeplitz of [1 a_1 … a_(n−1)]", &f.toeplitz);
+    d.push(
+        "M",
+        "upper-triangular Toeplitz of [1 a_1 … a_(n−1)]",
+        &f.toeplitz,
+    );
     d.push("T", t_formula, &f.t);
     d.push("T⁻¹", "", &f.t_inv);
     d.push("A_o", "T⁻¹ A T", &f.a);
@@ -43,7 +49,11 @@ fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Deri
 pub fn run(args: Args) -> Result<Outcome> {
     let a = matrix::<Rational>("--a", &args.a)?;
     let c = matrix::<Rational>("--c", &args.c)?;
-    let b = args.b.as_deref().map(|t| matrix::<Rational>("--b", t)).transpose()?;
+    let b = args
+        .b
+        .as_deref()
+        .map(|t| matrix::<Rational>("--b", t))
+        .transpose()?;
     let di = observer_form_di_ruscio(&a, b.as_ref(), &c)?;
     let st = observer_form_stoustrup(&a, b.as_ref(), &c)?;
     let same = di.t == st.t;
@@ -52,12 +62,22 @@ pub fn run(args: Args) -> Result<Outcome> {
             json!({"T": json_matrix(&f.t), "T_inv": json_matrix(&f.t_inv), "A_o": json_matrix(&f.a),
                    "B_o": json_matrix(&f.b), "C_o": json_matrix(&f.c), "open_loop": f.open_loop.to_input()})
         };
-        print_json(&json!({"di_ruscio": one(&di), "stoustrup": one(&st), "same_transformation": same}));
+        print_json(
+            &json!({"di_ruscio": one(&di), "stoustrup": one(&st), "same_transformation": same}),
+        );
     } else {
-        print!("{}", derivation("Di Ruscio ss2ocf: T_o = (Mᵀ O_n)⁻¹", "(Mᵀ O_n)⁻¹", &di).render());
         print!(
             "{}",
-            derivation("Stoustrup: t_n = O⁻¹ e_n, t_(k−1) = A t_k", "[t_1 … t_n]", &st).render()
+            derivation("Di Ruscio ss2ocf: T_o = (Mᵀ O_n)⁻¹", "(Mᵀ O_n)⁻¹", &di).render()
+        );
+        print!(
+            "{}",
+            derivation(
+                "Stoustrup: t_n = O⁻¹ e_n, t_(k−1) = A t_k",
+                "[t_1 … t_n]",
+                &st
+            )
+            .render()
         );
         println!(
             "Both procedures give {} transformation; A_o has −a_i (Di Ruscio's a_i) = Stoustrup's a_i in its first column.",

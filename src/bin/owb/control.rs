@@ -51,7 +51,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     let f = match (&args.f, &args.feedback_poly) {
         (Some(f), _) => matrix::<Rational>("--f", f)?,
         (None, Some(p)) => {
-            let p = parse_polynomial::<Rational>(p, "s").map_err(|e| anyhow!("in --feedback-poly: {}", e.show_in(p)))?;
+            let p = parse_polynomial::<Rational>(p, "s")
+                .map_err(|e| anyhow!("in --feedback-poly: {}", e.show_in(p)))?;
             state_feedback(&a, &b, &p)?
         }
         (None, None) => bail!("give --f or --feedback-poly"),
@@ -70,7 +71,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             "steps": serde_json::to_value(&r.derivation.steps)?,
         }));
     } else {
-        println!("F = {} (u = F x̂), L = {} (A + LC)", f.to_input(), l.to_input());
+        println!(
+            "F = {} (u = F x̂), L = {} (A + LC)",
+            f.to_input(),
+            l.to_input()
+        );
         print!("{}", r.derivation.render());
         println!(
             "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC))",

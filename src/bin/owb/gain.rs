@@ -56,13 +56,18 @@ pub struct Args {
 
 fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
     Ok(if let Some(p) = &args.poles {
-        let poles = parse_list::<Quadratic>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
+        let poles =
+            parse_list::<Quadratic>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
         if poles.len() != n {
-            bail!("in --poles: {} poles given, the system has order {n}", poles.len());
+            bail!(
+                "in --poles: {} poles given, the system has order {n}",
+                poles.len()
+            );
         }
         DesiredPolynomial::from_poles(&poles)?
     } else if let Some(p) = &args.poly {
-        let poly = parse_polynomial::<Quadratic>(p, "s").map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
+        let poly = parse_polynomial::<Quadratic>(p, "s")
+            .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
         DesiredPolynomial::from_polynomial(poly, n)?
     } else if let Some(t) = &args.repeated {
         DesiredPolynomial::repeated(&rational("--repeated", t)?, n)?
@@ -81,20 +86,38 @@ fn float_json(f: &FloatCheck) -> serde_json::Value {
 
 fn print_float(f: &FloatCheck) {
     println!("Float path (f64, same Ackermann algorithm, nalgebra LU and eigenvalues):");
-    println!("  cond₂(O_n)                         = {:.3e}", f.condition_number);
+    println!(
+        "  cond₂(O_n)                         = {:.3e}",
+        f.condition_number
+    );
     if let Some(g) = &f.float_gain {
         let list: Vec<String> = g.iter().map(|x| format!("{x:.10e}")).collect();
-        println!("  float gain (A − KC)                = [{}]", list.join("; "));
+        println!(
+            "  float gain (A − KC)                = [{}]",
+            list.join("; ")
+        );
     }
     if f.compared_with_exact {
-        println!("  relative gain error vs exact       = {:.3e} (a-priori bound n·cond·ε = {:.3e})", f.gain_relative_error, f.gain_error_bound);
+        println!(
+            "  relative gain error vs exact       = {:.3e} (a-priori bound n·cond·ε = {:.3e})",
+            f.gain_relative_error, f.gain_error_bound
+        );
     } else {
         println!("  no exact gain to compare with (desired polynomial known in f64 only)");
     }
-    println!("  largest pole distance              = {:.3e}", f.max_pole_distance);
+    println!(
+        "  largest pole distance              = {:.3e}",
+        f.max_pole_distance
+    );
     println!("  multiplicity of the repeated root  = {}", f.multiplicity);
-    println!("  predicted scatter (ε‖A−KC‖)^(1/m)  = {:.3e}", f.predicted_scatter);
-    println!("  predicted with the gain error      = {:.3e}", f.predicted_scatter_with_gain_error);
+    println!(
+        "  predicted scatter (ε‖A−KC‖)^(1/m)  = {:.3e}",
+        f.predicted_scatter
+    );
+    println!(
+        "  predicted with the gain error      = {:.3e}",
+        f.predicted_scatter_with_gain_error
+    );
     if let Some(p) = f.polynomial_relative_error {
         println!("  exact det(sI − (A − K_float C)) vs desired, largest relative coefficient error = {p:.3e}");
     }
@@ -107,18 +130,35 @@ pub fn run(args: Args) -> Result<Outcome> {
     if !a.is_square() {
         bail!("in --a: A must be square, it is {}×{}", a.rows(), a.cols());
     }
-    let method = GainMethod::parse(&args.method)
-        .ok_or_else(|| anyhow!("in --method: unknown method '{}' (ackermann, bass-gura, canonical, lemma-3.1)", args.method))?;
-    let convention = Convention::parse(&args.convention)
-        .ok_or_else(|| anyhow!("in --convention: unknown convention '{}' (a-kc or a+lc)", args.convention))?;
+    let method = GainMethod::parse(&args.method).ok_or_else(|| {
+        anyhow!(
+            "in --method: unknown method '{}' (ackermann, bass-gura, canonical, lemma-3.1)",
+            args.method
+        )
+    })?;
+    let convention = Convention::parse(&args.convention).ok_or_else(|| {
+        anyhow!(
+            "in --convention: unknown convention '{}' (a-kc or a+lc)",
+            args.convention
+        )
+    })?;
     let desired = desired(&args, a.rows())?;
     let exact = match &desired.exact {
         Some(_) => Some(design(&a, &c, &desired, method, convention)?),
         None => None,
     };
     let check = (args.float || exact.is_none()).then(|| {
-        let k = exact.as_ref().map(|d| d.gain.to_convention(Convention::AMinusKC).matrix);
-        float_check(&a, &c, &desired.float, desired.rational().as_ref(), k.as_ref(), args.tolerance)
+        let k = exact
+            .as_ref()
+            .map(|d| d.gain.to_convention(Convention::AMinusKC).matrix);
+        float_check(
+            &a,
+            &c,
+            &desired.float,
+            desired.rational().as_ref(),
+            k.as_ref(),
+            args.tolerance,
+        )
     });
     if args.json {
         let mut out = json!({
@@ -135,9 +175,19 @@ pub fn run(args: Args) -> Result<Outcome> {
                 out["steps"] = serde_json::to_value(&d.derivation.steps)?;
             }
             None => {
-                let f = check.as_ref().and_then(|f| f.float_gain.clone()).unwrap_or_default();
-                let sign = if convention == Convention::APlusLC { -1.0 } else { 1.0 };
-                out["gain"] = json!(f.iter().map(|x| vec![format!("{:e}", sign * x)]).collect::<Vec<_>>());
+                let f = check
+                    .as_ref()
+                    .and_then(|f| f.float_gain.clone())
+                    .unwrap_or_default();
+                let sign = if convention == Convention::APlusLC {
+                    -1.0
+                } else {
+                    1.0
+                };
+                out["gain"] = json!(f
+                    .iter()
+                    .map(|x| vec![format!("{:e}", sign * x)])
+                    .collect::<Vec<_>>());
                 out["observer_polynomial"] = json!(desired.float.to_input());
                 out["inexact_reason"] = json!(desired.inexact_reason);
             }

@@ -13,7 +13,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "owb", version, about = "Exact design and verification of state observers")]
+#[command(
+    name = "owb",
+    version,
+    about = "Exact design and verification of state observers"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

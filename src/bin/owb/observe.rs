@@ -55,11 +55,21 @@ pub fn run(args: Args) -> Result<Outcome> {
             for v in &r.unobservable_subspace {
                 println!("      {}", v.to_input());
             }
-            println!("  unobservable modes: det(sI − A|ker O_n) = {}", r.unobservable_polynomial);
-            println!("  unobservable eigenvalues: {}", r.unobservable_eigenvalues.render());
+            println!(
+                "  unobservable modes: det(sI − A|ker O_n) = {}",
+                r.unobservable_polynomial
+            );
+            println!(
+                "  unobservable eigenvalues: {}",
+                r.unobservable_eigenvalues.render()
+            );
             println!(
                 "  PBH test rank [λI − A; C] < n at each: {}",
-                if r.pbh_confirmed { "confirmed" } else { "NOT confirmed" }
+                if r.pbh_confirmed {
+                    "confirmed"
+                } else {
+                    "NOT confirmed"
+                }
             );
         }
     }

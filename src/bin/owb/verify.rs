@@ -8,7 +8,8 @@ use crate::args::print_json;
 use crate::Outcome;
 use anyhow::{bail, Context, Result};
 use observer_workbench::worked::{
-    errata_markdown, load_example, load_folder, render_derivations, render_table, report_json, verify_example, Summary,
+    errata_markdown, load_example, load_folder, render_derivations, render_table, report_json,
+    verify_example, Summary,
 };
 use std::path::{Path, PathBuf};
 
@@ -55,10 +56,16 @@ pub fn run(args: Args) -> Result<Outcome> {
             let p = Path::new(e);
             if p.is_file() {
                 v.push(p.to_path_buf());
-            } else if let Some(found) = all.iter().find(|f| f.file_stem().is_some_and(|s| s == e.as_str())) {
+            } else if let Some(found) = all
+                .iter()
+                .find(|f| f.file_stem().is_some_and(|s| s == e.as_str()))
+            {
                 v.push(found.clone());
             } else {
-                bail!("no worked example '{e}' in {} (give an id or a file path)", dir.display());
+                bail!(
+                    "no worked example '{e}' in {} (give an id or a file path)",
+                    dir.display()
+                );
             }
         }
         v
@@ -73,7 +80,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     let summary = Summary::of(&reports);
     if let Some(path) = &args.errata {
-        write_atomically(path, &errata_markdown(&reports)).with_context(|| format!("writing {}", path.display()))?;
+        write_atomically(path, &errata_markdown(&reports))
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
         print_json(&report_json(&reports));
@@ -92,7 +100,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             summary.mismatch
         );
     }
-    Ok(if summary.mismatch > 0 { Outcome::Failed } else { Outcome::Ok })
+    Ok(if summary.mismatch > 0 {
+        Outcome::Failed
+    } else {
+        Outcome::Ok
+    })
 }
 
 /// Writes through a temporary file and a rename, so a reader never sees half a report.

@@ -1,0 +1,154 @@
+//! The worked examples: every file's derivation is a reviewed snapshot, every claim is
+//! recomputed, and a corrupted print is caught.
+
+use observer_workbench::worked::{
+    errata_markdown, load_example, load_folder, render_derivations, render_table, verify_example,
+    Summary, Verdict,
+};
+use std::path::{Path, PathBuf};
+
+fn folder() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("worked_examples")
+}
+
+#[test]
+fn every_example_derivation_is_a_reviewed_snapshot() {
+    insta::glob!("../worked_examples", "*.toml", |path| {
+        let (ex, raw) = load_example(path).unwrap();
+        let report = verify_example(path, &ex, &raw).unwrap();
+        let text = format!("{}\n{}", render_table(&report), render_derivations(&report));
+        insta::assert_snapshot!(text);
+    });
+}
+
+#[test]
+fn every_claim_is_recomputed_and_none_is_a_mismatch() {
+    let files = load_folder(&folder()).unwrap();
+    assert!(
+        files.len() >= 10,
+        "expected the documents' examples, found {}",
+        files.len()
+    );
+    let mut reports = Vec::new();
+    for f in &files {
+        let (ex, raw) = load_example(f).unwrap();
+        assert!(
+            !ex.claims.is_empty() || !ex.printed_only.is_empty(),
+            "{} records nothing",
+            f.display()
+        );
+        let r = verify_example(f, &ex, &raw).unwrap();
+        for c in &r.claims {
+            assert_ne!(
+                c.recomputed, "—",
+                "{}/{}: no recomputation: {}",
+                r.id, c.id, c.explanation
+            );
+            assert_ne!(
+                c.verdict,
+                Verdict::Mismatch,
+                "{}/{}: {}",
+                r.id,
+                c.id,
+                c.explanation
+            );
+        }
+        reports.push(r);
+    }
+    let s = Summary::of(&reports);
+    assert!(
+        s.erratum >= 5,
+        "the documents' known errata were not all found: {s:?}"
+    );
+}
+
+#[test]
+fn the_committed_errata_report_is_current() {
+    let files = load_folder(&folder()).unwrap();
+    let reports: Vec<_> = files
+        .iter()
+        .map(|f| {
+            let (ex, raw) = load_example(f).unwrap();
+            verify_example(f, &ex, &raw).unwrap()
+        })
+        .collect();
+    let generated = errata_markdown(&reports);
+    let committed =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("book/src/errata.md"))
+            .expect(
+            "book/src/errata.md exists (regenerate with `owb verify --errata book/src/errata.md`)",
+        );
+    assert_eq!(
+        committed, generated,
+        "book/src/errata.md is stale: run `cargo run -- verify --errata book/src/errata.md`"
+    );
+}
+
+/// A copy of an example with one printed value changed must be reported as a mismatch, and
+/// `owb verify` must exit 1.
+#[test]
+fn a_corrupted_print_is_a_mismatch_and_exit_code_1() {
+    let src = folder().join("stoustrup-pole-assignment.toml");
+    let text = std::fs::read_to_string(&src).unwrap();
+    let corrupted = text.replacen("printed = \"[-6; -12]\"", "printed = \"[-6; -13]\"", 1);
+    assert_ne!(text, corrupted);
+    let dir = std::env::temp_dir().join(format!("owb-corrupt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("stoustrup-pole-assignment.toml");
+    std::fs::write(&path, &corrupted).unwrap();
+
+    let (ex, raw) = load_example(&path).unwrap();
+    let r = verify_example(&path, &ex, &raw).unwrap();
+    let bad: Vec<_> = r
+        .claims
+        .iter()
+        .filter(|c| c.verdict == Verdict::Mismatch)
+        .collect();
+    assert_eq!(bad.len(), 1);
+    assert_eq!(bad[0].id, "L");
+
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_owb"))
+        .args(["verify", "--json", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["summary"]["mismatch"], 1);
+    assert_eq!(json["examples"][0]["document"], "001_7629475c4a00cd3e.txt");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Malformed files are bad input (exit 2) with file, line and field named.
+#[test]
+fn malformed_example_files_name_file_line_and_field() {
+    let dir = std::env::temp_dir().join(format!("owb-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        "id = \"bad\"\ntitle = \"t\"\ndocument = \"d\"\n\n[system]\nA = \"[1 2; 3]\"\nC = \"[1 0]\"\n\n[[claims]]\nid = \"O\"\nsource = \"s\"\nwhat = \"observability_matrix\"\nprinted = \"[1 0; 1 2]\"\n",
+    )
+    .unwrap();
+    let (ex, raw) = load_example(&path).unwrap();
+    let err = verify_example(&path, &ex, &raw).unwrap_err();
+    assert_eq!(err.line, 6);
+    assert!(err.field.starts_with("system.A"), "{err}");
+    assert!(err.message.contains("row 2 has 1 entries"), "{err}");
+
+    std::fs::write(
+        &path,
+        "id = \"bad\"\ntitle = \"t\"\ndocument = \"d\"\ncolour = 3\n",
+    )
+    .unwrap();
+    let err = load_example(&path).unwrap_err();
+    assert_eq!(err.line, 4, "{err}");
+
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_owb"))
+        .args(["verify", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("bad.toml:4"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}
