@@ -12,7 +12,6 @@
 use crate::algebra::{Field, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
-use crate::observability::require_observable;
 use crate::observer::{ackermann_gain, DesignError};
 use crate::poly::{Factored, Poly, RationalFunction};
 
@@ -63,9 +62,8 @@ pub fn state_feedback<F: Field>(
 ) -> Result<Matrix<F>, ControlError> {
     let at = a.transpose();
     let bt = b.transpose();
-    let o = require_observable(&at, &bt).map_err(DesignError::from)?;
     // (A + BF)ᵀ = Aᵀ − (−Fᵀ) Bᵀ: K for the dual in A − KC, F = −Kᵀ.
-    let k = ackermann_gain(&at, &o, desired)?;
+    let k = ackermann_gain(&at, &bt, desired)?;
     Ok(k.transpose().neg())
 }
 

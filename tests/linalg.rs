@@ -104,3 +104,47 @@ fn singular_inverse_is_an_error_not_a_panic() {
     let wide = Matrix::<Rational>::zeros(2, 3);
     assert!(characteristic_polynomial(&wide, "s").is_err());
 }
+
+/// The multimodular paths (rationals, order ≥ 8) against the generic algorithms run in Q(√2)
+/// (which never take the modular path): the characteristic polynomial, solve, and the gain.
+mod multimodular {
+    use super::common::rational_matrix;
+    use observer_workbench::algebra::{Quadratic, Rational, Ring};
+    use observer_workbench::linalg::{
+        characteristic_polynomial, solve, Matrix, MODULAR_FROM_ORDER,
+    };
+    use observer_workbench::observer::ackermann_gain;
+    use observer_workbench::poly::Poly;
+    use proptest::prelude::*;
+
+    fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
+        m.map(|x| Quadratic::rational(x.clone()))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(12))]
+
+        #[test]
+        fn modular_agrees_with_generic(
+            (a, b) in (MODULAR_FROM_ORDER..MODULAR_FROM_ORDER + 4)
+                .prop_flat_map(|n| (rational_matrix(n, n), rational_matrix(n, 2))),
+            roots in proptest::collection::vec(-5i64..=5, MODULAR_FROM_ORDER + 4),
+        ) {
+            let n = a.rows();
+            let p = characteristic_polynomial(&a, "s").unwrap();
+            prop_assert_eq!(p.map(|x| Quadratic::rational(x.clone())), characteristic_polynomial(&lift(&a), "s").unwrap());
+            match (solve(&a, &b), solve(&lift(&a), &lift(&b))) {
+                (Ok(x), Ok(y)) => prop_assert_eq!(lift(&x), y),
+                (Err(e), Err(f)) => prop_assert_eq!(e, f),
+                (x, y) => prop_assert!(false, "one path failed: {:?} vs {:?}", x.err(), y.err()),
+            }
+            let c = Matrix::row_vector(a.row(0).to_vec());
+            let desired = Poly::from_roots(&roots[..n].iter().map(|&r| Rational::from_i64(r)).collect::<Vec<_>>(), "s");
+            match (ackermann_gain(&a, &c, &desired), ackermann_gain(&lift(&a), &lift(&c), &desired.map(|x| Quadratic::rational(x.clone())))) {
+                (Ok(k), Ok(kq)) => prop_assert_eq!(lift(&k), kq),
+                (Err(_), Err(_)) => {}
+                (x, y) => prop_assert!(false, "one path failed: {:?} vs {:?}", x.err(), y.err()),
+            }
+        }
+    }
+}

@@ -31,7 +31,8 @@ use std::ops::{Add, Mul, Neg, Sub};
 ///
 /// The operators take their operands by value; algorithms clone where they must.
 pub trait Ring:
-    Clone
+    'static
+    + Clone
     + PartialEq
     + Debug
     + Display

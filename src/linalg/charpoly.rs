@@ -75,6 +75,14 @@ pub fn characteristic_polynomial<F: Field>(
     var: &str,
 ) -> Result<Poly<F>, LinalgError> {
     let n = a.require_square("characteristic polynomial")?;
+    if n >= super::MODULAR_FROM_ORDER {
+        if let Some(q) = super::as_rational(a) {
+            let p = Poly::new(super::modular::charpoly_rational(q), var);
+            if let Some(p) = super::from_rational::<Poly<F>, _>(p) {
+                return Ok(p);
+            }
+        }
+    }
     let d = F::common_denominator(a.entries());
     let scaled = a.map(|x| x.scale_to_integer(&d));
     let p = berkowitz(&scaled, var)?;

@@ -139,6 +139,13 @@ pub fn solve<F: Field>(a: &Matrix<F>, b: &Matrix<F>) -> Result<Matrix<F>, Linalg
         return Err(a.mismatch(b, "solve"));
     }
     let k = b.cols();
+    if n >= super::MODULAR_FROM_ORDER {
+        if let (Some(qa), Some(qb)) = (super::as_rational(a), super::as_rational(b)) {
+            if let Some(x) = super::modular::solve_rational(qa, qb).and_then(super::from_rational) {
+                return Ok(x);
+            }
+        }
+    }
     let (rows, _) = integer_rows(&a.hstack(b)?);
     let e = bareiss(rows, n);
     if e.pivots.len() < n {

@@ -14,6 +14,7 @@ pub mod elimination;
 pub mod float;
 pub mod kronecker;
 mod matrix;
+pub mod modular;
 
 pub use charpoly::{
     berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_vector,
@@ -21,6 +22,25 @@ pub use charpoly::{
 pub use elimination::{determinant, inverse, null_space, rank, rref, solve, Rref};
 pub use kronecker::{kronecker, vectorize};
 pub use matrix::Matrix;
+
+/// From this order on, exact rational problems go through [`modular`] (multimodular, certified)
+/// instead of fraction-free elimination or Berkowitz, which are faster below it.
+pub const MODULAR_FROM_ORDER: usize = 8;
+
+/// `Some(&Matrix<Rational>)` when `F` is the rationals: the dispatch to the multimodular path.
+pub(crate) fn as_rational<F: crate::algebra::Ring>(
+    a: &Matrix<F>,
+) -> Option<&Matrix<crate::algebra::Rational>> {
+    (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Rational>>()
+}
+
+/// Moves a value computed over the rationals back into the generic type `T` (which is it).
+pub fn from_rational<T: 'static, S: 'static>(value: S) -> Option<T> {
+    (Box::new(value) as Box<dyn std::any::Any>)
+        .downcast::<T>()
+        .ok()
+        .map(|b| *b)
+}
 
 /// The largest matrix order the exact algorithms accept; larger inputs are refused with
 /// [`LinalgError::TooLarge`] instead of running for hours.

@@ -116,32 +116,64 @@ fn coefficient_difference<F: Field>(desired: &Poly<F>, open_loop: &Poly<F>, n: u
     })
 }
 
-/// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC).
+/// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC), for one output row `c`.
+///
+/// Over the rationals from order [`linalg::MODULAR_FROM_ORDER`] on, the gain is computed by
+/// [`linalg::modular::ackermann_gain_rational`] (the same formula mod many primes, lifted
+/// exactly by Chinese remaindering up to Hadamard bounds) without ever forming `O_n`.
 ///
 /// # Example
 /// ```
 /// use observer_workbench::algebra::Rational;
-/// use observer_workbench::observability::observability_matrix;
 /// use observer_workbench::observer::ackermann_gain;
 /// use observer_workbench::syntax::{parse_matrix, parse_polynomial};
 /// let a = parse_matrix::<Rational>("[2 -3; 4 -5]").unwrap();
 /// let c = parse_matrix::<Rational>("[-3 2]").unwrap();
-/// let o = observability_matrix(&a, &c).unwrap();
 /// let p = parse_polynomial::<Rational>("s^2 + 9s + 20", "s").unwrap();
 /// // Stoustrup's L = (−6, −12) in A + LC is K = (6, 12) in A − KC
-/// assert_eq!(ackermann_gain(&a, &o, &p).unwrap().to_input(), "[6; 12]");
+/// assert_eq!(ackermann_gain(&a, &c, &p).unwrap().to_input(), "[6; 12]");
+/// // an unobservable pair is an error with its evidence, not a wrong gain
+/// let c2 = parse_matrix::<Rational>("[1 0]").unwrap();
+/// let a2 = parse_matrix::<Rational>("[-1 0; 1 -1]").unwrap();
+/// assert!(ackermann_gain(&a2, &c2, &p).is_err());
 /// ```
 ///
 /// # Errors
-/// [`DesignError`] for a singular `O_n` or a desired polynomial of the wrong degree.
+/// [`DesignError`] for several outputs, an unobservable pair or a desired polynomial of the
+/// wrong degree.
 pub fn ackermann_gain<F: Field>(
     a: &Matrix<F>,
-    o: &Matrix<F>,
+    c: &Matrix<F>,
     desired: &Poly<F>,
 ) -> Result<Matrix<F>, DesignError> {
     let n = check_desired(a, desired)?;
-    let q = linalg::solve(o, &Matrix::unit(n, n - 1))?;
+    if c.rows() != 1 {
+        return Err(DesignError::MultiOutput {
+            method: GainMethod::Ackermann,
+            outputs: c.rows(),
+        });
+    }
+    if n >= linalg::MODULAR_FROM_ORDER {
+        if let (Some(qa), Some(qc), Some(qp)) = (
+            linalg_as_rational(a),
+            linalg_as_rational(c),
+            crate::linalg::from_rational::<Poly<Rational>, _>(desired.clone()),
+        ) {
+            if let Some(k) = linalg::modular::ackermann_gain_rational(qa, qc, qp.coeffs())
+                .and_then(crate::linalg::from_rational::<Matrix<F>, _>)
+            {
+                return Ok(k);
+            }
+        }
+    }
+    // Generic path (and the error report when the modular path finds O_n singular).
+    let o = require_observable(a, c)?;
+    let q = linalg::solve(&o, &Matrix::unit(n, n - 1))?;
     Ok(linalg::polynomial_times_vector(desired, a, &q)?)
+}
+
+fn linalg_as_rational<F: Field>(m: &Matrix<F>) -> Option<&Matrix<Rational>> {
+    (m as &dyn std::any::Any).downcast_ref::<Matrix<Rational>>()
 }
 
 /// Dual Bass–Gura: `K = O_n⁻¹ M⁻ᵀ (c − a)` (A − KC).

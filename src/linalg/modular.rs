@@ -1,0 +1,682 @@
+//! Multimodular exact linear algebra over the rationals.
+//!
+//! Large exact problems are solved modulo many word-size primes and lifted back:
+//!
+//! * the characteristic polynomial of an integer matrix, by Hessenberg reduction mod p (O(n³)
+//!   per prime) and Chinese remaindering up to a Hadamard-type bound on the coefficients, so
+//!   the result is exact by construction;
+//! * linear systems and observer gains, whose size is not known in advance: residues are
+//!   accumulated until rational reconstruction gives the same answer twice (output-sensitive),
+//!   and the answer is then *certified* exactly (`A·x = b`, or `det(sI − (A − KC)) = P(s)`), so a
+//!   wrong reconstruction can never be returned.
+//!
+//! The cost is governed by the size of the answer, not by the size of intermediate values such
+//! as `O_n⁻¹` (thousands of digits for n = 80), which is what makes the exact gain fast.
+
+use super::Matrix;
+use crate::algebra::{Field, One, Rational, Zero};
+use num_bigint::BigInt;
+use num_traits::ToPrimitive;
+
+/// Primes below 2³¹, largest first (products of two residues fit in a `u64`): the first
+/// 4096 from a table built once, then generated on demand — there are about 10⁸ of them, so the
+/// supply never runs out before a bound is reached.
+fn primes() -> impl Iterator<Item = u64> {
+    static TABLE: std::sync::OnceLock<Vec<u64>> = std::sync::OnceLock::new();
+    let table = TABLE.get_or_init(|| {
+        let mut v = Vec::with_capacity(4096);
+        let mut c: u64 = (1 << 31) - 1;
+        while v.len() < 4096 {
+            if is_prime(c) {
+                v.push(c);
+            }
+            c -= 2;
+        }
+        v
+    });
+    let last = *table.last().expect("table is filled");
+    table.iter().copied().chain(
+        (1..last / 2)
+            .rev()
+            .map(|k| 2 * k + 1)
+            .filter(|&c| is_prime(c)),
+    )
+}
+
+/// Deterministic Miller–Rabin for n < 2³² (bases 2, 7, 61).
+fn is_prime(n: u64) -> bool {
+    if n < 2 {
+        return false;
+    }
+    for p in [2u64, 3, 5, 7, 11, 13] {
+        if n % p == 0 {
+            return n == p;
+        }
+    }
+    let mut d = n - 1;
+    let mut s = 0;
+    while d % 2 == 0 {
+        d /= 2;
+        s += 1;
+    }
+    'witness: for a in [2u64, 7, 61] {
+        if a % n == 0 {
+            continue;
+        }
+        let mut x = pow_mod(a, d, n);
+        if x == 1 || x == n - 1 {
+            continue;
+        }
+        for _ in 1..s {
+            x = x * x % n;
+            if x == n - 1 {
+                continue 'witness;
+            }
+        }
+        return false;
+    }
+    true
+}
+
+/// Barrett reduction for a fixed prime p < 2³¹: `x mod p` for `x < 2⁶²` with one high
+/// multiplication instead of a division.
+#[derive(Clone, Copy)]
+struct Barrett {
+    p: u64,
+    m: u64,
+}
+
+impl Barrett {
+    fn new(p: u64) -> Self {
+        Barrett {
+            p,
+            m: ((1u128 << 64) / p as u128) as u64,
+        }
+    }
+    #[inline(always)]
+    fn reduce(self, x: u64) -> u64 {
+        let q = ((x as u128 * self.m as u128) >> 64) as u64;
+        let r = x - q * self.p;
+        if r >= self.p {
+            r - self.p
+        } else {
+            r
+        }
+    }
+    #[inline(always)]
+    fn mul(self, a: u64, b: u64) -> u64 {
+        self.reduce(a * b)
+    }
+}
+
+fn pow_mod(mut b: u64, mut e: u64, p: u64) -> u64 {
+    let mut r = 1;
+    b %= p;
+    while e > 0 {
+        if e & 1 == 1 {
+            r = r * b % p;
+        }
+        b = b * b % p;
+        e >>= 1;
+    }
+    r
+}
+
+fn inv_mod(a: u64, p: u64) -> Option<u64> {
+    (a % p != 0).then(|| pow_mod(a, p - 2, p))
+}
+
+fn int_mod(x: &BigInt, p: u64) -> u64 {
+    let r = (x % p).to_i64().unwrap_or(0);
+    if r < 0 {
+        (r + p as i64) as u64
+    } else {
+        r as u64
+    }
+}
+
+/// Characteristic polynomial mod p (coefficients ascending, monic) by Hessenberg reduction.
+fn charpoly_mod(mut h: Vec<Vec<u64>>, p: u64) -> Vec<u64> {
+    let n = h.len();
+    let br = Barrett::new(p);
+    for m in 1..n {
+        let Some(piv) = (m..n).find(|&i| h[i][m - 1] != 0) else {
+            continue;
+        };
+        if piv != m {
+            h.swap(piv, m);
+            for row in h.iter_mut() {
+                row.swap(piv, m);
+            }
+        }
+        let inv = inv_mod(h[m][m - 1], p).expect("nonzero pivot");
+        for i in m + 1..n {
+            let u = br.mul(h[i][m - 1], inv);
+            if u == 0 {
+                continue;
+            }
+            // row_i −= u · row_m
+            let (top, bottom) = h.split_at_mut(i);
+            let (row_m, row_i) = (&top[m], &mut bottom[0]);
+            let neg_u = p - u;
+            for j in m - 1..n {
+                row_i[j] = br.reduce(row_i[j] + neg_u * row_m[j]);
+            }
+            // col_m += u · col_i
+            for row in h.iter_mut() {
+                row[m] = br.reduce(row[m] + u * row[i]);
+            }
+        }
+    }
+    // p_m = (x − h_mm) p_{m−1} − Σ_i h_{m−i,m} (Π h_{j,j−1}) p_{m−i−1}   (1-indexed)
+    let mut polys: Vec<Vec<u64>> = vec![vec![1]];
+    for m in 1..=n {
+        let prev = &polys[m - 1];
+        let mut next = vec![0u64; m + 1];
+        let neg_h = p - h[m - 1][m - 1];
+        for (k, &c) in prev.iter().enumerate() {
+            next[k + 1] = br.reduce(next[k + 1] + c);
+            next[k] = br.reduce(next[k] + neg_h * c);
+        }
+        let mut t = 1u64;
+        for i in 1..m {
+            t = br.mul(t, h[m - i][m - i - 1]);
+            if t == 0 {
+                break;
+            }
+            let coef = br.mul(h[m - i - 1][m - 1], t);
+            if coef == 0 {
+                continue;
+            }
+            let neg = p - coef;
+            for (k, &c) in polys[m - i - 1].iter().enumerate() {
+                next[k] = br.reduce(next[k] + neg * c);
+            }
+        }
+        polys.push(next);
+    }
+    polys.pop().unwrap_or_default()
+}
+
+/// Incremental Chinese remaindering of a vector of residues.
+struct Crt {
+    values: Vec<BigInt>,
+    modulus: BigInt,
+}
+
+impl Crt {
+    fn new(len: usize) -> Self {
+        Crt {
+            values: vec![BigInt::zero(); len],
+            modulus: BigInt::one(),
+        }
+    }
+    fn add(&mut self, residues: &[u64], p: u64) {
+        let m_mod_p = int_mod(&self.modulus, p);
+        let inv = inv_mod(m_mod_p, p).expect("distinct primes");
+        for (v, &r) in self.values.iter_mut().zip(residues) {
+            let vp = int_mod(v, p);
+            let t = (r + p - vp) % p * inv % p;
+            if t != 0 {
+                *v += &self.modulus * t;
+            }
+        }
+        self.modulus *= p;
+    }
+    /// Symmetric (signed) integers.
+    fn signed(&self) -> Vec<BigInt> {
+        let half = &self.modulus >> 1;
+        self.values
+            .iter()
+            .map(|v| {
+                if *v > half {
+                    v - &self.modulus
+                } else {
+                    v.clone()
+                }
+            })
+            .collect()
+    }
+}
+
+/// Bits of a bound on the coefficients of the characteristic polynomial of an integer matrix:
+/// `|c_k| ≤ C(n, k) · Π (k largest row norms)` (Hadamard on each k × k principal minor).
+fn charpoly_bound_bits(a: &Matrix<BigInt>) -> u64 {
+    let n = a.rows();
+    // log2 ‖row_i‖ ≤ max bits + ½ log2 n
+    let mut norms: Vec<f64> = (0..n)
+        .map(|i| {
+            let max_bits = a.row(i).iter().map(|x| x.bits()).max().unwrap_or(0) as f64;
+            if max_bits == 0.0 {
+                0.0
+            } else {
+                max_bits + 0.5 * (n as f64).log2()
+            }
+        })
+        .collect();
+    norms.sort_by(|x, y| y.total_cmp(x));
+    let mut best = 0f64;
+    let mut acc = 0f64;
+    let mut log_binom = 0f64;
+    for k in 1..=n {
+        acc += norms[k - 1].max(0.0);
+        log_binom += ((n - k + 1) as f64 / k as f64).log2();
+        best = best.max(acc + log_binom);
+    }
+    best.ceil() as u64 + 2
+}
+
+/// The characteristic polynomial of an integer matrix (ascending coefficients), exact.
+pub fn charpoly_integer(a: &Matrix<BigInt>) -> Vec<BigInt> {
+    let n = a.rows();
+    let need = charpoly_bound_bits(a) + 1;
+    let mut crt = Crt::new(n + 1);
+    for p in primes() {
+        if crt.modulus.bits() > need {
+            break;
+        }
+        let h: Vec<Vec<u64>> = (0..n)
+            .map(|i| a.row(i).iter().map(|x| int_mod(x, p)).collect())
+            .collect();
+        crt.add(&charpoly_mod(h, p), p);
+    }
+    crt.signed()
+}
+
+/// An integer matrix scaled from a rational one, with entries mod p fast when they fit `i64`.
+struct IntMatrix {
+    rows: usize,
+    cols: usize,
+    small: Option<Vec<i64>>,
+    big: Vec<BigInt>,
+}
+
+impl IntMatrix {
+    fn new(rows: usize, cols: usize, big: Vec<BigInt>) -> Self {
+        let small = big.iter().map(ToPrimitive::to_i64).collect();
+        IntMatrix {
+            rows,
+            cols,
+            small,
+            big,
+        }
+    }
+    /// Row-major residues.
+    fn residues(&self, p: u64) -> Vec<u64> {
+        match &self.small {
+            Some(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
+            None => self.big.iter().map(|x| int_mod(x, p)).collect(),
+        }
+    }
+    /// log2 of the Frobenius norm (an upper bound).
+    fn log2_norm(&self) -> f64 {
+        let max_bits = self.big.iter().map(|x| x.bits()).max().unwrap_or(0) as f64;
+        max_bits + 0.5 * ((self.rows * self.cols) as f64).log2()
+    }
+}
+
+/// `r`'s rows scaled to integers: row i times the lcm of its denominators.
+fn scaled_rows(a: &Matrix<Rational>) -> (IntMatrix, Vec<BigInt>) {
+    let mut scales = Vec::with_capacity(a.rows());
+    let mut big = Vec::with_capacity(a.rows() * a.cols());
+    for i in 0..a.rows() {
+        let d = Rational::common_denominator(a.row(i));
+        big.extend(a.row(i).iter().map(|x| x.scale_to_integer(&d)));
+        scales.push(d);
+    }
+    (IntMatrix::new(a.rows(), a.cols(), big), scales)
+}
+
+/// `u64` dot product mod p with one reduction per 4 terms (products of residues < 2⁶²).
+#[inline]
+fn dot(x: &[u64], y: &[u64], p: u64) -> u64 {
+    let mut acc: u128 = 0;
+    for (a, b) in x.iter().zip(y) {
+        acc += (*a * *b) as u128;
+    }
+    (acc % p as u128) as u64
+}
+
+/// LU-style elimination mod p of the n×n matrix `m` (row-major) with right-hand sides `rhs`
+/// (n×k, row-major): returns `(det mod p, solution mod p)`, or `None` when singular mod p.
+fn det_and_solve_mod(
+    mut m: Vec<u64>,
+    n: usize,
+    mut rhs: Vec<u64>,
+    k: usize,
+    p: u64,
+) -> Option<(u64, Vec<u64>)> {
+    let br = Barrett::new(p);
+    let mut det = 1u64;
+    for col in 0..n {
+        let piv = (col..n).find(|&i| m[i * n + col] != 0)?;
+        if piv != col {
+            for j in 0..n {
+                m.swap(piv * n + j, col * n + j);
+            }
+            for j in 0..k {
+                rhs.swap(piv * k + j, col * k + j);
+            }
+            det = (p - det) % p;
+        }
+        let pv = m[col * n + col];
+        det = det * pv % p;
+        let inv = inv_mod(pv, p)?;
+        for j in col..n {
+            m[col * n + j] = m[col * n + j] * inv % p;
+        }
+        for j in 0..k {
+            rhs[col * k + j] = rhs[col * k + j] * inv % p;
+        }
+        for i in col + 1..n {
+            let u = m[i * n + col];
+            if u == 0 {
+                continue;
+            }
+            let neg_u = p - u;
+            for j in col..n {
+                m[i * n + j] = br.reduce(m[i * n + j] + neg_u * m[col * n + j]);
+            }
+            for j in 0..k {
+                rhs[i * k + j] = br.reduce(rhs[i * k + j] + neg_u * rhs[col * k + j]);
+            }
+        }
+    }
+    // back substitution (unit upper triangular)
+    for col in (0..n).rev() {
+        for i in 0..col {
+            let u = m[i * n + col];
+            if u == 0 {
+                continue;
+            }
+            let neg_u = p - u;
+            for j in 0..k {
+                rhs[i * k + j] = br.reduce(rhs[i * k + j] + neg_u * rhs[col * k + j]);
+            }
+        }
+    }
+    Some((det, rhs))
+}
+
+/// Chinese remaindering of `det` and `det · x` up to `bits`, then `x = (det·x)/det`.
+/// `residues(p)` gives `(det mod p, x mod p)` or `None` for a prime dividing `det`.
+fn lift_cramer(
+    len: usize,
+    bits: u64,
+    mut residues: impl FnMut(u64) -> Option<(u64, Vec<u64>)>,
+) -> Option<(BigInt, Vec<BigInt>)> {
+    let mut crt = Crt::new(len + 1);
+    let mut unlucky = 0;
+    for p in primes() {
+        if crt.modulus.bits() > bits {
+            let v = crt.signed();
+            return Some((v[len].clone(), v[..len].to_vec()));
+        }
+        match residues(p) {
+            Some((d, x)) if d != 0 => {
+                let mut r: Vec<u64> = x.iter().map(|xi| xi * d % p).collect();
+                r.push(d);
+                crt.add(&r, p);
+            }
+            _ => {
+                unlucky += 1;
+                if unlucky > 40 {
+                    return None;
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Solves `A X = B` over the rationals exactly: `det(A)·X = adj(A)·B` is lifted by Chinese
+/// remaindering up to a Hadamard bound, so the result is exact by construction. `None` when A is
+/// singular (the caller reports it).
+pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matrix<Rational>> {
+    let (n, k) = (a.rows(), b.cols());
+    if n == 0 || a.cols() != n || b.rows() != n {
+        return None;
+    }
+    // Scale each row of [A | B] to integers (the solution does not change).
+    let (aug, _) = scaled_rows(&a.hstack(b).ok()?);
+    let ai = IntMatrix::new(
+        n,
+        n,
+        (0..n)
+            .flat_map(|i| aug.big[i * (n + k)..i * (n + k) + n].to_vec())
+            .collect(),
+    );
+    let bi = IntMatrix::new(
+        n,
+        k,
+        (0..n)
+            .flat_map(|i| aug.big[i * (n + k) + n..(i + 1) * (n + k)].to_vec())
+            .collect(),
+    );
+    // |det A| ≤ Π ‖a_i‖; |adj(A) B| ≤ Π (n−1 largest ‖a_i‖) · √n · max |b|.
+    let mut row_bits: Vec<f64> = (0..n)
+        .map(|i| {
+            let m = ai.big[i * n..(i + 1) * n]
+                .iter()
+                .map(|x| x.bits())
+                .max()
+                .unwrap_or(0) as f64;
+            m + 0.5 * (n as f64).log2()
+        })
+        .collect();
+    row_bits.sort_by(|x, y| y.total_cmp(x));
+    let det_bits: f64 = row_bits.iter().sum();
+    let b_bits =
+        bi.big.iter().map(|x| x.bits()).max().unwrap_or(0) as f64 + 0.5 * (n as f64).log2();
+    let num_bits = row_bits.iter().take(n.saturating_sub(1)).sum::<f64>() + b_bits;
+    let bits = det_bits.max(num_bits).ceil() as u64 + 2;
+    let (det, y) = lift_cramer(n * k, bits, |p| {
+        det_and_solve_mod(ai.residues(p), n, bi.residues(p), k, p)
+    })?;
+    if det.is_zero() {
+        return None;
+    }
+    let x: Vec<Rational> = y
+        .into_iter()
+        .map(|v| Rational::new(v, det.clone()))
+        .collect();
+    Some(Matrix::from_fn(n, k, |i, j| x[i * k + j].clone()))
+}
+
+/// The characteristic polynomial of a rational matrix (ascending coefficients), exact.
+pub fn charpoly_rational(a: &Matrix<Rational>) -> Vec<Rational> {
+    let n = a.rows();
+    let d = Rational::common_denominator(a.entries());
+    let ints = Matrix::from_fn(n, n, |i, j| a.get(i, j).scale_to_integer(&d));
+    let c = charpoly_integer(&ints);
+    // [λ^k] p_A = [μ^k] p_{dA} / d^(n−k)
+    let mut dpow = BigInt::one();
+    let mut out = vec![Rational::zero(); n + 1];
+    for k in (0..=n).rev() {
+        out[k] = Rational::new(c[k].clone(), dpow.clone());
+        dpow *= &d;
+    }
+    out
+}
+
+/// The single-output observer gain `K = P(A) O_n⁻¹ e_n` (A − KC), exact.
+///
+/// With `A`, `c` scaled to integers (`Ã = dA`, `c̃ = ec`) and `Q = f·d^n P(s/d)` integral,
+/// `det(Õ)·Q(Ã) Õ⁻¹ e_n = Q(Ã)·adj(Õ) e_n` is an integer vector; it and `det Õ` are lifted
+/// by Chinese remaindering up to Hadamard bounds (exact by construction), and
+/// `K = e/(f d) · Q(Ã) Õ⁻¹ e_n`. `None` when `O_n` is singular (unobservable).
+pub fn ackermann_gain_rational(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &[Rational],
+) -> Option<Matrix<Rational>> {
+    let n = a.rows();
+    if n == 0 || c.rows() != 1 || c.cols() != n || desired.len() != n + 1 {
+        return None;
+    }
+    let d = Rational::common_denominator(a.entries());
+    let e = Rational::common_denominator(c.row(0));
+    let at = IntMatrix::new(
+        n,
+        n,
+        (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .map(|(i, j)| a.get(j, i).scale_to_integer(&d))
+            .collect(),
+    );
+    let ct = IntMatrix::new(
+        1,
+        n,
+        c.row(0).iter().map(|x| x.scale_to_integer(&e)).collect(),
+    );
+    // P̃(s) = d^n P(s/d): coefficient k times d^(n−k); then cleared of denominators by f.
+    let d_r = Rational::from(d.clone());
+    let scaled: Vec<Rational> = (0..=n)
+        .map(|k| desired[k].clone() * num_traits::pow(d_r.clone(), n - k))
+        .collect();
+    let f = Rational::common_denominator(&scaled);
+    let q: Vec<BigInt> = scaled.iter().map(|x| x.scale_to_integer(&f)).collect();
+    // Bounds: ‖c̃ Ã^k‖ ≤ ‖c̃‖ ‖Ã‖^k.
+    let la = at.log2_norm();
+    let lc = ct.log2_norm();
+    let det_bits: f64 = (0..n).map(|k| lc + k as f64 * la).sum();
+    let adj_bits: f64 = (0..n.saturating_sub(1))
+        .map(|k| lc + k as f64 * la)
+        .sum::<f64>()
+        + 0.5 * (n as f64).log2();
+    let poly_bits = q
+        .iter()
+        .enumerate()
+        .map(|(k, x)| x.bits() as f64 + k as f64 * la)
+        .fold(0.0f64, f64::max)
+        + ((n + 1) as f64).log2();
+    let bits = det_bits.max(adj_bits + poly_bits).ceil() as u64 + 2;
+    let started = std::time::Instant::now();
+    let mut residue_time = std::time::Duration::ZERO;
+    let (det, y) = lift_cramer(n, bits, |p| {
+        let t0 = std::time::Instant::now();
+        let r = gain_residues(&at, &ct, &q, n, p);
+        residue_time += t0.elapsed();
+        r
+    })?;
+    if std::env::var("OWB_DEBUG").is_ok() {
+        eprintln!(
+            "gain: bound {bits} bits, lifting {:?} of which residues {:?}",
+            started.elapsed(),
+            residue_time
+        );
+    }
+    if det.is_zero() {
+        return None;
+    }
+    // K = e/(f d) · Y / det
+    let scale = Rational::new(e, f * d);
+    let out = Matrix::column(
+        y.into_iter()
+            .map(|v| Rational::new(v, det.clone()) * scale.clone())
+            .collect(),
+    );
+    if std::env::var("OWB_DEBUG").is_ok() {
+        eprintln!("gain: total {:?}", started.elapsed());
+    }
+    Some(out)
+}
+
+/// `(det O mod p, (Q(Ã) O⁻¹ e_n) mod p)` for one prime.
+fn gain_residues(
+    at: &IntMatrix,
+    ct: &IntMatrix,
+    q: &[BigInt],
+    n: usize,
+    p: u64,
+) -> Option<(u64, Vec<u64>)> {
+    {
+        let atp = at.residues(p); // row j of Aᵀ is column j of A
+        let cp = ct.residues(p);
+        // O mod p, rows c̃, c̃Ã, …: (rÃ)_j = r · (column j of Ã)
+        let mut o = Vec::with_capacity(n * n);
+        o.extend_from_slice(&cp);
+        for r in 1..n {
+            let last = o[(r - 1) * n..r * n].to_vec();
+            for j in 0..n {
+                o.push(dot(&last, &atp[j * n..(j + 1) * n], p));
+            }
+        }
+        let mut en = vec![0u64; n];
+        en[n - 1] = 1;
+        let (det, qn) = det_and_solve_mod(o, n, en, 1, p)?;
+        // Horner with Ã: acc ← Ã acc + q_k qn; Ã acc needs rows of Ã = columns of Aᵀ.
+        let a_rows: Vec<u64> = (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .map(|(i, j)| atp[j * n + i])
+            .collect();
+        let qp: Vec<u64> = q.iter().map(|x| int_mod(x, p)).collect();
+        let mut acc = vec![0u64; n];
+        for &qk in qp.iter().rev() {
+            acc = (0..n)
+                .map(|i| (dot(&a_rows[i * n..(i + 1) * n], &acc, p) + qk * qn[i]) % p)
+                .collect();
+        }
+        Some((det, acc))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::Ring;
+
+    #[test]
+    fn primes_are_prime_and_below_two_to_the_31() {
+        let ps: Vec<u64> = primes().skip(4090).take(20).collect();
+        assert_eq!(primes().next(), Some(2_147_483_647));
+        assert!(ps.windows(2).all(|w| w[0] > w[1]));
+        assert!(ps.iter().all(|&p| is_prime(p) && p < 1 << 31));
+        assert!(!is_prime(2_147_483_649));
+    }
+
+    #[test]
+    fn chinese_remaindering_recovers_signed_integers() {
+        let x = BigInt::from(-355_113_000_000_000_i64) * BigInt::from(1_000_000_007_i64);
+        let mut crt = Crt::new(1);
+        for p in primes().take(4) {
+            crt.add(&[int_mod(&x, p)], p);
+        }
+        assert_eq!(crt.signed()[0], x);
+    }
+
+    #[test]
+    fn cramer_solve_matches_fraction_free_elimination() {
+        let r = |v: i64| Rational::from_i64(v);
+        let h = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let a = Matrix::from_rows(vec![
+            vec![r(2), h(-3, 2), r(1)],
+            vec![r(4), r(-5), h(1, 7)],
+            vec![r(1), r(2), r(-1)],
+        ])
+        .unwrap();
+        let b = Matrix::from_rows(vec![
+            vec![r(1), r(0)],
+            vec![h(2, 3), r(1)],
+            vec![r(-5), r(0)],
+        ])
+        .unwrap();
+        let x = solve_rational(&a, &b).unwrap();
+        assert_eq!(a.mul(&x).unwrap(), b);
+        let singular = Matrix::from_rows(vec![vec![r(1), r(2)], vec![r(2), r(4)]]).unwrap();
+        assert!(solve_rational(&singular, &Matrix::identity(2)).is_none());
+    }
+
+    #[test]
+    fn modular_charpoly_matches_berkowitz() {
+        let r = |v: i64| Rational::from_i64(v);
+        let a = Matrix::from_rows(vec![
+            vec![r(2), r(-3), r(1)],
+            vec![r(4), r(-5), r(0)],
+            vec![r(1), r(2), r(-1)],
+        ])
+        .unwrap();
+        let exact = crate::linalg::berkowitz(&a, "s").unwrap();
+        assert_eq!(charpoly_rational(&a), exact.coeffs().to_vec());
+    }
+}
