@@ -551,35 +551,17 @@ pub fn ackermann_gain_rational(
         .fold(0.0f64, f64::max)
         + ((n + 1) as f64).log2();
     let bits = det_bits.max(adj_bits + poly_bits).ceil() as u64 + 2;
-    let started = std::time::Instant::now();
-    let mut residue_time = std::time::Duration::ZERO;
-    let (det, y) = lift_cramer(n, bits, |p| {
-        let t0 = std::time::Instant::now();
-        let r = gain_residues(&at, &ct, &q, n, p);
-        residue_time += t0.elapsed();
-        r
-    })?;
-    if std::env::var("OWB_DEBUG").is_ok() {
-        eprintln!(
-            "gain: bound {bits} bits, lifting {:?} of which residues {:?}",
-            started.elapsed(),
-            residue_time
-        );
-    }
+    let (det, y) = lift_cramer(n, bits, |p| gain_residues(&at, &ct, &q, n, p))?;
     if det.is_zero() {
         return None;
     }
     // K = e/(f d) · Y / det
     let scale = Rational::new(e, f * d);
-    let out = Matrix::column(
+    Some(Matrix::column(
         y.into_iter()
             .map(|v| Rational::new(v, det.clone()) * scale.clone())
             .collect(),
-    );
-    if std::env::var("OWB_DEBUG").is_ok() {
-        eprintln!("gain: total {:?}", started.elapsed());
-    }
-    Some(out)
+    ))
 }
 
 /// `(det O mod p, (Q(Ã) O⁻¹ e_n) mod p)` for one prime.

@@ -29,7 +29,12 @@ pub enum FloatVerdict {
     RepeatedRootScatter,
     /// The float gain itself is wrong beyond tolerance: use the exact gain.
     GainUnreliable,
-    /// The gain is within tolerance but the poles are farther off than rounding explains.
+    /// The gain is right — the exact characteristic polynomial of `A − K_float C` matches the
+    /// desired one — but the eigenvalue solver cannot resolve the (distinct) poles: the observer
+    /// matrix is too ill-conditioned for an eigenvalue check.
+    PolesIllConditioned,
+    /// The gain is within tolerance but the poles are farther off than rounding explains and
+    /// no exact polynomial check clears it.
     PolesUnexplained,
 }
 
@@ -39,7 +44,10 @@ impl FloatVerdict {
         match self {
             FloatVerdict::Reliable => "the float gain agrees with the exact gain and places the poles",
             FloatVerdict::RepeatedRootScatter => {
-                "the float gain is right; its poles scatter only as a repeated root must (ε^(1/m))"
+                "the float gain is right (its exact characteristic polynomial matches); the computed poles scatter as a repeated root must (like ε^(1/m)), which is the eigenvalue solver's limit, not an error in the gain"
+            }
+            FloatVerdict::PolesIllConditioned => {
+                "the float gain is right (its exact characteristic polynomial matches), but the observer matrix is too ill-conditioned for its computed eigenvalues to be trusted"
             }
             FloatVerdict::GainUnreliable => {
                 "the float gain is NOT reliable (error beyond tolerance): use the exact gain"
@@ -165,12 +173,19 @@ pub fn float_check(
         None => (Vec::new(), f64::INFINITY, None),
     };
     let scale = requested.iter().map(|(p, _)| p.norm()).fold(1.0, f64::max);
+    // The exact polynomial check, when available, is the decisive evidence about the gain;
+    // the eigenvalue comparison only says what a float eigen-solver can resolve.
+    let polynomial_ok = polynomial_relative_error.is_some_and(|e| e <= tolerance);
     let verdict = if gain_relative_error.is_nan() || gain_relative_error > tolerance {
         FloatVerdict::GainUnreliable
     } else if max_pole_distance <= tolerance * scale {
         FloatVerdict::Reliable
-    } else if max_pole_distance <= 10.0 * predicted_scatter_with_gain_error && multiplicity > 1 {
+    } else if multiplicity > 1
+        && (polynomial_ok || max_pole_distance <= 10.0 * predicted_scatter_with_gain_error)
+    {
         FloatVerdict::RepeatedRootScatter
+    } else if polynomial_ok {
+        FloatVerdict::PolesIllConditioned
     } else {
         FloatVerdict::PolesUnexplained
     };

@@ -14,13 +14,13 @@ use serde_json::json;
 #[derive(clap::Args)]
 pub struct Args {
     /// The system matrix A.
-    #[arg(long = "a")]
+    #[arg(allow_hyphen_values = true, long = "a")]
     a: String,
     /// The output matrix C (one row).
-    #[arg(long = "c")]
+    #[arg(allow_hyphen_values = true, long = "c")]
     c: String,
     /// The input matrix B (optional).
-    #[arg(long = "b")]
+    #[arg(allow_hyphen_values = true, long = "b")]
     b: Option<String>,
     /// Machine-readable output.
     #[arg(long)]

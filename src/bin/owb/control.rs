@@ -13,25 +13,25 @@ use serde_json::json;
 #[derive(clap::Args)]
 pub struct Args {
     /// The system matrix A.
-    #[arg(long = "a")]
+    #[arg(allow_hyphen_values = true, long = "a")]
     a: String,
     /// The input matrix B (one column).
-    #[arg(long = "b")]
+    #[arg(allow_hyphen_values = true, long = "b")]
     b: String,
     /// The output matrix C (one row).
-    #[arg(long = "c")]
+    #[arg(allow_hyphen_values = true, long = "c")]
     c: String,
     /// The observer gain (in the convention of --convention).
-    #[arg(long = "l")]
+    #[arg(allow_hyphen_values = true, long = "l")]
     l: String,
     /// The state feedback row F in u = F x̂.
-    #[arg(long = "f", group = "feedback")]
+    #[arg(allow_hyphen_values = true, long = "f", group = "feedback")]
     f: Option<String>,
     /// Or: the desired polynomial of A + BF, e.g. "s^2 + 9s + 20".
-    #[arg(long = "feedback-poly", group = "feedback")]
+    #[arg(allow_hyphen_values = true, long = "feedback-poly", group = "feedback")]
     feedback_poly: Option<String>,
     /// Convention of the observer gain: a+lc (default, Stoustrup) or a-kc.
-    #[arg(long, default_value = "a+lc")]
+    #[arg(allow_hyphen_values = true, long, default_value = "a+lc")]
     convention: String,
     /// Machine-readable output.
     #[arg(long)]

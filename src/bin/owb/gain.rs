@@ -17,37 +17,37 @@ use serde_json::json;
 #[derive(clap::Args)]
 pub struct Args {
     /// The system matrix A, e.g. "[2 -3; 4 -5]".
-    #[arg(long = "a")]
+    #[arg(allow_hyphen_values = true, long = "a")]
     a: String,
     /// The output matrix C (one row), e.g. "[-3 2]".
-    #[arg(long = "c")]
+    #[arg(allow_hyphen_values = true, long = "c")]
     c: String,
     /// Desired observer poles, e.g. "-4, -5" or "-1+2i, -1-2i, -3".
-    #[arg(long, group = "desired")]
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
     poles: Option<String>,
     /// Desired observer polynomial, e.g. "s^2 + 9s + 20".
-    #[arg(long, group = "desired")]
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
     poly: Option<String>,
     /// All n poles at −1/T.
-    #[arg(long, group = "desired", value_name = "T")]
+    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
     repeated: Option<String>,
     /// Order-n Butterworth polynomial with time constant T.
-    #[arg(long, group = "desired", value_name = "T")]
+    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
     butterworth: Option<String>,
     /// Order-n Bessel (Thomson) polynomial with low-frequency delay T.
-    #[arg(long, group = "desired", value_name = "T")]
+    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
     bessel: Option<String>,
     /// ackermann (default), bass-gura, canonical or lemma-3.1.
-    #[arg(long, default_value = "ackermann")]
+    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
     method: String,
     /// a-kc (default: observer matrix A − KC) or a+lc (A + LC).
-    #[arg(long, default_value = "a-kc")]
+    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
     convention: String,
     /// Also run the float path and report how far it can be trusted.
     #[arg(long)]
     float: bool,
     /// Relative tolerance for the float check.
-    #[arg(long, default_value_t = 1e-6)]
+    #[arg(allow_hyphen_values = true, long, default_value_t = 1e-6)]
     tolerance: f64,
     /// Machine-readable output.
     #[arg(long)]

@@ -11,10 +11,10 @@ use serde_json::json;
 #[derive(clap::Args)]
 pub struct Args {
     /// The system matrix A, e.g. "[-1 0; 1 -1]".
-    #[arg(long = "a")]
+    #[arg(allow_hyphen_values = true, long = "a")]
     a: String,
     /// The output matrix C, e.g. "[1 0]".
-    #[arg(long = "c")]
+    #[arg(allow_hyphen_values = true, long = "c")]
     c: String,
     /// Machine-readable output.
     #[arg(long)]

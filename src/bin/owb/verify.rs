@@ -19,7 +19,7 @@ pub struct Args {
     /// Examples to run (ids or file paths); all examples of the folder when none is given.
     examples: Vec<String>,
     /// The folder of worked examples.
-    #[arg(long, default_value = "worked_examples")]
+    #[arg(allow_hyphen_values = true, long, default_value = "worked_examples")]
     dir: PathBuf,
     /// Machine-readable output.
     #[arg(long)]
@@ -28,7 +28,7 @@ pub struct Args {
     #[arg(long)]
     derivations: bool,
     /// Write the errata report (markdown) to this file.
-    #[arg(long, value_name = "FILE")]
+    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
     errata: Option<PathBuf>,
 }
 
