@@ -208,3 +208,53 @@ fn bad_input_exits_2_with_the_reason() {
     assert_eq!(code, 2);
     assert!(err.contains("conjugate"), "{err}");
 }
+
+#[test]
+fn multi_output_exact_and_robust() {
+    let ladder = "[-2 1 0; 1 -2 1; 0 1 -2]";
+    // Baranowski's G1 from the first output alone, G = [G1 0]
+    let (code, out, _) = owb(&[
+        "gain",
+        "--a",
+        ladder,
+        "--c",
+        "[1 0 0; 0 0 1]",
+        "--poles",
+        "-4, -4, -4",
+        "--output",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        v["gain"],
+        serde_json::json!([["6", "0"], ["14", "0"], ["14", "0"]])
+    );
+    let (code, out, err) = owb(&[
+        "gain",
+        "--a",
+        ladder,
+        "--c",
+        "[1 0 0; 0 0 1]",
+        "--poles",
+        "-4, -5, -6",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["method"], "knv-robust");
+    assert!(v["robust"]["residual"].as_f64().unwrap() < 1e-9);
+    // a triple pole cannot be placed robustly with two outputs: said, not approximated
+    let (code, _, err) = owb(&[
+        "gain",
+        "--a",
+        ladder,
+        "--c",
+        "[1 0 0; 0 0 1]",
+        "--poles",
+        "-4, -4, -4",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("repeated 3 times"), "{err}");
+}

@@ -10,6 +10,7 @@ pub mod float_check;
 mod gain;
 pub mod perfect;
 pub mod polynomial;
+pub mod robust;
 
 pub use convention::{Convention, ObserverGain};
 pub use gain::{

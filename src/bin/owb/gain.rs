@@ -46,6 +46,10 @@ pub struct Args {
     /// Also run the float path and report how far it can be trusted.
     #[arg(long)]
     float: bool,
+    /// With several outputs: design exactly from this output alone (1-based); the other
+    /// columns of the gain are zero. Without it, several outputs use the robust float method.
+    #[arg(allow_hyphen_values = true, long)]
+    output: Option<usize>,
     /// Relative tolerance for the float check.
     #[arg(allow_hyphen_values = true, long, default_value_t = 1e-6)]
     tolerance: f64,
@@ -143,6 +147,9 @@ pub fn run(args: Args) -> Result<Outcome> {
         )
     })?;
     let desired = desired(&args, a.rows())?;
+    if c.rows() > 1 {
+        return multi_output(&args, &a, &c, &desired, method, convention);
+    }
     let exact = match &desired.exact {
         Some(_) => Some(design(&a, &c, &desired, method, convention)?),
         None => None,
@@ -217,6 +224,106 @@ pub fn run(args: Args) -> Result<Outcome> {
         if let Some(f) = &check {
             print_float(f);
         }
+    }
+    Ok(Outcome::Ok)
+}
+
+/// Several outputs: exact from one chosen output, or the robust float method.
+fn multi_output(
+    args: &Args,
+    a: &observer_workbench::linalg::Matrix<Rational>,
+    c: &observer_workbench::linalg::Matrix<Rational>,
+    desired: &DesiredPolynomial,
+    method: GainMethod,
+    convention: Convention,
+) -> Result<Outcome> {
+    let (n, p) = (a.rows(), c.rows());
+    if let Some(k) = args.output {
+        if k == 0 || k > p {
+            bail!("in --output: output {k} does not exist (C has {p} rows; outputs are numbered from 1)");
+        }
+        let row = c.block(k - 1, k, 0, n);
+        let d = design(a, &row, desired, method, convention)?;
+        let gain = observer_workbench::linalg::Matrix::from_fn(n, p, |i, j| {
+            if j == k - 1 {
+                d.gain.matrix.get(i, 0).clone()
+            } else {
+                Quadratic::rational(Rational::from(num_bigint::BigInt::from(0)))
+            }
+        });
+        if args.json {
+            print_json(&json!({
+                "gain": json_matrix(&gain),
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "output": k,
+                "exact": true,
+                "observer_polynomial": d.achieved.to_input(),
+                "places_exactly": d.places_exactly(),
+                "steps": serde_json::to_value(&d.derivation.steps)?,
+            }));
+        } else {
+            print!("{}", d.derivation.render());
+            println!("Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");
+            println!("  {} = {}", convention.letter(), gain.to_input());
+            println!("  {}", d.verdict().0);
+        }
+        return Ok(Outcome::Ok);
+    }
+    // Robust float placement (Kautsky–Nichols–Van Dooren) at the roots of the desired polynomial.
+    let poles: Vec<(f64, f64)> = match &desired.exact {
+        Some(_) if desired.rational().is_some() => {
+            let roots = observer_workbench::poly::exact_roots(
+                &desired.rational().unwrap_or_else(|| unreachable!()),
+            );
+            roots
+                .roots
+                .iter()
+                .flat_map(|(x, m)| std::iter::repeat_n(x.to_complex_f64(), *m as usize))
+                .collect()
+        }
+        _ => bail!("with several outputs and no --output, give real --poles for the robust method"),
+    };
+    let af = observer_workbench::linalg::float::to_nalgebra(a);
+    let cf = observer_workbench::linalg::float::to_nalgebra(c);
+    let r = observer_workbench::observer::robust::robust_observer_gain(&af, &cf, &poles)?;
+    let sign = if convention == Convention::APlusLC {
+        -1.0
+    } else {
+        1.0
+    };
+    let gain: Vec<Vec<String>> = r
+        .gain
+        .iter()
+        .map(|row| row.iter().map(|x| format!("{:e}", sign * x)).collect())
+        .collect();
+    if args.json {
+        print_json(&json!({
+            "gain": gain,
+            "convention": convention.flag(),
+            "method": "knv-robust",
+            "exact": false,
+            "observer_polynomial": desired.float.to_input(),
+            "robust": serde_json::to_value(&r)?,
+        }));
+    } else {
+        println!("Robust pole placement (Kautsky–Nichols–Van Dooren, f64) for {p} outputs, {convention} convention:");
+        for row in &gain {
+            println!("  [ {} ]", row.join("  "));
+        }
+        println!(
+            "  largest distance of the computed poles from the requested ones = {:.3e}",
+            r.residual
+        );
+        println!(
+            "  relative residual ‖(A − KC) − XΛX⁻¹‖/‖A‖ = {:.3e}",
+            r.relative_residual
+        );
+        println!(
+            "  condition number of the eigenvectors = {:.3e} ({} sweeps)",
+            r.eigenvector_condition, r.sweeps
+        );
+        println!("  (float result; for an exact gain fix the free parameters, e.g. --output k)");
     }
     Ok(Outcome::Ok)
 }
