@@ -97,6 +97,32 @@ pub trait Field: IntegralDomain {
     }
 }
 
+/// The prime factorisation of `n ≥ 1` by trial division, as `(prime, exponent)` pairs; `None`
+/// when `n` exceeds `limit` (trial division would take too long).
+pub fn factor_small(n: u64, limit: u64) -> Option<Vec<(u64, u32)>> {
+    if n > limit {
+        return None;
+    }
+    let mut out = Vec::new();
+    let mut rest = n;
+    let mut p = 2u64;
+    while p * p <= rest {
+        let mut e = 0;
+        while rest % p == 0 {
+            rest /= p;
+            e += 1;
+        }
+        if e > 0 {
+            out.push((p, e));
+        }
+        p += 1;
+    }
+    if rest > 1 {
+        out.push((rest, 1));
+    }
+    Some(out)
+}
+
 /// Fields whose elements can be rounded to `f64`, so an exact result can be compared with the
 /// float path.
 pub trait ToF64 {

@@ -191,26 +191,13 @@ impl Quadratic {
 
 /// Splits `n = core · s²` with `core` squarefree; `None` when `n` is too large for trial division.
 fn squarefree_part(n: u64) -> Option<(u64, u64)> {
-    if n > 1 << 52 {
-        return None;
-    }
-    let mut core = 1u64;
-    let mut root = 1u64;
-    let mut rest = n;
-    let mut p = 2u64;
-    while p * p <= rest {
-        let mut e = 0;
-        while rest % p == 0 {
-            rest /= p;
-            e += 1;
-        }
-        root *= p.pow(e / 2);
-        if e % 2 == 1 {
-            core *= p;
-        }
-        p += 1;
-    }
-    Some((core * rest, root))
+    let factors = super::factor_small(n, 1 << 52)?;
+    Some(factors.iter().fold((1u64, 1u64), |(core, root), &(p, e)| {
+        (
+            if e % 2 == 1 { core * p } else { core },
+            root * p.pow(e / 2),
+        )
+    }))
 }
 
 impl Add for Quadratic {

@@ -106,26 +106,7 @@ pub fn rational_roots(p: &Poly<Rational>) -> RootSearch {
 
 /// The positive divisors of `n` (`n > 0`), or `None` when `n` is too large to factor quickly.
 fn divisors(n: &BigInt) -> Option<Vec<BigInt>> {
-    let mut rest = n.to_u64()?;
-    if rest > RootSearch::TRIAL_LIMIT {
-        return None;
-    }
-    let mut primes: Vec<(u64, u32)> = Vec::new();
-    let mut p = 2u64;
-    while p * p <= rest {
-        let mut e = 0;
-        while rest % p == 0 {
-            rest /= p;
-            e += 1;
-        }
-        if e > 0 {
-            primes.push((p, e));
-        }
-        p += 1;
-    }
-    if rest > 1 {
-        primes.push((rest, 1));
-    }
+    let primes = crate::algebra::factor_small(n.to_u64()?, RootSearch::TRIAL_LIMIT)?;
     let mut divs = vec![BigInt::one()];
     for (p, e) in primes {
         let mut next = Vec::with_capacity(divs.len() * (e as usize + 1));

@@ -194,6 +194,16 @@ impl Inputs<'_> {
         }
     }
 
+    /// The claim's `gain` as Stoustrup's `L` (A + LC); the claim's convention defaults to it.
+    fn observer_gain_a_plus_lc(&self) -> Result<Matrix<Rational>, ComputeError> {
+        Ok(ObserverGain {
+            matrix: self.numeric("gain")?,
+            convention: self.convention(Convention::APlusLC)?,
+        }
+        .to_convention(Convention::APlusLC)
+        .matrix)
+    }
+
     /// The printed variable: `var`, else `λ` when the print uses it, else `s`.
     pub fn var(&self) -> String {
         self.claim.var.clone().unwrap_or_else(|| {
@@ -472,12 +482,7 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
         | "closed_loop_polynomial"
         | "controller_transfer_function"
         | "closed_loop_transfer_function" => {
-            let l = ObserverGain {
-                matrix: inputs.numeric("gain")?,
-                convention: inputs.convention(Convention::APlusLC)?,
-            }
-            .to_convention(Convention::APlusLC)
-            .matrix;
+            let l = inputs.observer_gain_a_plus_lc()?;
             let r = observer_based_control(
                 &inputs.numeric("A")?,
                 &inputs.numeric("B")?,
@@ -739,12 +744,7 @@ fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
             x.t == y.t
         }
         "separation_principle" => {
-            let l = ObserverGain {
-                matrix: inputs.numeric("gain")?,
-                convention: inputs.convention(Convention::APlusLC)?,
-            }
-            .to_convention(Convention::APlusLC)
-            .matrix;
+            let l = inputs.observer_gain_a_plus_lc()?;
             let r = observer_based_control(
                 &a,
                 &inputs.numeric("B")?,
