@@ -244,6 +244,31 @@ impl MultiPoly {
         }
         Some(total)
     }
+    /// The partial derivative with respect to `name`.
+    pub fn derivative(&self, name: &str) -> MultiPoly {
+        let mut out = MultiPoly::zero();
+        for (m, c) in &self.terms {
+            let e = m.exponent(name);
+            if e == 0 {
+                continue;
+            }
+            let rest = m.without(name).mul(&Monomial::var(name, e - 1));
+            out.add_term(rest, c.clone() * Rational::from_i64(e as i64));
+        }
+        out
+    }
+    /// The value at a float point (symbols missing from `values` count as 0).
+    pub fn evaluate_f64(&self, values: &BTreeMap<String, f64>) -> f64 {
+        self.terms
+            .iter()
+            .map(|(m, c)| {
+                m.0.iter()
+                    .fold(crate::algebra::rational_to_f64(c), |acc, (v, e)| {
+                        acc * values.get(v).copied().unwrap_or(0.0).powi(*e as i32)
+                    })
+            })
+            .sum()
+    }
     /// The coefficient of the monomial `m`.
     pub fn coefficient(&self, m: &Monomial) -> Rational {
         self.terms.get(m).cloned().unwrap_or_else(Rational::zero)

@@ -8,6 +8,7 @@
 mod convention;
 pub mod float_check;
 mod gain;
+pub mod optimal;
 pub mod perfect;
 pub mod polynomial;
 pub mod robust;

@@ -49,6 +49,8 @@ pub const COMPUTATIONS: &[&str] = &[
     "perfect_observer_output_matrix",
     "perfect_observer_determinant",
     "identity",
+    "minimum_norm_gain",
+    "minimum_norm_cost",
 ];
 
 /// The identities a claim with `what = "identity"` may name.
@@ -574,6 +576,7 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             })
         }
         "identity" => identity(inputs, &title),
+        "minimum_norm_gain" | "minimum_norm_cost" => minimum_norm(inputs, &title),
         other => Err(input_error(
             "what",
             format!(
@@ -582,6 +585,64 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             ),
         )),
     }
+}
+
+/// Seeded starts of the minimum-norm search (documented in the report).
+const OPTIMISER_STARTS: usize = 60;
+const OPTIMISER_SEED: u64 = 2024;
+
+fn minimum_norm(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    use crate::observer::optimal::{minimum_norm_gain, pole_placement_constraints};
+    let a = inputs.numeric("A")?;
+    let c = inputs.numeric("C")?;
+    let desired = inputs
+        .desired()?
+        .rational()
+        .ok_or_else(|| failed("the optimal design needs a rational desired polynomial"))?;
+    let cons = pole_placement_constraints(&a, &c, &desired).map_err(failed)?;
+    let r = minimum_norm_gain(&cons, OPTIMISER_STARTS, OPTIMISER_SEED);
+    let best: Vec<_> = r.minima.iter().take(r.best_count).collect();
+    if best.is_empty() {
+        return Err(failed("no start converged to a minimum"));
+    }
+    let (n, p) = (a.rows(), c.rows());
+    let note = format!(
+        "J1 minimised by Newton on the KKT system with exact constraint derivatives from {} seeded starts: {} converged; {} equally good minimiser(s), reached by {} start(s); {} other local minima",
+        r.starts,
+        r.converged,
+        best.len(),
+        best.iter().map(|m| m.starts.to_string()).collect::<Vec<_>>().join(" + "),
+        r.minima.len() - best.len()
+    );
+    let mut d = Derivation::new(title);
+    d.push(
+        "constraints",
+        "coefficients of det(λI − (A − GC)) = desired",
+        &Value::Equations(cons.equations.clone()),
+    );
+    let value = if inputs.claim.what == "minimum_norm_gain" {
+        Value::Approximate {
+            rows: n,
+            cols: p,
+            candidates: best
+                .iter()
+                .map(|m| (0..n * p).map(|k| m.gain[(k % p) * n + k / p]).collect())
+                .collect(),
+            note,
+        }
+    } else {
+        Value::Approximate {
+            rows: 1,
+            cols: 1,
+            candidates: vec![vec![best[0].cost]],
+            note,
+        }
+    };
+    d.push("minimisers", "", &value);
+    Ok(Computed {
+        value,
+        derivation: d,
+    })
 }
 
 /// `det(var·I − M)` over the symbolic ring, as a polynomial containing `var`.

@@ -34,6 +34,34 @@ pub enum Value {
     Equations(Vec<MultiPoly>),
     /// A linear system `M g = r`.
     LinearSystem(Matrix<Rational>, Matrix<Rational>),
+    /// Float results of an optimisation: every equally good candidate (`rows × cols`, row-major),
+    /// and how they were found.
+    Approximate {
+        /// Rows of each candidate.
+        rows: usize,
+        /// Columns of each candidate.
+        cols: usize,
+        /// The candidates.
+        candidates: Vec<Vec<f64>>,
+        /// How they were found.
+        note: String,
+    },
+}
+
+fn float_matrix(rows: usize, cols: usize, v: &[f64]) -> String {
+    let r: Vec<String> = (0..rows)
+        .map(|i| {
+            (0..cols)
+                .map(|j| format!("{:.6}", v[i * cols + j]))
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+        .collect();
+    if rows * cols == 1 {
+        r.join("")
+    } else {
+        format!("[{}]", r.join("; "))
+    }
 }
 
 impl Value {
@@ -55,6 +83,18 @@ impl Value {
                 .collect::<Vec<_>>()
                 .join("; "),
             Value::LinearSystem(m, r) => format!("{} g = {}", m.to_input(), r.to_input()),
+            Value::Approximate {
+                rows,
+                cols,
+                candidates,
+                note,
+            } => {
+                let c: Vec<String> = candidates
+                    .iter()
+                    .map(|v| float_matrix(*rows, *cols, v))
+                    .collect();
+                format!("{} ({note})", c.join(" or "))
+            }
         }
     }
     /// Terminal text.
@@ -88,6 +128,7 @@ impl Value {
                 .collect::<Vec<_>>()
                 .join("\n"),
             Value::LinearSystem(m, r) => format!("{}\n  g =\n{}", m.render(), r.render()),
+            Value::Approximate { .. } => self.input(),
         }
     }
     /// LaTeX.
@@ -112,6 +153,7 @@ impl Value {
                 .collect::<Vec<_>>()
                 .join(",\\quad "),
             Value::LinearSystem(m, r) => format!("{} g = {}", m.to_latex(), r.to_latex()),
+            Value::Approximate { .. } => format!("\\text{{{}}}", self.input()),
         }
     }
 }
@@ -441,6 +483,42 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
                 }
             }
             Ok(agreement(bad.is_empty(), None, || bad.join("; ")))
+        }
+        Value::Approximate {
+            rows,
+            cols,
+            candidates,
+            ..
+        } => {
+            let prows = parse_matrix_expressions(printed).map_err(syntax)?;
+            let p: Vec<f64> = prows
+                .iter()
+                .flatten()
+                .map(|e| evaluate_with::<Quadratic>(e, env).map(|x| x.to_complex_f64().0))
+                .collect::<Result<_, _>>()
+                .map_err(syntax)?;
+            if prows.len() != *rows || p.len() != rows * cols {
+                return Ok(Agreement::Differs(format!(
+                    "printed {} entries, recomputed {rows}×{cols}",
+                    p.len()
+                )));
+            }
+            let d = digits.unwrap_or(0);
+            let tol = 0.5 * 10f64.powi(-(d as i32)) * (1.0 + 1e-9);
+            let matches = |c: &Vec<f64>| c.iter().zip(&p).all(|(x, y)| (x - y).abs() <= tol);
+            let ok = candidates.iter().any(matches);
+            let worst = candidates
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .zip(&p)
+                        .map(|(x, y)| (x - y).abs())
+                        .fold(0.0, f64::max)
+                })
+                .fold(f64::INFINITY, f64::min);
+            Ok(agreement(ok, Some(d), || {
+                format!("largest difference {worst:.3e} from the nearest recomputed candidate")
+            }))
         }
         Value::LinearSystem(m, r) => {
             let (lhs, rhs) = printed
