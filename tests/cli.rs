@@ -245,6 +245,20 @@ fn multi_output_exact_and_robust() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["method"], "knv-robust");
     assert!(v["robust"]["residual"].as_f64().unwrap() < 1e-9);
+    // complex-conjugate poles
+    let (code, out, err) = owb(&[
+        "gain",
+        "--a",
+        ladder,
+        "--c",
+        "[1 0 0; 0 0 1]",
+        "--poles",
+        "-4+2i, -4-2i, -6",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["robust"]["residual"].as_f64().unwrap() < 1e-9);
     // a triple pole cannot be placed robustly with two outputs: said, not approximated
     let (code, _, err) = owb(&[
         "gain",

@@ -206,8 +206,8 @@ pub fn float_check(
     }
 }
 
-/// Roots of a float polynomial as companion-matrix eigenvalues.
-fn companion_roots(p: &Poly<f64>) -> Vec<Complex<f64>> {
+/// Roots of a float polynomial as companion-matrix eigenvalues (conjugate pairs exact).
+pub fn companion_roots(p: &Poly<f64>) -> Vec<Complex<f64>> {
     let n = p.degree().unwrap_or(0);
     if n == 0 {
         return Vec::new();

@@ -6,13 +6,14 @@
 //! as insensitive as possible to perturbations. Applied to the dual: `eig(A − KC) =
 //! eig(Aᵀ − CᵀKᵀ)`, so `Kᵀ` is the state feedback of `(Aᵀ, Cᵀ)`.
 //!
-//! Real poles only, each of multiplicity at most the number of outputs (the method's own limit);
-//! complex poles are refused with an error rather than handled approximately. The result reports
-//! its residual: the distance of the computed eigenvalues from the requested ones, and the
-//! condition number of the eigenvector matrix.
+//! Poles are real or come in complex-conjugate pairs; the iteration runs in complex arithmetic
+//! and keeps the eigenvectors of a pair conjugate, so `XΛX⁻¹` is real. Each pole may repeat at
+//! most as often as there are outputs (the method's own limit). The result reports its residual:
+//! the distance of the computed eigenvalues from the requested ones, and the condition number
+//! of the eigenvector matrix.
 
 use crate::linalg::float::eigenvalues;
-use nalgebra::DMatrix;
+use nalgebra::{Complex, DMatrix, DVector};
 use serde::Serialize;
 
 /// Why a robust placement could not be made.
@@ -38,9 +39,9 @@ pub enum RobustError {
         /// Order n.
         order: usize,
     },
-    /// A complex pole.
-    #[error("the robust method here places real poles only; {0} is complex (use an exact design instead)")]
-    Complex(String),
+    /// A complex pole without its conjugate.
+    #[error("the complex pole {0} has no conjugate partner: the gain would not be real")]
+    Unpaired(String),
     /// A pole repeated more often than there are outputs.
     #[error("the pole {pole} is repeated {multiplicity} times but there are only {outputs} outputs: no diagonalisable observer matrix has it")]
     Multiplicity {
@@ -73,9 +74,11 @@ pub struct RobustPlacement {
     pub sweeps: usize,
 }
 
+type C64 = Complex<f64>;
+
 /// An orthonormal basis of the null space of `m` (r × n), `dim` vectors: the right singular
 /// vectors of the smallest singular values (the matrix is padded to square for a full basis).
-fn null_basis(m: &DMatrix<f64>, dim: usize) -> DMatrix<f64> {
+fn null_basis(m: &DMatrix<C64>, dim: usize) -> DMatrix<C64> {
     let n = m.ncols();
     let mut padded = DMatrix::zeros(n.max(m.nrows()), n);
     padded.view_mut((0, 0), (m.nrows(), n)).copy_from(m);
@@ -83,11 +86,12 @@ fn null_basis(m: &DMatrix<f64>, dim: usize) -> DMatrix<f64> {
     let vt = svd.v_t.expect("requested");
     let mut idx: Vec<usize> = (0..svd.singular_values.len()).collect();
     idx.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
-    DMatrix::from_fn(n, dim, |i, j| vt[(idx[j], i)])
+    // rows of Vᴴ are conjugated right singular vectors
+    DMatrix::from_fn(n, dim, |i, j| vt[(idx[j], i)].conj())
 }
 
 /// A unit vector orthogonal to the columns of `x` (n × (n − 1)).
-fn orthogonal_to(x: &DMatrix<f64>) -> nalgebra::DVector<f64> {
+fn orthogonal_to(x: &DMatrix<C64>) -> DVector<C64> {
     let n = x.nrows();
     let mut padded = DMatrix::zeros(n, n);
     padded.view_mut((0, 0), (n, x.ncols())).copy_from(x);
@@ -99,12 +103,34 @@ fn orthogonal_to(x: &DMatrix<f64>) -> nalgebra::DVector<f64> {
     u.column(k).into_owned()
 }
 
-/// Places the eigenvalues of `A − KC` at `poles` (real), choosing the free parameters for
-/// well-conditioned eigenvectors.
+/// For each pole, the index of its conjugate partner (itself when real).
+fn partners(poles: &[(f64, f64)]) -> Result<Vec<usize>, RobustError> {
+    let n = poles.len();
+    let mut partner: Vec<Option<usize>> = vec![None; n];
+    for j in 0..n {
+        let (re, im) = poles[j];
+        if im == 0.0 {
+            partner[j] = Some(j);
+            continue;
+        }
+        if partner[j].is_some() {
+            continue;
+        }
+        let k = (0..n)
+            .find(|&k| k != j && partner[k].is_none() && poles[k] == (re, -im))
+            .ok_or_else(|| RobustError::Unpaired(format!("{re} + {im}i")))?;
+        partner[j] = Some(k);
+        partner[k] = Some(j);
+    }
+    Ok(partner.into_iter().map(|p| p.unwrap_or(0)).collect())
+}
+
+/// Places the eigenvalues of `A − KC` at `poles` (real or in conjugate pairs, as `(re, im)`),
+/// choosing the free parameters for well-conditioned eigenvectors.
 ///
 /// # Errors
-/// [`RobustError`] for mismatched shapes, complex poles, too high multiplicities, or a rank
-/// deficient `C`.
+/// [`RobustError`] for mismatched shapes, unpaired complex poles, too high multiplicities, or a
+/// rank-deficient `C`.
 pub fn robust_observer_gain(
     a: &DMatrix<f64>,
     c: &DMatrix<f64>,
@@ -125,15 +151,13 @@ pub fn robust_observer_gain(
             order: n,
         });
     }
-    if let Some(&(re, im)) = poles.iter().find(|(_, im)| *im != 0.0) {
-        return Err(RobustError::Complex(format!("{re} + {im}i")));
-    }
+    let partner = partners(poles)?;
     let m = c.nrows();
-    for &(p, _) in poles {
-        let k = poles.iter().filter(|(q, _)| *q == p).count();
+    for &(re, im) in poles {
+        let k = poles.iter().filter(|q| **q == (re, im)).count();
         if k > m {
             return Err(RobustError::Multiplicity {
-                pole: p,
+                pole: re,
                 multiplicity: k,
                 outputs: m,
             });
@@ -148,8 +172,8 @@ pub fn robust_observer_gain(
     if (0..m).any(|i| z[(i, i)].abs() <= 1e-12 * z.norm().max(1.0)) {
         return Err(RobustError::Failed("C does not have full row rank".into()));
     }
-    let proj = DMatrix::<f64>::identity(n, n) - &u0 * u0.transpose();
     let u1 = if m < n {
+        let proj = DMatrix::<f64>::identity(n, n) - &u0 * u0.transpose();
         let svd = proj.svd(true, false);
         let u = svd.u.expect("requested");
         let mut idx: Vec<usize> = (0..n).collect();
@@ -158,20 +182,25 @@ pub fn robust_observer_gain(
     } else {
         DMatrix::zeros(n, 0)
     };
-    let lambdas: Vec<f64> = poles.iter().map(|(re, _)| *re).collect();
-    let bases: Vec<DMatrix<f64>> = lambdas
+    let cx = |mat: &DMatrix<f64>| mat.map(|x| C64::new(x, 0.0));
+    let lambdas: Vec<C64> = poles.iter().map(|&(re, im)| C64::new(re, im)).collect();
+    let bases: Vec<DMatrix<C64>> = lambdas
         .iter()
         .map(|&l| {
-            let shifted = &at - DMatrix::<f64>::identity(n, n) * l;
+            let shifted = cx(&at) - DMatrix::<C64>::identity(n, n) * l;
             if m < n {
-                null_basis(&(u1.transpose() * shifted), m)
+                null_basis(&(cx(&u1.transpose()) * shifted), m)
             } else {
-                DMatrix::<f64>::identity(n, n)
+                DMatrix::<C64>::identity(n, n)
             }
         })
         .collect();
     let mut x = DMatrix::from_fn(n, n, |i, j| bases[j][(i, j % bases[j].ncols())]);
     for j in 0..n {
+        if partner[j] < j {
+            let conj = x.column(partner[j]).map(|v| v.conj());
+            x.set_column(j, &conj);
+        }
         let nrm = x.column(j).norm();
         if nrm > 0.0 {
             x.column_mut(j).scale_mut(1.0 / nrm);
@@ -182,6 +211,9 @@ pub fn robust_observer_gain(
         sweeps += 1;
         let before = x.clone();
         for j in 0..n {
+            if partner[j] < j {
+                continue; // set from its partner
+            }
             let others = x.clone().remove_column(j);
             let y = if n > 1 {
                 orthogonal_to(&others)
@@ -189,11 +221,15 @@ pub fn robust_observer_gain(
                 x.column(j).into_owned()
             };
             let s = &bases[j];
-            let mut v = s * (s.transpose() * y);
+            let mut v = s * (s.adjoint() * y);
             let nrm = v.norm();
             if nrm > 1e-14 {
-                v /= nrm;
+                v /= C64::new(nrm, 0.0);
                 x.set_column(j, &v);
+                if partner[j] != j {
+                    let conj = v.map(|e| e.conj());
+                    x.set_column(partner[j], &conj);
+                }
             }
         }
         if (&x - &before).norm() < 1e-12 {
@@ -204,8 +240,15 @@ pub fn robust_observer_gain(
         .clone()
         .try_inverse()
         .ok_or_else(|| RobustError::Failed("the eigenvector matrix is singular".into()))?;
-    let lambda = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(lambdas.clone()));
-    let target = &x * lambda * &x_inv;
+    let lambda = DMatrix::from_diagonal(&DVector::from_vec(lambdas.clone()));
+    let target_c = &x * lambda * &x_inv;
+    let imaginary = target_c.map(|v| v.im).norm();
+    let target = target_c.map(|v| v.re);
+    if imaginary > 1e-8 * target.norm().max(1.0) {
+        return Err(RobustError::Failed(format!(
+            "X Λ X⁻¹ is not real (imaginary part {imaginary:.1e})"
+        )));
+    }
     let zinv = z
         .clone()
         .try_inverse()
@@ -220,7 +263,7 @@ pub fn robust_observer_gain(
         let (pos, d) = requested
             .iter()
             .enumerate()
-            .map(|(i, p)| (i, ((z.re - p).powi(2) + z.im.powi(2)).sqrt()))
+            .map(|(i, p)| (i, (z - p).norm()))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap_or((0, f64::INFINITY));
         residual = residual.max(d);
@@ -230,6 +273,8 @@ pub fn robust_observer_gain(
     }
     let relative_residual =
         (&observer - target.transpose()).norm() / a.norm().max(f64::MIN_POSITIVE);
+    let svd = x.clone().svd(false, false);
+    let (hi, lo) = (svd.singular_values.max(), svd.singular_values.min());
     Ok(RobustPlacement {
         gain: (0..n)
             .map(|i| (0..m).map(|j| k[(i, j)]).collect())
@@ -237,7 +282,7 @@ pub fn robust_observer_gain(
         eigenvalues: ev.iter().map(|z| (z.re, z.im)).collect(),
         residual,
         relative_residual,
-        eigenvector_condition: crate::linalg::float::condition_number(&x),
+        eigenvector_condition: if lo > 0.0 { hi / lo } else { f64::INFINITY },
         sweeps,
     })
 }
@@ -245,6 +290,22 @@ pub fn robust_observer_gain(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_random_four_state_system_with_two_outputs_and_complex_poles() {
+        let a = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                0.0, 1.0, 0.0, 0.0, -2.0, -0.5, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, -3.0, -0.2,
+            ],
+        );
+        let c = DMatrix::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+        let poles = [(-2.0, 3.0), (-2.0, -3.0), (-5.0, 1.0), (-5.0, -1.0)];
+        let r = robust_observer_gain(&a, &c, &poles).unwrap();
+        assert!(r.residual < 1e-8, "{r:?}");
+        assert!(r.eigenvector_condition < 1e3, "{r:?}");
+    }
 
     #[test]
     fn places_the_rc_ladder_with_two_outputs() {
@@ -263,9 +324,11 @@ mod tests {
             robust_observer_gain(&a, &c, &[(-4.0, 0.0); 3]),
             Err(RobustError::Multiplicity { .. })
         ));
+        let pair = robust_observer_gain(&a, &c, &[(-4.0, 1.0), (-4.0, -1.0), (-6.0, 0.0)]).unwrap();
+        assert!(pair.residual < 1e-9, "{pair:?}");
         assert!(matches!(
-            robust_observer_gain(&a, &c, &[(-4.0, 1.0), (-4.0, -1.0), (-6.0, 0.0)]),
-            Err(RobustError::Complex(_))
+            robust_observer_gain(&a, &c, &[(-4.0, 1.0), (-5.0, 0.0), (-6.0, 0.0)]),
+            Err(RobustError::Unpaired(_))
         ));
     }
 }

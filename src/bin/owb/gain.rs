@@ -8,7 +8,7 @@ use crate::args::{json_matrix, matrix, print_json, rational};
 use crate::Outcome;
 use anyhow::{anyhow, bail, Result};
 use observer_workbench::algebra::{Quadratic, Rational};
-use observer_workbench::observer::float_check::{float_check, FloatCheck};
+use observer_workbench::observer::float_check::{float_check, FloatCheck, FloatVerdict};
 use observer_workbench::observer::{design, Convention, DesiredPolynomial, GainMethod};
 use observer_workbench::syntax::{parse_list, parse_polynomial};
 use serde_json::json;
@@ -125,7 +125,11 @@ fn print_float(f: &FloatCheck) {
     if let Some(p) = f.polynomial_relative_error {
         println!("  exact det(sI − (A − K_float C)) vs desired, largest relative coefficient error = {p:.3e}");
     }
-    println!("  verdict: {}", f.verdict.explain());
+    if !f.compared_with_exact && f.verdict == FloatVerdict::Reliable {
+        println!("  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
+    } else {
+        println!("  verdict: {}", f.verdict.explain());
+    }
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
@@ -271,18 +275,20 @@ fn multi_output(
         return Ok(Outcome::Ok);
     }
     // Robust float placement (Kautsky–Nichols–Van Dooren) at the roots of the desired polynomial.
-    let poles: Vec<(f64, f64)> = match &desired.exact {
-        Some(_) if desired.rational().is_some() => {
-            let roots = observer_workbench::poly::exact_roots(
-                &desired.rational().unwrap_or_else(|| unreachable!()),
-            );
-            roots
-                .roots
-                .iter()
-                .flat_map(|(x, m)| std::iter::repeat_n(x.to_complex_f64(), *m as usize))
-                .collect()
+    let poles: Vec<(f64, f64)> = match desired.rational() {
+        Some(p) => {
+            let roots = observer_workbench::poly::exact_roots(&p);
+            if roots.complete() {
+                roots
+                    .roots
+                    .iter()
+                    .flat_map(|(x, m)| std::iter::repeat_n(x.to_complex_f64(), *m as usize))
+                    .collect()
+            } else {
+                companion(&desired.float)
+            }
         }
-        _ => bail!("with several outputs and no --output, give real --poles for the robust method"),
+        None => companion(&desired.float),
     };
     let af = observer_workbench::linalg::float::to_nalgebra(a);
     let cf = observer_workbench::linalg::float::to_nalgebra(c);
@@ -326,4 +332,11 @@ fn multi_output(
         println!("  (float result; for an exact gain fix the free parameters, e.g. --output k)");
     }
     Ok(Outcome::Ok)
+}
+
+fn companion(p: &observer_workbench::poly::Poly<f64>) -> Vec<(f64, f64)> {
+    observer_workbench::observer::float_check::companion_roots(p)
+        .iter()
+        .map(|z| (z.re, z.im))
+        .collect()
 }
