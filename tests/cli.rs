@@ -1,6 +1,8 @@
 //! The command line: human output of each subcommand as reviewed snapshots, the `--json` shape
 //! that graders rely on, and exit codes.
 
+use observer_workbench::algebra::{Quadratic, Rational};
+use observer_workbench::syntax::{parse_polynomial, parse_scalar};
 use std::process::Command;
 
 fn owb(args: &[&str]) -> (i32, String, String) {
@@ -124,8 +126,27 @@ fn gain_json_shape_is_stable() {
         "--float",
     ]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    // Di Ruscio eq. (77) with T = 0.5: k1 = 2√2 − 4 (the printed −1.1716), k2 = 2
-    assert_eq!(v["gain"], serde_json::json!([["2*sqrt(2) - 4"], ["2"]]));
+    // Di Ruscio eq. (77) with T = 0.5 (the value the document printed): exact in Q(√2), and
+    // equal to the printed [−1.1716; 2] to its 4 decimals.
+    let gain: Vec<Quadratic> = v["gain"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| parse_scalar::<Quadratic>(row[0].as_str().unwrap()).unwrap())
+        .collect();
+    assert_ne!(
+        gain[0].radicand(),
+        0,
+        "k1 stays exact with √2: {:?}",
+        v["gain"]
+    );
+    for (k, printed) in gain.iter().zip([-1.1716, 2.0]) {
+        assert!(
+            (k.to_complex_f64().0 - printed).abs() <= 0.5e-4,
+            "{k} vs printed {printed}"
+        );
+    }
+    assert_eq!(v["places_exactly"], true);
     assert_eq!(v["float"]["verdict"], "reliable");
 }
 
@@ -143,7 +164,14 @@ fn repeated_and_bessel_families() {
     ]);
     assert_eq!(code, 0);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["gain"], serde_json::json!([["8"], ["16"]]));
+    // --repeated T puts both poles at −1/T: the observer polynomial is (s + 4)^2, placed exactly
+    let placed =
+        parse_polynomial::<Rational>(v["observer_polynomial"].as_str().unwrap(), "s").unwrap();
+    assert_eq!(
+        placed,
+        parse_polynomial::<Rational>("(s + 4)^2", "s").unwrap()
+    );
+    assert_eq!(v["places_exactly"], true);
     let (_, out, _) = owb(&[
         "gain",
         "--a",

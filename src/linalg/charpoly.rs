@@ -75,17 +75,9 @@ pub fn characteristic_polynomial<F: Field>(
     var: &str,
 ) -> Result<Poly<F>, LinalgError> {
     let n = a.require_square("characteristic polynomial")?;
-    if n >= super::MODULAR_FROM_ORDER {
-        if let Some(q) = super::as_rational(a) {
-            let p = Poly::new(super::modular::charpoly_rational(q), var);
-            if let Some(p) = super::from_rational::<Poly<F>, _>(p) {
-                return Ok(p);
-            }
-        }
-    }
     let d = F::common_denominator(a.entries());
     let scaled = a.map(|x| x.scale_to_integer(&d));
-    let p = berkowitz(&scaled, var)?;
+    let p = integer_charpoly(&scaled, var)?;
     // [λ^k] p_A = [μ^k] p_{dA} / d^(n−k)
     let mut dpow = F::Integers::one();
     let mut coeffs = vec![F::zero(); n + 1];
@@ -94,6 +86,21 @@ pub fn characteristic_polynomial<F: Field>(
         dpow = dpow * d.clone();
     }
     Ok(Poly::new(coeffs, var))
+}
+
+/// The characteristic polynomial of a matrix over a field's integers: multimodular for `BigInt`
+/// from [`super::MODULAR_FROM_ORDER`] on, Berkowitz otherwise.
+fn integer_charpoly<D: Ring>(a: &Matrix<D>, var: &str) -> Result<Poly<D>, LinalgError> {
+    if a.rows() >= super::MODULAR_FROM_ORDER {
+        let big = (a as &dyn std::any::Any).downcast_ref::<Matrix<num_bigint::BigInt>>();
+        if let Some(p) = big
+            .map(|m| Poly::new(super::modular::charpoly_integer(m), var))
+            .and_then(super::from_rational::<Poly<D>, _>)
+        {
+            return Ok(p);
+        }
+    }
+    berkowitz(a, var)
 }
 
 /// `P(A) = p_n Aⁿ + … + p_1 A + p_0 I` by Horner's rule.

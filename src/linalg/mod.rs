@@ -34,7 +34,7 @@ pub(crate) fn as_rational<F: crate::algebra::Ring>(
     (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Rational>>()
 }
 
-/// Moves a value computed over the rationals back into the generic type `T` (which is it).
+/// Moves a value computed for a concrete type back into the generic type `T` (which is it).
 pub fn from_rational<T: 'static, S: 'static>(value: S) -> Option<T> {
     (Box::new(value) as Box<dyn std::any::Any>)
         .downcast::<T>()

@@ -315,16 +315,14 @@ impl IntMatrix {
     }
 }
 
-/// `r`'s rows scaled to integers: row i times the lcm of its denominators.
-fn scaled_rows(a: &Matrix<Rational>) -> (IntMatrix, Vec<BigInt>) {
-    let mut scales = Vec::with_capacity(a.rows());
+/// `a`'s rows scaled to integers: row i times the lcm of its denominators.
+fn scaled_rows(a: &Matrix<Rational>) -> IntMatrix {
     let mut big = Vec::with_capacity(a.rows() * a.cols());
     for i in 0..a.rows() {
         let d = Rational::common_denominator(a.row(i));
         big.extend(a.row(i).iter().map(|x| x.scale_to_integer(&d)));
-        scales.push(d);
     }
-    (IntMatrix::new(a.rows(), a.cols(), big), scales)
+    IntMatrix::new(a.rows(), a.cols(), big)
 }
 
 /// `u64` dot product mod p with one reduction per 4 terms (products of residues < 2⁶²).
@@ -438,7 +436,7 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
         return None;
     }
     // Scale each row of [A | B] to integers (the solution does not change).
-    let (aug, _) = scaled_rows(&a.hstack(b).ok()?);
+    let aug = scaled_rows(&a.hstack(b).ok()?);
     let ai = IntMatrix::new(
         n,
         n,
@@ -481,22 +479,6 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
         .map(|v| Rational::new(v, det.clone()))
         .collect();
     Some(Matrix::from_fn(n, k, |i, j| x[i * k + j].clone()))
-}
-
-/// The characteristic polynomial of a rational matrix (ascending coefficients), exact.
-pub fn charpoly_rational(a: &Matrix<Rational>) -> Vec<Rational> {
-    let n = a.rows();
-    let d = Rational::common_denominator(a.entries());
-    let ints = Matrix::from_fn(n, n, |i, j| a.get(i, j).scale_to_integer(&d));
-    let c = charpoly_integer(&ints);
-    // [λ^k] p_A = [μ^k] p_{dA} / d^(n−k)
-    let mut dpow = BigInt::one();
-    let mut out = vec![Rational::zero(); n + 1];
-    for k in (0..=n).rev() {
-        out[k] = Rational::new(c[k].clone(), dpow.clone());
-        dpow *= &d;
-    }
-    out
 }
 
 /// The single-output observer gain `K = P(A) O_n⁻¹ e_n` (A − KC), exact.
@@ -659,6 +641,8 @@ mod tests {
         ])
         .unwrap();
         let exact = crate::linalg::berkowitz(&a, "s").unwrap();
-        assert_eq!(charpoly_rational(&a), exact.coeffs().to_vec());
+        let ints = a.map(|x| x.numer().clone());
+        let expected: Vec<BigInt> = exact.coeffs().iter().map(|c| c.numer().clone()).collect();
+        assert_eq!(charpoly_integer(&ints), expected);
     }
 }

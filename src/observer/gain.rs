@@ -155,8 +155,8 @@ pub fn ackermann_gain<F: Field>(
     }
     if n >= linalg::MODULAR_FROM_ORDER {
         if let (Some(qa), Some(qc), Some(qp)) = (
-            linalg_as_rational(a),
-            linalg_as_rational(c),
+            linalg::as_rational(a),
+            linalg::as_rational(c),
             crate::linalg::from_rational::<Poly<Rational>, _>(desired.clone()),
         ) {
             if let Some(k) = linalg::modular::ackermann_gain_rational(qa, qc, qp.coeffs())
@@ -170,10 +170,6 @@ pub fn ackermann_gain<F: Field>(
     let o = require_observable(a, c)?;
     let q = linalg::solve(&o, &Matrix::unit(n, n - 1))?;
     Ok(linalg::polynomial_times_vector(desired, a, &q)?)
-}
-
-fn linalg_as_rational<F: Field>(m: &Matrix<F>) -> Option<&Matrix<Rational>> {
-    (m as &dyn std::any::Any).downcast_ref::<Matrix<Rational>>()
 }
 
 /// Dual Bass–Gura: `K = O_n⁻¹ M⁻ᵀ (c − a)` (A − KC).

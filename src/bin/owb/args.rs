@@ -42,3 +42,21 @@ pub fn json_matrix<T: observer_workbench::algebra::Ring>(m: &Matrix<T>) -> serde
             .collect(),
     )
 }
+
+/// The pair `(A, C)` every design subcommand starts from (`--a`, `--c`), in MATLAB syntax.
+#[derive(clap::Args)]
+pub struct SystemPair {
+    /// The system matrix A, e.g. "[2 -3; 4 -5]".
+    #[arg(allow_hyphen_values = true, long = "a")]
+    a: String,
+    /// The output matrix C, e.g. "[-3 2]".
+    #[arg(allow_hyphen_values = true, long = "c")]
+    c: String,
+}
+
+impl SystemPair {
+    /// Both matrices, exact; errors name the flag and the column.
+    pub fn parse(&self) -> Result<(Matrix<Rational>, Matrix<Rational>)> {
+        Ok((matrix("--a", &self.a)?, matrix("--c", &self.c)?))
+    }
+}

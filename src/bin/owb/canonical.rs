@@ -13,12 +13,8 @@ use serde_json::json;
 /// Arguments of `owb canonical`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The system matrix A.
-    #[arg(allow_hyphen_values = true, long = "a")]
-    a: String,
-    /// The output matrix C (one row).
-    #[arg(allow_hyphen_values = true, long = "c")]
-    c: String,
+    #[command(flatten)]
+    system: crate::args::SystemPair,
     /// The input matrix B (optional).
     #[arg(allow_hyphen_values = true, long = "b")]
     b: Option<String>,
@@ -47,8 +43,7 @@ fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Deri
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let a = matrix::<Rational>("--a", &args.a)?;
-    let c = matrix::<Rational>("--c", &args.c)?;
+    let (a, c) = args.system.parse()?;
     let b = args
         .b
         .as_deref()

@@ -12,15 +12,11 @@ use serde_json::json;
 /// Arguments of `owb control`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The system matrix A.
-    #[arg(allow_hyphen_values = true, long = "a")]
-    a: String,
+    #[command(flatten)]
+    system: crate::args::SystemPair,
     /// The input matrix B (one column).
     #[arg(allow_hyphen_values = true, long = "b")]
     b: String,
-    /// The output matrix C (one row).
-    #[arg(allow_hyphen_values = true, long = "c")]
-    c: String,
     /// The observer gain (in the convention of --convention).
     #[arg(allow_hyphen_values = true, long = "l")]
     l: String,
@@ -39,9 +35,8 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let a = matrix::<Rational>("--a", &args.a)?;
+    let (a, c) = args.system.parse()?;
     let b = matrix::<Rational>("--b", &args.b)?;
-    let c = matrix::<Rational>("--c", &args.c)?;
     let mut l = matrix::<Rational>("--l", &args.l)?;
     let convention = Convention::parse(&args.convention)
         .ok_or_else(|| anyhow!("in --convention: unknown convention '{}'", args.convention))?;

@@ -4,7 +4,7 @@
 //! `owb gain --a M --c M (--poles L | --poly P | --repeated T | --butterworth T) [--method M]
 //! [--convention a-kc|a+lc] [--float] [--json]`.
 
-use crate::args::{json_matrix, matrix, print_json, rational};
+use crate::args::{json_matrix, print_json, rational};
 use crate::Outcome;
 use anyhow::{anyhow, bail, Result};
 use observer_workbench::algebra::{Quadratic, Rational};
@@ -16,12 +16,8 @@ use serde_json::json;
 /// Arguments of `owb gain`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The system matrix A, e.g. "[2 -3; 4 -5]".
-    #[arg(allow_hyphen_values = true, long = "a")]
-    a: String,
-    /// The output matrix C (one row), e.g. "[-3 2]".
-    #[arg(allow_hyphen_values = true, long = "c")]
-    c: String,
+    #[command(flatten)]
+    system: crate::args::SystemPair,
     /// Desired observer poles, e.g. "-4, -5" or "-1+2i, -1-2i, -3".
     #[arg(allow_hyphen_values = true, long, group = "desired")]
     poles: Option<String>,
@@ -133,8 +129,7 @@ fn print_float(f: &FloatCheck) {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let a = matrix::<Rational>("--a", &args.a)?;
-    let c = matrix::<Rational>("--c", &args.c)?;
+    let (a, c) = args.system.parse()?;
     if !a.is_square() {
         bail!("in --a: A must be square, it is {}×{}", a.rows(), a.cols());
     }

@@ -1,29 +1,23 @@
 //! `owb observe`: the observability report.
 
-use crate::args::{json_matrix, matrix, print_json};
+use crate::args::{json_matrix, print_json};
 use crate::Outcome;
 use anyhow::Result;
-use observer_workbench::algebra::Rational;
 use observer_workbench::observability::observability_report;
 use serde_json::json;
 
 /// Arguments of `owb observe`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The system matrix A, e.g. "[-1 0; 1 -1]".
-    #[arg(allow_hyphen_values = true, long = "a")]
-    a: String,
-    /// The output matrix C, e.g. "[1 0]".
-    #[arg(allow_hyphen_values = true, long = "c")]
-    c: String,
+    #[command(flatten)]
+    system: crate::args::SystemPair,
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let a = matrix::<Rational>("--a", &args.a)?;
-    let c = matrix::<Rational>("--c", &args.c)?;
+    let (a, c) = args.system.parse()?;
     let r = observability_report(&a, &c)?;
     if args.json {
         print_json(&json!({
