@@ -6,12 +6,17 @@
 //! [`Convention`] and converts with one call.
 
 mod convention;
+pub mod dynamical_error;
 pub mod float_check;
 mod gain;
+pub mod kalman;
 pub mod optimal;
+pub mod partial;
 pub mod perfect;
 pub mod polynomial;
 pub mod robust;
+pub mod search;
+pub mod weighted;
 
 pub use convention::{Convention, ObserverGain};
 pub use gain::{

@@ -51,6 +51,13 @@ pub const COMPUTATIONS: &[&str] = &[
     "identity",
     "minimum_norm_gain",
     "minimum_norm_cost",
+    "dynamical_error_cost",
+    "minimal_dynamical_error_cost",
+    "kalman_bandwidth",
+    "natural_frequency",
+    "estimation_error_rms",
+    "perfect_observer_robustness",
+    "perfect_observer_fits",
 ];
 
 /// The identities a claim with `what = "identity"` may name.
@@ -90,7 +97,7 @@ impl std::fmt::Display for ComputeError {
     }
 }
 
-fn failed(e: impl std::fmt::Display) -> ComputeError {
+pub(super) fn failed(e: impl std::fmt::Display) -> ComputeError {
     ComputeError::Failed(e.to_string())
 }
 
@@ -112,7 +119,7 @@ pub struct Inputs<'a> {
     pub env: &'a Environment,
 }
 
-fn input_error(field: &str, message: impl Into<String>) -> ComputeError {
+pub(super) fn input_error(field: &str, message: impl Into<String>) -> ComputeError {
     ComputeError::Input {
         field: field.into(),
         message: message.into(),
@@ -121,6 +128,11 @@ fn input_error(field: &str, message: impl Into<String>) -> ComputeError {
 
 impl Inputs<'_> {
     fn matrix_text(&self, name: &str) -> Option<&str> {
+        match (name, &self.file.noise) {
+            ("input_noise", Some(n)) => return Some(&n.input),
+            ("output_noise", Some(n)) => return Some(&n.output),
+            _ => {}
+        }
         let (claim, system) = match name {
             "A" => (&self.claim.a, &self.file.system.a),
             "B" => (&self.claim.b, &self.file.system.b),
@@ -128,6 +140,7 @@ impl Inputs<'_> {
             "D" => (&None, &self.file.system.d),
             "gain" => (&self.claim.gain, &None),
             "feedback" => (&self.claim.feedback, &None),
+            "weight" => (&self.claim.weight, &None),
             _ => (&None, &None),
         };
         claim.as_deref().or(system.as_deref())
@@ -157,7 +170,7 @@ impl Inputs<'_> {
         to_numeric(&self.symbolic(name)?)
     }
 
-    fn has(&self, name: &str) -> bool {
+    pub(super) fn has(&self, name: &str) -> bool {
         self.matrix_text(name).is_some()
     }
 
@@ -577,6 +590,15 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
         }
         "identity" => identity(inputs, &title),
         "minimum_norm_gain" | "minimum_norm_cost" => minimum_norm(inputs, &title),
+        "dynamical_error_cost" | "minimal_dynamical_error_cost" => {
+            super::compute_optimal::dynamical_error(inputs, &title)
+        }
+        "kalman_bandwidth" | "natural_frequency" | "estimation_error_rms" => {
+            super::compute_optimal::noise(inputs, &title)
+        }
+        "perfect_observer_robustness" | "perfect_observer_fits" => {
+            super::compute_optimal::perfect_robustness(inputs, &title)
+        }
         other => Err(input_error(
             "what",
             format!(
@@ -588,8 +610,8 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
 }
 
 /// Seeded starts of the minimum-norm search (documented in the report).
-const OPTIMISER_STARTS: usize = 60;
-const OPTIMISER_SEED: u64 = 2024;
+pub(super) const OPTIMISER_STARTS: usize = 60;
+pub(super) const OPTIMISER_SEED: u64 = 2024;
 
 fn minimum_norm(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     use crate::observer::optimal::{minimum_norm_gain, pole_placement_constraints};

@@ -26,6 +26,8 @@ pub struct ExampleFile {
     /// What the document printed, each to be recomputed.
     #[serde(default)]
     pub claims: Vec<ClaimSpec>,
+    /// White-noise intensities for the noise computations (Kalman filter, error covariance).
+    pub noise: Option<NoiseSpec>,
     /// Printed values recorded now and verified by a later part of the workbench.
     #[serde(default)]
     pub printed_only: Vec<PrintedRecord>,
@@ -47,6 +49,16 @@ pub struct SystemSpec {
     /// Feedthrough matrix.
     #[serde(rename = "D")]
     pub d: Option<String>,
+}
+
+/// White-noise intensities: on the measured input (`C_U`) and on the outputs (`C_Y`).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoiseSpec {
+    /// `C_U`, m×m.
+    pub input: String,
+    /// `C_Y`, p×p.
+    pub output: String,
 }
 
 /// One printed claim.
@@ -93,6 +105,12 @@ pub struct ClaimSpec {
     pub order: Option<usize>,
     /// A gain matrix (numbers or symbols such as `[k1; k2]`).
     pub gain: Option<String>,
+    /// A weight matrix (`D` of Baranowski's dynamical-error index).
+    pub weight: Option<String>,
+    /// For the weighted-derivative observer: the output measuring a derivative (1-based).
+    pub derivative_output: Option<usize>,
+    /// … and the state whose derivative it measures (1-based).
+    pub derivative_state: Option<usize>,
     /// A state-feedback row `F` (u = F x̂).
     pub feedback: Option<String>,
     /// The variable of printed polynomials (default `s`, or `λ` when the print uses it).

@@ -9,13 +9,14 @@
 //! says so.
 
 mod compute;
+mod compute_optimal;
 mod format;
 mod report;
 mod value;
 mod verify;
 
 pub use compute::{compute, ComputeError, Computed, Inputs, COMPUTATIONS, IDENTITIES};
-pub use format::{ClaimSpec, ErratumSpec, ExampleFile, PrintedRecord, SystemSpec};
+pub use format::{ClaimSpec, ErratumSpec, ExampleFile, NoiseSpec, PrintedRecord, SystemSpec};
 pub use report::{errata_markdown, render_derivations, render_table, report_json};
 pub use value::{compare, Agreement, Value};
 pub use verify::{

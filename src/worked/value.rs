@@ -32,6 +32,8 @@ pub enum Value {
     Transfer(RationalFunction<Rational>),
     /// Polynomial equations `p_i = 0`, in order.
     Equations(Vec<MultiPoly>),
+    /// A set of conditions `p_i = 0` (order does not matter).
+    Conditions(Vec<MultiPoly>),
     /// A linear system `M g = r`.
     LinearSystem(Matrix<Rational>, Matrix<Rational>),
     /// Float results of an optimisation: every equally good candidate (`rows × cols`, row-major),
@@ -77,7 +79,7 @@ impl Value {
             Value::Bool(b) => b.to_string(),
             Value::Roots(r) => r.iter().map(Ring::to_input).collect::<Vec<_>>().join(", "),
             Value::Transfer(t) => t.to_input(),
-            Value::Equations(e) => e
+            Value::Equations(e) | Value::Conditions(e) => e
                 .iter()
                 .map(|p| format!("{} = 0", p.to_input()))
                 .collect::<Vec<_>>()
@@ -122,7 +124,7 @@ impl Value {
                 let den = Factored::of(t.denominator());
                 format!("{t}   (denominator {den})")
             }
-            Value::Equations(e) => e
+            Value::Equations(e) | Value::Conditions(e) => e
                 .iter()
                 .map(|p| format!("{p} = 0"))
                 .collect::<Vec<_>>()
@@ -147,7 +149,7 @@ impl Value {
                 .collect::<Vec<_>>()
                 .join(",\\ "),
             Value::Transfer(t) => t.to_latex(),
-            Value::Equations(e) => e
+            Value::Equations(e) | Value::Conditions(e) => e
                 .iter()
                 .map(|p| format!("{} = 0", p.to_latex()))
                 .collect::<Vec<_>>()
@@ -261,7 +263,7 @@ pub enum Agreement {
     /// Equal to the precision printed (`digits` decimals, rounding).
     Rounded {
         /// Decimals printed.
-        digits: u32,
+        digits: i32,
     },
     /// Not equal; the reason.
     Differs(String),
@@ -274,8 +276,9 @@ impl Agreement {
     }
 }
 
-/// Decimals printed: the largest number of digits after a decimal point in `text`.
-fn printed_decimals(text: &str) -> Option<u32> {
+/// The decimal places of the most precise number in `text`, counting a scientific exponent
+/// (`5.63e-4` has 6); negative for coarse prints such as `1.2e3`.
+fn printed_decimals(text: &str) -> Option<i32> {
     let chars: Vec<char> = text.chars().collect();
     let mut best = None;
     for i in 0..chars.len() {
@@ -283,26 +286,42 @@ fn printed_decimals(text: &str) -> Option<u32> {
             let d = chars[i + 1..]
                 .iter()
                 .take_while(|c| c.is_ascii_digit())
-                .count() as u32;
-            best = Some(best.map_or(d, |b: u32| b.max(d)));
+                .count();
+            let mut places = d as i32;
+            let mut j = i + 1 + d;
+            if j < chars.len() && (chars[j] == 'e' || chars[j] == 'E') {
+                j += 1;
+                let negative = j < chars.len() && chars[j] == '-';
+                if j < chars.len() && (chars[j] == '-' || chars[j] == '+') {
+                    j += 1;
+                }
+                let digits: String = chars[j..]
+                    .iter()
+                    .take_while(|c| c.is_ascii_digit())
+                    .collect();
+                if let Ok(e) = digits.parse::<i32>() {
+                    places += if negative { e } else { -e };
+                }
+            }
+            best = Some(best.map_or(places, |b: i32| b.max(places)));
         }
     }
     best
 }
 
-fn close(x: &Quadratic, p: &Quadratic, digits: Option<u32>) -> bool {
+fn close(x: &Quadratic, p: &Quadratic, digits: Option<i32>) -> bool {
     match digits {
         None => x == p,
         Some(d) => {
             let (xr, xi) = x.to_complex_f64();
             let (pr, pi) = p.to_complex_f64();
-            let tol = 0.5 * 10f64.powi(-(d as i32)) * (1.0 + 1e-9);
+            let tol = 0.5 * 10f64.powi(-d) * (1.0 + 1e-9);
             (xr - pr).abs() <= tol && (xi - pi).abs() <= tol
         }
     }
 }
 
-fn agreement(ok: bool, digits: Option<u32>, why: impl FnOnce() -> String) -> Agreement {
+fn agreement(ok: bool, digits: Option<i32>, why: impl FnOnce() -> String) -> Agreement {
     match (ok, digits) {
         (true, None) => Agreement::Exact,
         (true, Some(d)) => Agreement::Rounded { digits: d },
@@ -484,6 +503,45 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
             }
             Ok(agreement(bad.is_empty(), None, || bad.join("; ")))
         }
+        Value::Conditions(conds) => {
+            let printed_conds: Vec<MultiPoly> = printed
+                .split(';')
+                .map(str::trim)
+                .filter(|s| !s.is_empty())
+                .map(|t| equation(t, env))
+                .collect::<Result<_, _>>()?;
+            let mut remaining: Vec<&MultiPoly> = conds.iter().collect();
+            let mut not_recomputed = Vec::new();
+            for p in &printed_conds {
+                match remaining.iter().position(|q| proportional(p, q)) {
+                    Some(k) => {
+                        remaining.remove(k);
+                    }
+                    None => not_recomputed.push(format!("{p} = 0")),
+                }
+            }
+            let ok = not_recomputed.is_empty() && remaining.is_empty();
+            Ok(agreement(ok, None, || {
+                let mut why = Vec::new();
+                if !not_recomputed.is_empty() {
+                    why.push(format!(
+                        "printed but not required: {}",
+                        not_recomputed.join(", ")
+                    ));
+                }
+                if !remaining.is_empty() {
+                    why.push(format!(
+                        "required but not printed: {}",
+                        remaining
+                            .iter()
+                            .map(|q| format!("{q} = 0"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ));
+                }
+                why.join("; ")
+            }))
+        }
         Value::Approximate {
             rows,
             cols,
@@ -504,7 +562,7 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
                 )));
             }
             let d = digits.unwrap_or(0);
-            let tol = 0.5 * 10f64.powi(-(d as i32)) * (1.0 + 1e-9);
+            let tol = 0.5 * 10f64.powi(-d) * (1.0 + 1e-9);
             let matches = |c: &Vec<f64>| c.iter().zip(&p).all(|(x, y)| (x - y).abs() <= tol);
             let ok = candidates.iter().any(matches);
             let worst = candidates

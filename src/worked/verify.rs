@@ -382,7 +382,15 @@ fn check(
 fn how(a: &Agreement, sampled: &[String]) -> String {
     let base = match a {
         Agreement::Exact => "exactly".to_string(),
-        Agreement::Rounded { digits } => format!("to the {digits} decimals printed (rounding)"),
+        Agreement::Rounded { digits } if *digits >= 0 => {
+            format!("to the {digits} decimals printed (rounding)")
+        }
+        Agreement::Rounded { digits } => {
+            format!(
+                "to the precision printed (units of 1e{}, rounding)",
+                -digits
+            )
+        }
         Agreement::Differs(d) => d.clone(),
     };
     if sampled.is_empty() {

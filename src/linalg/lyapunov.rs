@@ -1,0 +1,239 @@
+//! Continuous-time Lyapunov equations `F X + X Fᵀ + W = 0`.
+//!
+//! Two solvers for one equation:
+//!
+//! * [`lyapunov_exact`]: over any field (rationals, `Q(√d)`), by vectorising to
+//!   `(I ⊗ F + F ⊗ I) vec(X) = −vec(W)` and solving fraction-free. Its `n² × n²` system keeps it
+//!   to small orders ([`MAX_EXACT_LYAPUNOV_ORDER`]), which is where exact answers are wanted.
+//! * [`lyapunov_f64`]: Bartels–Stewart. The real Schur form `F = Q T Qᵀ` turns the equation into
+//!   `T Y + Y Tᵀ = −Qᵀ W Q`, solved column block by column block from the last (1×1 blocks are a
+//!   shifted triangular solve, 2×2 blocks of complex pairs a coupled `2n` solve). `O(n³)`-ish
+//!   and backward stable; the relative residual is returned with the solution.
+//!
+//! Baranowski's `Fᵀ H + H F = −D` (observability form) is this equation with `Fᵀ` for `F`.
+//! A unique solution exists when no two eigenvalues of `F` sum to zero; for stable `F` it is
+//! `X = ∫₀^∞ e^{Ft} W e^{Fᵀt} dt`.
+
+use super::{kronecker, vectorize, LinalgError, Matrix};
+use crate::algebra::Field;
+use nalgebra::DMatrix;
+
+/// The largest order [`lyapunov_exact`] accepts (its linear system has `n²` unknowns).
+pub const MAX_EXACT_LYAPUNOV_ORDER: usize = 14;
+
+/// Why a Lyapunov equation could not be solved.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LyapunovError {
+    /// `F` is not square or `W` does not match it.
+    #[error("Lyapunov equation F X + X Fᵀ + W = 0: F is {f_rows}×{f_cols}, W is {w_rows}×{w_cols}; both must be n×n")]
+    Shape {
+        /// Rows of F.
+        f_rows: usize,
+        /// Columns of F.
+        f_cols: usize,
+        /// Rows of W.
+        w_rows: usize,
+        /// Columns of W.
+        w_cols: usize,
+    },
+    /// Two eigenvalues of `F` sum to zero (e.g. an eigenvalue on the imaginary axis).
+    #[error("Lyapunov equation has no unique solution: two eigenvalues of F sum to zero ({0})")]
+    NotUnique(String),
+    /// The exact solver's `n² × n²` system would be too large.
+    #[error("exact Lyapunov solve limited to order {MAX_EXACT_LYAPUNOV_ORDER}; F is {0}×{0} (use the f64 solver)")]
+    TooLarge(usize),
+    /// Non-finite entries in a float problem.
+    #[error("Lyapunov equation: F or W has a non-finite entry")]
+    NotFinite,
+}
+
+fn check_shapes(fr: usize, fc: usize, wr: usize, wc: usize) -> Result<(), LyapunovError> {
+    if fr != fc || wr != fr || wc != fc {
+        return Err(LyapunovError::Shape {
+            f_rows: fr,
+            f_cols: fc,
+            w_rows: wr,
+            w_cols: wc,
+        });
+    }
+    Ok(())
+}
+
+/// Solves `F X + X Fᵀ + W = 0` exactly.
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::Rational;
+/// use observer_workbench::linalg::lyapunov::lyapunov_exact;
+/// use observer_workbench::syntax::parse_matrix;
+/// let m = |s: &str| parse_matrix::<Rational>(s).unwrap();
+/// let x = lyapunov_exact(&m("[-1 0; 0 -2]"), &m("[2 0; 0 4]")).unwrap();
+/// assert_eq!(x.to_input(), "[1, 0; 0, 1]");
+/// ```
+///
+/// # Errors
+/// [`LyapunovError`] for mismatched shapes, orders above [`MAX_EXACT_LYAPUNOV_ORDER`], or when
+/// two eigenvalues of `F` sum to zero.
+pub fn lyapunov_exact<F: Field>(f: &Matrix<F>, w: &Matrix<F>) -> Result<Matrix<F>, LyapunovError> {
+    check_shapes(f.rows(), f.cols(), w.rows(), w.cols())?;
+    let n = f.rows();
+    if n > MAX_EXACT_LYAPUNOV_ORDER {
+        return Err(LyapunovError::TooLarge(n));
+    }
+    let eye = Matrix::<F>::identity(n);
+    let op = kronecker(&eye, f)
+        .add(&kronecker(f, &eye))
+        .map_err(|e| LyapunovError::NotUnique(e.to_string()))?;
+    let rhs = vectorize(w).scale(&(F::zero() - F::one()));
+    let v = super::solve(&op, &rhs).map_err(|e| match e {
+        LinalgError::Singular { .. } => {
+            LyapunovError::NotUnique("I ⊗ F + F ⊗ I is singular".into())
+        }
+        other => LyapunovError::NotUnique(other.to_string()),
+    })?;
+    Ok(super::kronecker::unvectorize(&v, n))
+}
+
+/// A float solution with its relative residual
+/// `‖F X + X Fᵀ + W‖_F / (2‖F‖_F ‖X‖_F + ‖W‖_F)`.
+#[derive(Clone, Debug)]
+pub struct LyapunovSolution {
+    /// The solution `X` (symmetrised when `W` is symmetric).
+    pub x: DMatrix<f64>,
+    /// The relative residual.
+    pub residual: f64,
+}
+
+/// The relative residual of `X` in `F X + X Fᵀ + W = 0`.
+pub fn lyapunov_residual(f: &DMatrix<f64>, w: &DMatrix<f64>, x: &DMatrix<f64>) -> f64 {
+    let r = f * x + x * f.transpose() + w;
+    let scale = 2.0 * f.norm() * x.norm() + w.norm();
+    if scale == 0.0 {
+        r.norm()
+    } else {
+        r.norm() / scale
+    }
+}
+
+/// Solves `F X + X Fᵀ + W = 0` in `f64` by Bartels–Stewart.
+///
+/// # Errors
+/// [`LyapunovError`] for mismatched shapes, non-finite entries, or a (numerically) singular
+/// block system — two eigenvalues of `F` summing to zero.
+pub fn lyapunov_f64(f: &DMatrix<f64>, w: &DMatrix<f64>) -> Result<LyapunovSolution, LyapunovError> {
+    check_shapes(f.nrows(), f.ncols(), w.nrows(), w.ncols())?;
+    if f.iter().chain(w.iter()).any(|x| !x.is_finite()) {
+        return Err(LyapunovError::NotFinite);
+    }
+    let n = f.nrows();
+    if n == 0 {
+        return Ok(LyapunovSolution {
+            x: DMatrix::zeros(0, 0),
+            residual: 0.0,
+        });
+    }
+    let (q, t) = nalgebra::linalg::Schur::new(f.clone()).unpack();
+    let c = -(q.transpose() * w * &q);
+    let mut y = DMatrix::<f64>::zeros(n, n);
+    let small = f64::EPSILON * t.norm().max(f64::MIN_POSITIVE);
+    let singular = || LyapunovError::NotUnique("T Y + Y Tᵀ block system is singular".into());
+    let mut j = n;
+    while j > 0 {
+        let last = j - 1;
+        let two = last > 0 && t[(last, last - 1)].abs() > small;
+        let first = if two { last - 1 } else { last };
+        // Right-hand sides of the block columns, with the known columns k > last moved over.
+        let rhs_col = |col: usize, y: &DMatrix<f64>| {
+            let mut r = c.column(col).clone_owned();
+            for k in last + 1..n {
+                r -= y.column(k) * t[(col, k)];
+            }
+            r
+        };
+        if two {
+            let (r0, r1) = (rhs_col(first, &y), rhs_col(last, &y));
+            let mut m = DMatrix::<f64>::zeros(2 * n, 2 * n);
+            m.view_mut((0, 0), (n, n)).copy_from(&t);
+            m.view_mut((n, n), (n, n)).copy_from(&t);
+            for i in 0..n {
+                m[(i, i)] += t[(first, first)];
+                m[(i, n + i)] += t[(first, last)];
+                m[(n + i, i)] += t[(last, first)];
+                m[(n + i, n + i)] += t[(last, last)];
+            }
+            let mut rhs = nalgebra::DVector::<f64>::zeros(2 * n);
+            rhs.rows_mut(0, n).copy_from(&r0);
+            rhs.rows_mut(n, n).copy_from(&r1);
+            let sol = m.lu().solve(&rhs).ok_or_else(singular)?;
+            y.set_column(first, &sol.rows(0, n));
+            y.set_column(last, &sol.rows(n, n));
+        } else {
+            let r = rhs_col(last, &y);
+            let mut m = t.clone();
+            for i in 0..n {
+                m[(i, i)] += t[(last, last)];
+            }
+            let sol = m.lu().solve(&r).ok_or_else(singular)?;
+            y.set_column(last, &sol);
+        }
+        j = first;
+    }
+    let mut x = &q * y * q.transpose();
+    if (w - w.transpose()).norm() <= f64::EPSILON * w.norm() {
+        x = (&x + x.transpose()) * 0.5;
+    }
+    if x.iter().any(|v| !v.is_finite()) {
+        return Err(singular());
+    }
+    let residual = lyapunov_residual(f, w, &x);
+    Ok(LyapunovSolution { x, residual })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::Rational;
+    use crate::linalg::float::to_nalgebra;
+    use crate::syntax::parse_matrix;
+
+    fn m(s: &str) -> Matrix<Rational> {
+        parse_matrix(s).unwrap()
+    }
+
+    #[test]
+    fn exact_solution_satisfies_the_equation() {
+        let f = m("[0 1 0; 0 0 1; -6 -11 -6]");
+        let w = m("[1 0 0; 0 2 1; 0 1 3]");
+        let x = lyapunov_exact(&f, &w).unwrap();
+        let lhs = f
+            .mul(&x)
+            .unwrap()
+            .add(&x.mul(&f.transpose()).unwrap())
+            .unwrap()
+            .add(&w)
+            .unwrap();
+        assert_eq!(lhs, Matrix::zeros(3, 3));
+        let xf = lyapunov_f64(&to_nalgebra(&f), &to_nalgebra(&w)).unwrap();
+        assert!(xf.residual < 1e-14, "{}", xf.residual);
+        assert!((xf.x - to_nalgebra(&x)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn eigenvalues_summing_to_zero_are_refused() {
+        let f = m("[0 1; -1 0]");
+        assert!(matches!(
+            lyapunov_exact(&f, &m("[1 0; 0 1]")),
+            Err(LyapunovError::NotUnique(_))
+        ));
+        assert!(lyapunov_exact(&f, &m("[1 0 0]")).is_err());
+    }
+
+    #[test]
+    fn complex_pairs_use_two_by_two_blocks() {
+        let f = m("[-1 5 0 0; -5 -1 0 0; 1 0 -2 3; 0 1 -3 -2]");
+        let w = m("[1 0 0 0; 0 1 0 0; 0 0 1 0; 0 0 0 1]");
+        let exact = to_nalgebra(&lyapunov_exact(&f, &w).unwrap());
+        let fl = lyapunov_f64(&to_nalgebra(&f), &to_nalgebra(&w)).unwrap();
+        assert!((fl.x - exact).norm() < 1e-12);
+    }
+}
