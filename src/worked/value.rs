@@ -50,11 +50,20 @@ pub enum Value {
     },
 }
 
+/// Six decimals in the everyday range, six significant digits (scientific) outside it.
+fn float_text(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e7).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
+}
+
 fn float_matrix(rows: usize, cols: usize, v: &[f64]) -> String {
     let r: Vec<String> = (0..rows)
         .map(|i| {
             (0..cols)
-                .map(|j| format!("{:.6}", v[i * cols + j]))
+                .map(|j| float_text(v[i * cols + j]))
                 .collect::<Vec<_>>()
                 .join(", ")
         })
@@ -95,7 +104,11 @@ impl Value {
                     .iter()
                     .map(|v| float_matrix(*rows, *cols, v))
                     .collect();
-                format!("{} ({note})", c.join(" or "))
+                if note.is_empty() {
+                    c.join(" or ")
+                } else {
+                    format!("{} ({note})", c.join(" or "))
+                }
             }
         }
     }
