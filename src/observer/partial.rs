@@ -24,9 +24,9 @@ use crate::poly::Poly;
 /// use observer_workbench::syntax::{parse_matrix, parse_polynomial};
 /// let m = |s: &str| parse_matrix::<Rational>(s).unwrap();
 /// let p = parse_polynomial::<Rational>("(s + 4)^3", "s").unwrap();
-/// // Baranowski's RC ladder: the x3 column set to zero gives G1 in the x1 column
+/// // RC ladder: with the x3 column zero, the x1 column is Baranowski's G1 (eq. (10a))
 /// let k = place_free_column(&m("[-2 1 0; 1 -2 1; 0 1 -2]"), &m("[1 0 0; 0 0 1]"), &m("[0 0; 0 0; 0 0]"), 0, &p).unwrap();
-/// assert_eq!(k.to_input(), "[6, 0; 9, 0; -2, 0]");
+/// assert_eq!(k.to_input(), "[6, 0; 14, 0; 14, 0]");
 /// ```
 ///
 /// # Errors
