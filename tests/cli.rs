@@ -300,3 +300,170 @@ fn multi_output_exact_and_robust() {
     assert_eq!(code, 2);
     assert!(err.contains("repeated 3 times"), "{err}");
 }
+
+const LADDER_A: &str = "[-2 1 0; 1 -2 1; 0 1 -2]";
+const LADDER_C: &str = "[1 0 0; 0 0 1]";
+
+#[test]
+fn optimal_j2_and_the_printed_gain() {
+    let (code, out, _) = owb(&[
+        "optimal",
+        "--a",
+        LADDER_A,
+        "--c",
+        LADDER_C,
+        "--poles",
+        "-4, -4, -4",
+        "--index",
+        "j2",
+        "--weight",
+        "[0 0 0; 0 1 0; 0 0 0]",
+        "--starts",
+        "16",
+        "--check-gain",
+        "[2.8976 0.5863; 2.7712 2.7531; 0.8762 3.1024]",
+    ]);
+    assert_eq!(code, 0);
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn optimal_json_reports_the_minima() {
+    let (code, out, _) = owb(&[
+        "optimal",
+        "--a",
+        LADDER_A,
+        "--c",
+        LADDER_C,
+        "--poles",
+        "-4, -4, -4",
+        "--starts",
+        "20",
+        "--json",
+    ]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let minima = v["report"]["minima"].as_array().unwrap();
+    let best = minima[0]["cost"].as_f64().unwrap();
+    assert!(
+        (best - 29.0466).abs() < 5e-5,
+        "printed J1 = 29.0466, found {best}"
+    );
+    assert_eq!(v["convention"], "a-kc");
+}
+
+#[test]
+fn kalman_versus_chosen_poles_for_furlan() {
+    let (code, out, _) = owb(&[
+        "kalman",
+        "--a",
+        "[0 1; -15000 -45/14]",
+        "--b",
+        "[0; 1/0.056]",
+        "--c",
+        "[1 0; -15000 -45/14]",
+        "--d",
+        "[0; 1/0.056]",
+        "--input-noise",
+        "[4.47e-8]",
+        "--output-noise",
+        "[5.08e-16 0; 0 4.47e-6]",
+        "--poles",
+        "-548, -670",
+        "--derivative-output",
+        "2",
+        "--derivative-state",
+        "2",
+        "--grid",
+        "201",
+    ]);
+    assert_eq!(code, 0, "{out}");
+    insta::assert_snapshot!(out);
+    let (_, json, _) = owb(&[
+        "kalman",
+        "--a",
+        "[0 1; -15000 -45/14]",
+        "--b",
+        "[0; 1/0.056]",
+        "--c",
+        "[1 0; -15000 -45/14]",
+        "--d",
+        "[0; 1/0.056]",
+        "--input-noise",
+        "[4.47e-8]",
+        "--output-noise",
+        "[5.08e-16 0; 0 4.47e-6]",
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(v["kalman"]["residual"].as_f64().unwrap() < 1e-12);
+    assert_eq!(v["comparison"][0]["method"], "kalman");
+}
+
+#[test]
+fn perfect_observer_and_a_plant_it_does_not_fit() {
+    let (code, out, _) = owb(&[
+        "perfect",
+        "--a",
+        "[0 1 0; 0 0 1; -6 -11 -6]",
+        "--b",
+        "[3; 2; 1]",
+        "--c",
+        "[1 0 0]",
+        "--changed-a",
+        "[0 1 0; 0 0 1; -2 -3 1]",
+        "--changed-b",
+        "[3; 2; 3]",
+    ]);
+    assert_eq!(code, 0);
+    insta::assert_snapshot!(out);
+    // changing row 1 of A breaks the observer: the check fails with exit 1
+    let (code, out, _) = owb(&[
+        "perfect",
+        "--a",
+        "[0 1 0; 0 0 1; -6 -11 -6]",
+        "--b",
+        "[3; 2; 1]",
+        "--c",
+        "[1 0 0]",
+        "--changed-a",
+        "[0 2 0; 0 0 1; -6 -11 -6]",
+    ]);
+    assert_eq!(code, 1);
+    assert!(out.contains("does NOT fit"));
+    // unobservable or dependent outputs: exit 2 with the reason
+    let (code, _, err) = owb(&[
+        "perfect",
+        "--a",
+        "[-1 0; 1 -1]",
+        "--b",
+        "[1; 0]",
+        "--c",
+        "[1 0]",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("not observable") || err.contains("unobservable"),
+        "{err}"
+    );
+    let (code, _, err) = owb(&[
+        "kalman",
+        "--a",
+        "[0 1; -1 -1]",
+        "--b",
+        "[0; 1]",
+        "--c",
+        "[1 0]",
+        "--input-noise",
+        "[1]",
+        "--output-noise",
+        "[0]",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("singular"), "{err}");
+    let (code, _, err) = owb(&[
+        "optimal", "--a", LADDER_A, "--c", LADDER_C, "--poles", "-4, -4",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("2 poles given"), "{err}");
+}

@@ -6,7 +6,10 @@ mod args;
 mod canonical;
 mod control;
 mod gain;
+mod kalman;
 mod observe;
+mod optimal;
+mod perfect;
 mod verify;
 
 use clap::{Parser, Subcommand};
@@ -35,6 +38,12 @@ enum Command {
     Gain(gain::Args),
     /// Observer-based control: separation principle, controller and closed-loop transfer functions.
     Control(control::Args),
+    /// Multi-output gains chosen by optimality: minimum norm (J1) or minimal dynamical error (J2).
+    Optimal(optimal::Args),
+    /// Kalman filter versus chosen poles: noise let through, bandwidth, weighted-derivative observer.
+    Kalman(kalman::Args),
+    /// Perfect (descriptor) observer: construction, reconstruction formula, robustness conditions.
+    Perfect(perfect::Args),
 }
 
 /// What a subcommand reports back.
@@ -53,6 +62,9 @@ fn main() -> ExitCode {
         Command::Canonical(a) => canonical::run(a),
         Command::Gain(a) => gain::run(a),
         Command::Control(a) => control::run(a),
+        Command::Optimal(a) => optimal::run(a),
+        Command::Kalman(a) => kalman::run(a),
+        Command::Perfect(a) => perfect::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

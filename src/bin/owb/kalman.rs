@@ -1,0 +1,241 @@
+//! `owb kalman`: the steady-state Kalman filter of a plant with noisy input and outputs, and
+//! the noise let through by observers with chosen poles (Furlan et al.'s comparison).
+
+use crate::args::{matrix, print_json};
+use crate::Outcome;
+use anyhow::{anyhow, bail, Result};
+use nalgebra::{Complex, DMatrix};
+use observer_workbench::algebra::{Rational, Zero};
+use observer_workbench::linalg::float::{eigenvalues, to_nalgebra};
+use observer_workbench::linalg::Matrix;
+use observer_workbench::observer::kalman::{
+    error_covariance, kalman_filter, natural_frequency, NoiseIntensities, Plant,
+};
+use observer_workbench::observer::partial::gain_for_observer_matrix;
+use observer_workbench::observer::robust::robust_observer_gain;
+use observer_workbench::observer::weighted::weighted_design;
+use observer_workbench::poly::Poly;
+use observer_workbench::syntax::parse_list;
+use serde_json::json;
+
+/// Arguments of `owb kalman`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    system: crate::args::SystemPair,
+    /// The input matrix B.
+    #[arg(allow_hyphen_values = true, long = "b")]
+    b: String,
+    /// The feedthrough D (default zero).
+    #[arg(allow_hyphen_values = true, long = "d")]
+    d: Option<String>,
+    /// White-noise intensity C_U of the measured input (m×m), e.g. "[4.47e-8]".
+    #[arg(allow_hyphen_values = true, long)]
+    input_noise: String,
+    /// White-noise intensity C_Y of the outputs (p×p), e.g. "[5.08e-16 0; 0 4.47e-6]".
+    #[arg(allow_hyphen_values = true, long)]
+    output_noise: String,
+    /// Chosen observer poles (rational) to compare with the Kalman filter, e.g. "-548, -670".
+    #[arg(allow_hyphen_values = true, long)]
+    poles: Option<String>,
+    /// With --poles: the output that measures a state's derivative (1-based), for the
+    /// weighted-derivative observer (l = w·e_state in its column).
+    #[arg(allow_hyphen_values = true, long)]
+    derivative_output: Option<usize>,
+    /// … and that state (1-based).
+    #[arg(allow_hyphen_values = true, long)]
+    derivative_state: Option<usize>,
+    /// Grid points of the weight search in [0, 1].
+    #[arg(allow_hyphen_values = true, long, default_value_t = 1001)]
+    grid: usize,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+struct Row {
+    method: String,
+    gain: DMatrix<f64>,
+    note: String,
+}
+
+fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| m.row(i).iter().copied().collect())
+        .collect()
+}
+
+fn show(m: &DMatrix<f64>) -> String {
+    let r: Vec<String> = rows(m)
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|x| format!("{x:.6e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+        .collect();
+    format!("[{}]", r.join("; "))
+}
+
+fn pole_text(z: &Complex<f64>) -> String {
+    if z.im.abs() > 1e-9 * z.re.abs().max(1.0) {
+        format!(
+            "{:.3} {} {:.3}i",
+            z.re,
+            if z.im < 0.0 { "−" } else { "+" },
+            z.im.abs()
+        )
+    } else {
+        format!("{:.3}", z.re)
+    }
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let (a, c) = args.system.parse()?;
+    let b = matrix::<Rational>("--b", &args.b)?;
+    let d = match &args.d {
+        Some(t) => matrix::<Rational>("--d", t)?,
+        None => Matrix::zeros(c.rows(), b.cols()),
+    };
+    let cu = matrix::<Rational>("--input-noise", &args.input_noise)?;
+    let cy = matrix::<Rational>("--output-noise", &args.output_noise)?;
+    let plant = Plant {
+        a: to_nalgebra(&a),
+        b: to_nalgebra(&b),
+        c: to_nalgebra(&c),
+        d: to_nalgebra(&d),
+    };
+    let noise = NoiseIntensities {
+        input: to_nalgebra(&cu),
+        output: to_nalgebra(&cy),
+    };
+    let k = kalman_filter(&plant, &noise)?;
+    let kalman_gain = DMatrix::from_fn(k.gain.len(), c.rows(), |i, j| k.gain[i][j]);
+    let mut table = vec![Row {
+        method: "kalman".into(),
+        gain: kalman_gain.clone(),
+        note: format!("Riccati residual {:.1e}", k.residual),
+    }];
+    if let Some(ptext) = &args.poles {
+        let poles = parse_list::<Rational>(ptext)
+            .map_err(|e| anyhow!("in --poles: {}", e.show_in(ptext)))?;
+        if poles.len() != a.rows() {
+            bail!("in --poles: {} poles for order {}", poles.len(), a.rows());
+        }
+        let float_poles: Vec<(f64, f64)> = poles
+            .iter()
+            .map(|p| (observer_workbench::algebra::rational_to_f64(p), 0.0))
+            .collect();
+        match robust_observer_gain(&plant.a, &plant.c, &float_poles) {
+            Ok(r) => table.push(Row {
+                method: "robust".into(),
+                gain: DMatrix::from_fn(r.gain.len(), c.rows(), |i, j| r.gain[i][j]),
+                note: format!("KNV, eigenvector condition {:.3}", r.eigenvector_condition),
+            }),
+            Err(e) => eprintln!("robust placement not available: {e}"),
+        }
+        if c.rows() == a.rows() {
+            let n = a.rows();
+            for (label, order) in [
+                ("diagonal", poles.clone()),
+                (
+                    "diagonal-reversed",
+                    poles.iter().rev().cloned().collect::<Vec<_>>(),
+                ),
+            ] {
+                let m = Matrix::from_fn(n, n, |i, j| {
+                    if i == j {
+                        order[i].clone()
+                    } else {
+                        Rational::zero()
+                    }
+                });
+                if let Ok(l) = gain_for_observer_matrix(&a, &c, &m) {
+                    table.push(Row {
+                        method: label.into(),
+                        gain: to_nalgebra(&l),
+                        note: format!(
+                            "A − LC = diag({}), exact",
+                            order
+                                .iter()
+                                .map(ToString::to_string)
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    });
+                }
+            }
+        }
+        if let (Some(o), Some(s)) = (args.derivative_output, args.derivative_state) {
+            if o == 0 || s == 0 {
+                bail!("in --derivative-output/--derivative-state: indices are 1-based");
+            }
+            let desired = Poly::from_roots(&poles, "s");
+            let w = weighted_design(&a, &b, &c, &d, &desired, &cu, &cy, o - 1, s - 1, args.grid)?;
+            table.push(Row {
+                method: "weighted".into(),
+                gain: DMatrix::from_fn(w.gain.len(), c.rows(), |i, j| w.gain[i][j]),
+                note: format!(
+                    "w = {} ≈ {:.6} (grid of {} + golden section); trace Σ at w = 0: {:.4e}, at w = 1: {:.4e}",
+                    w.weight, w.weight_f64, w.grid_points, w.variance_at_ends.0, w.variance_at_ends.1
+                ),
+            });
+        }
+    }
+    let mut json_rows = Vec::new();
+    let mut text = String::new();
+    let (q, r, s) = plant.intensities(&noise);
+    text.push_str(&format!(
+        "Noise model: the observer sees u + n_u (C_U) and y + n_y (C_Y): Q = B C_U Bᵀ = {}, R = D C_U Dᵀ + C_Y = {}, S = B C_U Dᵀ = {}\n",
+        show(&q), show(&r), show(&s)
+    ));
+    text.push_str(&format!(
+        "Kalman filter (A − LC): P = {}, {} sign-function iterations, {} Newton–Kleinman steps, relative residual {:.2e}\n",
+        show(&DMatrix::from_fn(k.covariance.len(), k.covariance.len(), |i, j| k.covariance[i][j])),
+        k.sign_iterations, k.newton_steps, k.residual
+    ));
+    text.push_str("method             poles                          ω_n (rad/s)   diag Σ                        trace Σ       √trace Σ\n");
+    for row in &table {
+        let f = &plant.a - &row.gain * &plant.c;
+        let ev = eigenvalues(&f);
+        let wn = natural_frequency(&ev);
+        let (sigma, residual) = error_covariance(&plant, &noise, &row.gain)?;
+        let diag: Vec<String> = (0..sigma.nrows())
+            .map(|i| format!("{:.4e}", sigma[(i, i)]))
+            .collect();
+        text.push_str(&format!(
+            "{:<18} {:<30} {:>11.3}   {:<29} {:<13.4e} {:.4e}\n    L = {}  ({}; Lyapunov residual {:.1e})\n",
+            row.method,
+            ev.iter().map(pole_text).collect::<Vec<_>>().join(", "),
+            wn,
+            diag.join(", "),
+            sigma.trace(),
+            sigma.trace().sqrt(),
+            show(&row.gain),
+            row.note,
+            residual
+        ));
+        json_rows.push(json!({
+            "method": row.method,
+            "gain": rows(&row.gain),
+            "poles": ev.iter().map(|z| (z.re, z.im)).collect::<Vec<_>>(),
+            "natural_frequency": wn,
+            "covariance": rows(&sigma),
+            "trace": sigma.trace(),
+            "rms": sigma.trace().sqrt(),
+            "note": row.note,
+        }));
+    }
+    text.push_str("ω_n = (Π|λ_i|)^(1/n); Σ: steady-state estimation-error covariance with C_U, C_Y read as white-noise intensities.\n");
+    if args.json {
+        print_json(&json!({
+            "convention": "a-lc",
+            "kalman": k,
+            "comparison": json_rows,
+        }));
+    } else {
+        print!("{text}");
+    }
+    Ok(Outcome::Ok)
+}

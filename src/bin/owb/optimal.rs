@@ -1,0 +1,327 @@
+//! `owb optimal`: multi-output gains chosen by optimality (Baranowski): minimum norm `J1` or
+//! minimal dynamical error `J2 = λ_max(H)`, and the check of a given (printed) gain.
+
+use crate::args::{matrix, print_json};
+use crate::Outcome;
+use anyhow::{anyhow, bail, Result};
+use nalgebra::DMatrix;
+use observer_workbench::algebra::{Rational, ToF64};
+use observer_workbench::linalg::float::{eigenvalues, to_nalgebra};
+use observer_workbench::linalg::{characteristic_polynomial, Matrix};
+use observer_workbench::observer::dynamical_error::{
+    dynamical_error_cost, minimal_dynamical_error,
+};
+use observer_workbench::observer::optimal::{minimum_norm_gain, pole_placement_constraints};
+use observer_workbench::poly::{exact_roots, Poly};
+use observer_workbench::syntax::{parse_list, parse_polynomial};
+use serde_json::json;
+
+/// Arguments of `owb optimal`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    system: crate::args::SystemPair,
+    /// Desired observer poles (rational), e.g. "-4, -4, -4".
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
+    poles: Option<String>,
+    /// Desired observer polynomial, e.g. "(s + 4)^3".
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
+    poly: Option<String>,
+    /// j1 (minimum norm Σ k_i², default) or j2 (minimal dynamical error λ_max(H)).
+    #[arg(allow_hyphen_values = true, long, default_value = "j1")]
+    index: String,
+    /// The weight D of J2 (Fᵀ H + H F = −D), default the identity.
+    #[arg(allow_hyphen_values = true, long)]
+    weight: Option<String>,
+    /// For J2: the output whose gain column is placed exactly from the others (1-based).
+    #[arg(allow_hyphen_values = true, long, default_value_t = 1)]
+    placed_output: usize,
+    /// Seeded random starts of the search.
+    #[arg(allow_hyphen_values = true, long, default_value_t = 40)]
+    starts: usize,
+    /// Seed of the starts (same seed, same report).
+    #[arg(allow_hyphen_values = true, long, default_value_t = 2024)]
+    seed: u64,
+    /// Check this gain (e.g. a printed one): its exact observer polynomial, its poles, J1 and J2.
+    #[arg(allow_hyphen_values = true, long)]
+    check_gain: Option<String>,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+fn desired(args: &Args, n: usize) -> Result<Poly<Rational>> {
+    let p = if let Some(p) = &args.poles {
+        let poles =
+            parse_list::<Rational>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
+        if poles.len() != n {
+            bail!(
+                "in --poles: {} poles given, the system has order {n}",
+                poles.len()
+            );
+        }
+        Poly::from_roots(&poles, "s")
+    } else if let Some(p) = &args.poly {
+        parse_polynomial::<Rational>(p, "s").map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?
+    } else {
+        bail!("give the desired observer polynomial: --poles or --poly (rational)")
+    };
+    if p.degree() != Some(n) || !p.is_monic() {
+        bail!("the desired polynomial {p} must be monic of degree {n} (the order of A)");
+    }
+    Ok(p)
+}
+
+fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| m.row(i).iter().copied().collect())
+        .collect()
+}
+
+fn show(m: &DMatrix<f64>) -> String {
+    let r: Vec<String> = rows(m)
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|x| format!("{x:.6}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+        .collect();
+    format!("[{}]", r.join("; "))
+}
+
+/// For each rational root `λ0` of multiplicity `m` of `desired`: the largest distance of the
+/// achieved poles from it, and the first-order prediction `(|δ(λ0)| / |Π_{λj≠λ0}(λ0 − λj)|)^(1/m)`
+/// where `δ` = achieved − desired.
+fn scatter(
+    desired: &Poly<Rational>,
+    achieved: &Poly<Rational>,
+    poles: &[(f64, f64)],
+) -> Vec<serde_json::Value> {
+    let roots = exact_roots(desired);
+    let delta = achieved.clone() - desired.clone();
+    let rational: Vec<(Rational, u32)> = roots
+        .roots
+        .iter()
+        .filter_map(|(r, k)| r.as_rational().map(|q| (q.clone(), *k)))
+        .collect();
+    rational
+        .iter()
+        .map(|(r, m)| {
+            let others: f64 = rational
+                .iter()
+                .filter(|(q, _)| q != r)
+                .map(|(q, k)| (r.to_f64() - q.to_f64()).abs().powi(*k as i32))
+                .product();
+            let predicted = (delta.eval(r).to_f64().abs() / others).powf(1.0 / f64::from(*m));
+            // the poles nearest to this root (each pole goes to its nearest desired root)
+            let nearest = |re: f64, im: f64| {
+                rational
+                    .iter()
+                    .map(|(q, _)| ((re - q.to_f64()).powi(2) + im * im).sqrt())
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let nearest_group = poles
+                .iter()
+                .map(|&(re, im)| (((re - r.to_f64()).powi(2) + im * im).sqrt(), nearest(re, im)))
+                .filter(|(d, best)| d <= best)
+                .map(|(d, _)| d)
+                .fold(0.0, f64::max);
+            json!({"root": r.to_string(), "multiplicity": m, "largest_move": nearest_group, "predicted": predicted})
+        })
+        .collect()
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let (a, c) = args.system.parse()?;
+    if !a.is_square() || c.cols() != a.rows() {
+        bail!(
+            "in --a/--c: A must be square and C must have as many columns ({}×{} and {}×{})",
+            a.rows(),
+            a.cols(),
+            c.rows(),
+            c.cols()
+        );
+    }
+    let n = a.rows();
+    let p = desired(&args, n)?;
+    let weight = match &args.weight {
+        Some(w) => matrix::<Rational>("--weight", w)?,
+        None => Matrix::identity(n),
+    };
+    if weight.rows() != n || weight.cols() != n {
+        bail!(
+            "in --weight: D must be {n}×{n}, it is {}×{}",
+            weight.rows(),
+            weight.cols()
+        );
+    }
+    let mut out = json!({"desired": p.to_string(), "convention": "a-kc", "index": args.index});
+    let mut text = String::new();
+    match args.index.as_str() {
+        "j1" => {
+            let cons = pole_placement_constraints(&a, &c, &p)?;
+            let r = minimum_norm_gain(&cons, args.starts, args.seed);
+            text.push_str(&format!(
+                "Minimum-norm gain: minimise J1 = Σ k_i² subject to det(sI − (A − GC)) = {p}\n  constraints (G = [k1 k{}…] column by column):\n",
+                n + 1
+            ));
+            for e in &cons.equations {
+                text.push_str(&format!("    {e} = 0\n"));
+            }
+            text.push_str(&format!(
+                "  {} seeded starts (seed {}), {} converged to a local minimum (Newton on the KKT system, second-order check)\n",
+                r.starts, args.seed, r.converged
+            ));
+            for (i, m) in r.minima.iter().enumerate() {
+                let g = DMatrix::from_fn(n, c.rows(), |row, col| m.gain[col * n + row]);
+                text.push_str(&format!(
+                    "  {} J1 = {:.6}, reached by {} start(s): G = {}\n",
+                    if i < r.best_count { "best" } else { "    " },
+                    m.cost,
+                    m.starts,
+                    show(&g)
+                ));
+            }
+            text.push_str(&format!(
+                "  the best value is attained by {} gain(s): {}\n",
+                r.best_count,
+                if r.best_count > 1 {
+                    "the minimiser is not unique"
+                } else {
+                    "unique among the minima found"
+                }
+            ));
+            out["report"] = serde_json::to_value(&r)?;
+        }
+        "j2" => {
+            if args.placed_output == 0 || args.placed_output > c.rows() {
+                bail!(
+                    "in --placed-output: {} is not an output (1…{})",
+                    args.placed_output,
+                    c.rows()
+                );
+            }
+            let r = minimal_dynamical_error(
+                &a,
+                &c,
+                &p,
+                &weight,
+                args.placed_output - 1,
+                args.starts,
+                args.seed,
+            )?;
+            let g = DMatrix::from_row_slice(r.rows, r.cols, &r.best.gain);
+            text.push_str(&format!(
+                "Minimal dynamical error: minimise J2 = λ_max(H), Fᵀ H + H F = −D, F = A − GC, over the gains with det(sI − F) = {p}\n  D = {}\n  column {} of G placed exactly (dual Ackermann) from the others; Nelder–Mead over the other {} entries\n",
+                weight.to_input(),
+                args.placed_output,
+                n * (c.rows() - 1)
+            ));
+            text.push_str(&format!(
+                "  {} seeded starts (seed {}): {} reached the best J2 = {:.8}\n  their gains lie up to {:.4} apart (max-norm); Hessian eigenvalues at the smallest: [{}]\n",
+                r.starts,
+                args.seed,
+                r.reached_best,
+                r.best.cost,
+                r.spread,
+                r.hessian_eigenvalues.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>().join(", ")
+            ));
+            text.push_str(&format!(
+                "  flat directions: {}{} → the minimiser is {}\n  smallest-norm minimiser G = {}\n  rebuilt in rationals it places the polynomial exactly: {}\n",
+                r.flat_directions,
+                r.flat_vectors.iter().map(|v| format!(" ({})", v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", "))).collect::<String>(),
+                if r.flat_directions > 0 || r.spread > 1e-4 { "not unique" } else { "unique among the starts" },
+                show(&g),
+                if r.places_exactly { "yes" } else { "no" }
+            ));
+            out["report"] = serde_json::to_value(&r)?;
+        }
+        other => bail!("in --index: unknown index '{other}' (j1 or j2)"),
+    }
+    if let Some(gtext) = &args.check_gain {
+        let g = matrix::<Rational>("--check-gain", gtext)?;
+        if g.rows() != n || g.cols() != c.rows() {
+            bail!(
+                "in --check-gain: G must be {n}×{}, it is {}×{}",
+                c.rows(),
+                g.rows(),
+                g.cols()
+            );
+        }
+        let f = a.sub(&g.mul(&c)?)?;
+        let achieved = characteristic_polynomial(&f, "s")?;
+        let poles: Vec<(f64, f64)> = eigenvalues(&to_nalgebra(&f))
+            .iter()
+            .map(|z| (z.re, z.im))
+            .collect();
+        let j1: f64 = (0..n)
+            .flat_map(|i| (0..c.rows()).map(move |j| (i, j)))
+            .map(|(i, j)| g.get(i, j).to_f64().powi(2))
+            .sum();
+        let j2 = dynamical_error_cost(
+            &to_nalgebra(&a),
+            &to_nalgebra(&c),
+            &to_nalgebra(&g),
+            &to_nalgebra(&weight),
+        )
+        .ok()
+        .map(|(j, _)| j);
+        let moves = scatter(&p, &achieved, &poles);
+        text.push_str(&format!(
+            "Given gain G = {}\n  det(sI − (A − GC)) = {achieved} ({})\n  poles: {}\n",
+            gtext.trim(),
+            if achieved == p {
+                "places the desired polynomial exactly"
+            } else {
+                "not the desired polynomial"
+            },
+            poles
+                .iter()
+                .map(|(re, im)| if im.abs() > 0.0 {
+                    format!(
+                        "{re:.6} {} {:.6}i",
+                        if *im < 0.0 { "−" } else { "+" },
+                        im.abs()
+                    )
+                } else {
+                    format!("{re:.6}")
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        for m in &moves {
+            text.push_str(&format!(
+                "  root {} (multiplicity {}): the poles moved by up to {:.4}; predicted (|δ(λ0)|/Π|λ0 − λj|)^(1/m) = {:.4} — an m-fold root moves like the m-th root of the coefficient error\n",
+                m["root"].as_str().unwrap_or(""),
+                m["multiplicity"],
+                m["largest_move"].as_f64().unwrap_or(f64::NAN),
+                m["predicted"].as_f64().unwrap_or(f64::NAN)
+            ));
+        }
+        text.push_str(&format!("  J1 = {j1:.6}\n"));
+        match j2 {
+            Some(j) => text.push_str(&format!(
+                "  J2 = λ_max(H) = {j:.8} (D = {})\n",
+                weight.to_input()
+            )),
+            None => text.push_str("  J2 undefined: A − GC is not stable\n"),
+        }
+        out["check"] = json!({
+            "gain": crate::args::json_matrix(&g),
+            "observer_polynomial": achieved.to_input(),
+            "places_exactly": achieved == p,
+            "poles": poles,
+            "root_moves": moves,
+            "j1": j1,
+            "j2": j2,
+        });
+    }
+    if args.json {
+        print_json(&out);
+    } else {
+        print!("{text}");
+    }
+    Ok(Outcome::Ok)
+}
