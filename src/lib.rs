@@ -14,6 +14,7 @@ pub mod linalg;
 pub mod observability;
 pub mod observer;
 pub mod poly;
+pub mod simulation;
 pub mod syntax;
 pub mod system;
 pub mod worked;

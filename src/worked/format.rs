@@ -27,7 +27,10 @@ pub struct ExampleFile {
     #[serde(default)]
     pub claims: Vec<ClaimSpec>,
     /// White-noise intensities for the noise computations (Kalman filter, error covariance).
-    pub noise: Option<NoiseSpec>,
+    pub noise: Option<IntensitySpec>,
+    /// Simulation scenarios reproducing the document's figures.
+    #[serde(default)]
+    pub scenarios: Vec<ScenarioSpec>,
     /// Printed values recorded now and verified by a later part of the workbench.
     #[serde(default)]
     pub printed_only: Vec<PrintedRecord>,
@@ -54,7 +57,7 @@ pub struct SystemSpec {
 /// White-noise intensities: on the measured input (`C_U`) and on the outputs (`C_Y`).
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct NoiseSpec {
+pub struct IntensitySpec {
     /// `C_U`, m×m.
     pub input: String,
     /// `C_Y`, p×p.
@@ -152,4 +155,89 @@ pub struct PrintedRecord {
     pub printed: String,
     /// What will verify it.
     pub verified_by: String,
+}
+
+/// A simulation scenario: one figure of the document, with the assumptions it leaves open.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioSpec {
+    /// Name, unique in the file (`fig-7`).
+    pub name: String,
+    /// The figure(s) it reproduces, e.g. "Fig. 7 and 8".
+    pub figure: String,
+    /// What the document leaves open and this scenario assumes.
+    #[serde(default)]
+    pub assumptions: String,
+    /// Parameter values for this scenario (override `[parameters]`).
+    #[serde(default)]
+    pub parameters: BTreeMap<String, String>,
+    /// Plant matrices replacing those of `[system]` (the observer of a perfect scenario is still
+    /// built from `[system]`: a changed plant).
+    #[serde(rename = "A")]
+    pub a: Option<String>,
+    /// Per-scenario B.
+    #[serde(rename = "B")]
+    pub b: Option<String>,
+    /// Per-scenario C (the outputs the observer uses).
+    #[serde(rename = "C")]
+    pub c: Option<String>,
+    /// The observer gain (input syntax, parameters allowed)…
+    pub gain: Option<String>,
+    /// … or the id of a claim whose recomputed value is the gain.
+    pub gain_claim: Option<String>,
+    /// `a-kc` (default) or `a+lc`.
+    pub convention: Option<String>,
+    /// A state feedback `F` in `u = r + F x̂`.
+    pub feedback: Option<String>,
+    /// Use the perfect observer of `[system]` instead of a gain.
+    #[serde(default)]
+    pub perfect: bool,
+    /// End time.
+    pub horizon: f64,
+    /// Output interval and RK4 step.
+    pub step: f64,
+    /// `rk4` (default), `dormand-prince` or `discrete`.
+    pub integrator: Option<String>,
+    /// Plant initial state.
+    pub x0: Option<String>,
+    /// Observer initial state (default zero).
+    pub xhat0: Option<String>,
+    /// One signal per input (default zero).
+    #[serde(default)]
+    pub input: Vec<crate::simulation::Signal>,
+    /// Measurement noise on every output.
+    pub output_noise: Option<crate::simulation::noise::NoiseSpec>,
+    /// Noise on the plant input, unseen by the observer.
+    pub process_noise: Option<crate::simulation::noise::NoiseSpec>,
+    /// States to plot (1-based; default all).
+    #[serde(default)]
+    pub plot: Vec<usize>,
+    /// Time unit for the axis (default "s").
+    pub time_unit: Option<String>,
+    /// What the figure claims, checked by numbers.
+    #[serde(default)]
+    pub checks: Vec<CheckSpec>,
+}
+
+/// One checked statement about a figure: a metric of one state's estimation error compared with
+/// a bound or with the same metric in another scenario.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckSpec {
+    /// What the document says, quoted or paraphrased with its place.
+    pub source: String,
+    /// `ise`, `overshoot`, `settling_time`, `steady_rms` or `max_relative_error`.
+    pub metric: String,
+    /// The state (1-based).
+    pub state: usize,
+    /// Holds when the metric is below this.
+    pub below: Option<f64>,
+    /// Holds when the metric is above this.
+    pub above: Option<f64>,
+    /// Holds when the metric is below the same metric in these scenarios.
+    #[serde(default)]
+    pub less_than: Vec<String>,
+    /// Holds when the metric is above the same metric in these scenarios.
+    #[serde(default)]
+    pub greater_than: Vec<String>,
 }

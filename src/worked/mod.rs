@@ -12,12 +12,17 @@ mod compute;
 mod compute_optimal;
 mod format;
 mod report;
+mod scenario;
 mod value;
 mod verify;
 
 pub use compute::{compute, ComputeError, Computed, Inputs, COMPUTATIONS, IDENTITIES};
-pub use format::{ClaimSpec, ErratumSpec, ExampleFile, NoiseSpec, PrintedRecord, SystemSpec};
+pub use format::{
+    CheckSpec, ClaimSpec, ErratumSpec, ExampleFile, IntensitySpec, PrintedRecord, ScenarioSpec,
+    SystemSpec,
+};
 pub use report::{errata_markdown, render_derivations, render_table, report_json};
+pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
 pub use value::{compare, Agreement, Value};
 pub use verify::{
     load_example, load_folder, verify_example, ClaimReport, ExampleReport, Summary, Verdict,

@@ -79,5 +79,45 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
+/// A 10 s run at h = 0.01 (RK4) of Baranowski's 3-state ladder with a two-output observer and
+/// uniform output noise: the cost of one figure.
+fn bench_simulation(c: &mut Criterion) {
+    use nalgebra::DMatrix;
+    use observer_workbench::simulation::noise::NoiseSpec;
+    use observer_workbench::simulation::{simulate, Integrator, Loop, Setup, Signal};
+    let l = Loop {
+        a: DMatrix::from_row_slice(3, 3, &[-2.0, 1.0, 0.0, 1.0, -2.0, 1.0, 0.0, 1.0, -2.0]),
+        b: DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0]),
+        c: DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0]),
+        d: DMatrix::zeros(2, 2),
+        gain: DMatrix::from_row_slice(3, 2, &[3.086, 0.6775, 1.7139, 2.5086, -1.1585, 2.914]),
+        feedback: None,
+    };
+    let s = Setup {
+        horizon: 10.0,
+        step: 0.01,
+        integrator: Integrator::Rk4,
+        input: vec![
+            Signal::Sine {
+                amplitude: 1.0,
+                frequency: 1.0,
+                phase: 0.0,
+            },
+            Signal::Zero,
+        ],
+        output_noise: Some(NoiseSpec::Uniform {
+            amplitude: 0.1,
+            seed: 1,
+        }),
+        process_noise: None,
+        x0: vec![5.0, 5.0, 5.0],
+        xhat0: vec![0.0; 3],
+    };
+    c.bench_function(
+        "simulate 3-state plant + observer, 10 s at h = 0.01 (RK4)",
+        |b| b.iter(|| simulate(&l, &s).unwrap()),
+    );
+}
+
+criterion_group!(benches, bench, bench_simulation);
 criterion_main!(benches);

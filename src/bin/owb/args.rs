@@ -60,3 +60,45 @@ impl SystemPair {
         Ok((matrix("--a", &self.a)?, matrix("--c", &self.c)?))
     }
 }
+
+/// The worked-example folder: as given, else the one shipped beside the crate.
+pub fn examples_folder(dir: &std::path::Path) -> std::path::PathBuf {
+    if dir.is_dir() {
+        return dir.to_path_buf();
+    }
+    let shipped = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
+    if shipped.is_dir() {
+        shipped
+    } else {
+        dir.to_path_buf()
+    }
+}
+
+/// A worked example by file path or by id (file stem) among `all`.
+pub fn find_example(
+    dir: &std::path::Path,
+    all: &[std::path::PathBuf],
+    name: &str,
+) -> Result<std::path::PathBuf> {
+    let p = std::path::Path::new(name);
+    if p.is_file() {
+        return Ok(p.to_path_buf());
+    }
+    all.iter()
+        .find(|f| f.file_stem().is_some_and(|s| s == name))
+        .cloned()
+        .ok_or_else(|| {
+            anyhow!(
+                "no worked example '{name}' in {} (give an id or a file path)",
+                dir.display()
+            )
+        })
+}
+
+/// Writes through a temporary file and a rename, so a reader never sees half a file.
+pub fn write_atomically(path: &std::path::Path, text: &str) -> Result<()> {
+    let tmp = path.with_extension("tmp-owb");
+    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))?;
+    Ok(())
+}

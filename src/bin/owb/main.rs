@@ -10,6 +10,7 @@ mod kalman;
 mod observe;
 mod optimal;
 mod perfect;
+mod simulate;
 mod verify;
 
 use clap::{Parser, Subcommand};
@@ -44,6 +45,8 @@ enum Command {
     Kalman(kalman::Args),
     /// Perfect (descriptor) observer: construction, reconstruction formula, robustness conditions.
     Perfect(perfect::Args),
+    /// Simulate a worked example's scenarios (its figures): SVG, CSV and the figures' claims checked.
+    Simulate(simulate::Args),
 }
 
 /// What a subcommand reports back.
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
         Command::Optimal(a) => optimal::run(a),
         Command::Kalman(a) => kalman::run(a),
         Command::Perfect(a) => perfect::run(a),
+        Command::Simulate(a) => simulate::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

@@ -11,7 +11,7 @@ use observer_workbench::worked::{
     errata_markdown, load_example, load_folder, render_derivations, render_table, report_json,
     verify_example, Summary,
 };
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `owb verify`.
 #[derive(clap::Args)]
@@ -32,43 +32,16 @@ pub struct Args {
     errata: Option<PathBuf>,
 }
 
-/// The worked-example folder: as given, else the one shipped beside the crate.
-fn folder(dir: &Path) -> PathBuf {
-    if dir.is_dir() {
-        return dir.to_path_buf();
-    }
-    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
-    if shipped.is_dir() {
-        shipped
-    } else {
-        dir.to_path_buf()
-    }
-}
-
 pub fn run(args: Args) -> Result<Outcome> {
-    let dir = folder(&args.dir);
+    let dir = crate::args::examples_folder(&args.dir);
     let all = load_folder(&dir)?;
     let selected: Vec<PathBuf> = if args.examples.is_empty() {
         all
     } else {
-        let mut v = Vec::new();
-        for e in &args.examples {
-            let p = Path::new(e);
-            if p.is_file() {
-                v.push(p.to_path_buf());
-            } else if let Some(found) = all
-                .iter()
-                .find(|f| f.file_stem().is_some_and(|s| s == e.as_str()))
-            {
-                v.push(found.clone());
-            } else {
-                bail!(
-                    "no worked example '{e}' in {} (give an id or a file path)",
-                    dir.display()
-                );
-            }
-        }
-        v
+        args.examples
+            .iter()
+            .map(|e| crate::args::find_example(&dir, &all, e))
+            .collect::<Result<Vec<_>>>()?
     };
     if selected.is_empty() {
         bail!("no worked examples (*.toml) in {}", dir.display());
@@ -80,7 +53,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     let summary = Summary::of(&reports);
     if let Some(path) = &args.errata {
-        write_atomically(path, &errata_markdown(&reports))
+        crate::args::write_atomically(path, &errata_markdown(&reports))
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
@@ -105,12 +78,4 @@ pub fn run(args: Args) -> Result<Outcome> {
     } else {
         Outcome::Ok
     })
-}
-
-/// Writes through a temporary file and a rename, so a reader never sees half a report.
-fn write_atomically(path: &Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension("tmp-owb");
-    std::fs::write(&tmp, text)?;
-    std::fs::rename(&tmp, path)?;
-    Ok(())
 }

@@ -1,0 +1,143 @@
+//! `owb simulate`: run a worked example's scenarios (the document's figures), write SVG and
+//! CSV, and check the figures' statements by numbers.
+
+use crate::args::{examples_folder, find_example, print_json, write_atomically};
+use crate::Outcome;
+use anyhow::{bail, Result};
+use observer_workbench::simulation::{csv::to_csv, plot::svg};
+use observer_workbench::worked::{load_example, load_folder, run_scenarios, ScenarioRun};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `owb simulate`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The worked example (id or file path).
+    example: String,
+    /// Only this scenario (all are run, since checks may compare them).
+    #[arg(allow_hyphen_values = true, long)]
+    scenario: Option<String>,
+    /// Write the figure as SVG (with several scenarios: FILE-stem-NAME.svg each).
+    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
+    svg: Option<PathBuf>,
+    /// Write the time series as CSV (with several scenarios: one file per scenario, as for --svg).
+    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// The folder of worked examples.
+    #[arg(allow_hyphen_values = true, long, default_value = "worked_examples")]
+    dir: PathBuf,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+fn target(path: &Path, name: &str, several: bool) -> PathBuf {
+    if !several {
+        return path.to_path_buf();
+    }
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "figure".into(), |s| s.to_string_lossy().into_owned());
+    let ext = path
+        .extension()
+        .map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
+    path.with_file_name(format!("{stem}-{name}{ext}"))
+}
+
+fn describe(run: &ScenarioRun) -> String {
+    let mut out = format!(
+        "{} — {}\n  observer: {}\n",
+        run.name, run.figure, run.observer
+    );
+    if !run.assumptions.is_empty() {
+        out.push_str(&format!("  assumptions: {}\n", run.assumptions));
+    }
+    out.push_str(
+        "  state  ∫e² dt        overshoot   settling (s)  steady RMS    max |e|/max |x|\n",
+    );
+    for s in &run.summary {
+        out.push_str(&format!(
+            "  e{:<5} {:<13.4e} {:<11.4} {:<13.3} {:<13.4e} {:.4e}\n",
+            s.state, s.ise, s.overshoot, s.settling_time, s.steady_rms, s.max_relative_error
+        ));
+    }
+    out
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let dir = examples_folder(&args.dir);
+    let all = load_folder(&dir)?;
+    let path = find_example(&dir, &all, &args.example)?;
+    let (ex, raw) = load_example(&path)?;
+    if ex.scenarios.is_empty() {
+        bail!("{} declares no scenarios", path.display());
+    }
+    let (runs, checks) = run_scenarios(&path, &ex, &raw)?;
+    let chosen: Vec<&ScenarioRun> = match &args.scenario {
+        Some(name) => {
+            let r = runs.iter().find(|r| &r.name == name);
+            match r {
+                Some(r) => vec![r],
+                None => bail!(
+                    "no scenario '{name}' in {}; scenarios: {}",
+                    path.display(),
+                    runs.iter()
+                        .map(|r| r.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            }
+        }
+        None => runs.iter().collect(),
+    };
+    let several = chosen.len() > 1;
+    for r in &chosen {
+        if let Some(p) = &args.svg {
+            let title = format!("{} — {}", ex.id, r.figure);
+            write_atomically(
+                &target(p, &r.name, several),
+                &svg(&r.trace, &r.plot, &title, &r.time_unit)?,
+            )?;
+        }
+        if let Some(p) = &args.csv {
+            write_atomically(&target(p, &r.name, several), &to_csv(&r.trace))?;
+        }
+    }
+    let shown_checks: Vec<_> = checks
+        .iter()
+        .filter(|c| chosen.iter().any(|r| r.name == c.scenario))
+        .collect();
+    let failed = shown_checks.iter().any(|c| !c.holds);
+    if args.json {
+        print_json(&json!({
+            "example": ex.id,
+            "scenarios": chosen.iter().map(|r| json!({
+                "name": r.name,
+                "figure": r.figure,
+                "assumptions": r.assumptions,
+                "observer": r.observer,
+                "samples": r.trace.t.len(),
+                "summary": r.summary,
+            })).collect::<Vec<_>>(),
+            "checks": shown_checks,
+        }));
+    } else {
+        for r in &chosen {
+            print!("{}", describe(r));
+        }
+        if !shown_checks.is_empty() {
+            println!("Figure statements checked:");
+            for c in &shown_checks {
+                println!(
+                    "  [{}] {} — {}: {} → {}",
+                    c.scenario,
+                    c.source,
+                    c.metric,
+                    c.comparison,
+                    if c.holds { "holds" } else { "DOES NOT HOLD" }
+                );
+            }
+        }
+    }
+    Ok(if failed { Outcome::Failed } else { Outcome::Ok })
+}

@@ -1,0 +1,434 @@
+//! Running a worked example's simulation scenarios and checking what its figures claim.
+
+use super::compute::{compute, Inputs};
+use super::format::{ExampleFile, ScenarioSpec};
+use super::value::Value;
+use super::verify::WorkedError;
+use crate::algebra::{Quadratic, Rational};
+use crate::linalg::Matrix;
+use crate::observer::perfect::perfect_observer;
+use crate::observer::Convention;
+use crate::simulation::{self, summarize, Integrator, Loop, Setup, StateSummary, Trace};
+use crate::syntax::{evaluate_with, parse_matrix_expressions, parse_scalar, Environment};
+use nalgebra::DMatrix;
+use serde::Serialize;
+use std::path::Path;
+
+/// One scenario, run.
+#[derive(Clone, Debug)]
+pub struct ScenarioRun {
+    /// Name.
+    pub name: String,
+    /// The figure(s) it reproduces.
+    pub figure: String,
+    /// Its stated assumptions.
+    pub assumptions: String,
+    /// The observer used, in words.
+    pub observer: String,
+    /// The run.
+    pub trace: Trace,
+    /// Per-state error summary.
+    pub summary: Vec<StateSummary>,
+    /// States to plot.
+    pub plot: Vec<usize>,
+    /// Time unit.
+    pub time_unit: String,
+}
+
+/// One checked figure statement.
+#[derive(Clone, Debug, Serialize)]
+pub struct CheckResult {
+    /// The scenario.
+    pub scenario: String,
+    /// What the document says.
+    pub source: String,
+    /// The metric and state, e.g. `overshoot of e2`.
+    pub metric: String,
+    /// Its value in this run.
+    pub value: f64,
+    /// The comparison made, with the numbers.
+    pub comparison: String,
+    /// Whether it holds.
+    pub holds: bool,
+}
+
+fn metric(s: &StateSummary, name: &str) -> Option<f64> {
+    Some(match name {
+        "ise" => s.ise,
+        "overshoot" => s.overshoot,
+        "settling_time" => s.settling_time,
+        "steady_rms" => s.steady_rms,
+        "max_relative_error" => s.max_relative_error,
+        _ => return None,
+    })
+}
+
+/// The metrics a check may name.
+pub const METRICS: &[&str] = &[
+    "ise",
+    "overshoot",
+    "settling_time",
+    "steady_rms",
+    "max_relative_error",
+];
+
+fn float_matrix(text: &str, env: &Environment) -> Result<DMatrix<f64>, String> {
+    let rows = parse_matrix_expressions(text).map_err(|e| e.show_in(text))?;
+    let values: Vec<Vec<f64>> = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|e| {
+                    let v = evaluate_with::<Quadratic>(e, env).map_err(|e| e.show_in(text))?;
+                    let (re, im) = v.to_complex_f64();
+                    if im != 0.0 {
+                        return Err(format!("'{v}' is not real"));
+                    }
+                    Ok(re)
+                })
+                .collect()
+        })
+        .collect::<Result<_, _>>()?;
+    let n = values.len();
+    let m = values.first().map_or(0, Vec::len);
+    if values.iter().any(|r| r.len() != m) {
+        return Err("rows of different lengths".into());
+    }
+    Ok(DMatrix::from_fn(n, m, |i, j| values[i][j]))
+}
+
+fn exact_matrix(text: &str, env: &Environment) -> Result<Matrix<Rational>, String> {
+    let rows = parse_matrix_expressions(text).map_err(|e| e.show_in(text))?;
+    let values = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|e| evaluate_with::<Rational>(e, env))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.show_in(text))?;
+    Matrix::from_rows(values).map_err(|e| e.to_string())
+}
+
+/// Runs every scenario of an example (all are run, since checks may compare scenarios) and
+/// checks the figures' statements.
+///
+/// # Errors
+/// [`WorkedError`] naming the file, line and field of a malformed scenario, or a simulation that
+/// cannot run.
+pub fn run_scenarios(
+    path: &Path,
+    ex: &ExampleFile,
+    raw: &str,
+) -> Result<(Vec<ScenarioRun>, Vec<CheckResult>), WorkedError> {
+    let file = path.display().to_string();
+    let mut runs: Vec<ScenarioRun> = Vec::new();
+    for sc in &ex.scenarios {
+        if runs.iter().any(|r| r.name == sc.name) {
+            return Err(error(
+                &file,
+                raw,
+                &sc.name,
+                "name",
+                format!("scenario '{}' appears twice", sc.name),
+            ));
+        }
+        runs.push(run_one(&file, raw, ex, sc)?);
+    }
+    let mut checks = Vec::new();
+    for (sc, run) in ex.scenarios.iter().zip(&runs) {
+        for c in &sc.checks {
+            let bad = |m: String| error(&file, raw, &sc.name, "checks", m);
+            if !METRICS.contains(&c.metric.as_str()) {
+                return Err(bad(format!(
+                    "unknown metric '{}'; known: {}",
+                    c.metric,
+                    METRICS.join(", ")
+                )));
+            }
+            let state = run
+                .summary
+                .get(c.state.wrapping_sub(1))
+                .ok_or_else(|| bad(format!("state {} does not exist", c.state)))?;
+            let value = metric(state, &c.metric).unwrap_or(f64::NAN);
+            let mut parts = Vec::new();
+            let mut holds = true;
+            if let Some(b) = c.below {
+                holds &= value < b;
+                parts.push(format!("{value:.4e} < {b:.4e}"));
+            }
+            if let Some(b) = c.above {
+                holds &= value > b;
+                parts.push(format!("{value:.4e} > {b:.4e}"));
+            }
+            for (others, less) in [(&c.less_than, true), (&c.greater_than, false)] {
+                for other in others {
+                    let o = runs
+                        .iter()
+                        .find(|r| &r.name == other)
+                        .ok_or_else(|| bad(format!("no scenario named '{other}'")))?;
+                    let ov = o
+                        .summary
+                        .get(c.state - 1)
+                        .and_then(|s| metric(s, &c.metric))
+                        .unwrap_or(f64::NAN);
+                    holds &= if less { value < ov } else { value > ov };
+                    parts.push(format!(
+                        "{value:.4e} {} {ov:.4e} ({other})",
+                        if less { "<" } else { ">" }
+                    ));
+                }
+            }
+            if parts.is_empty() {
+                return Err(bad(
+                    "a check needs below, above, less_than or greater_than".into()
+                ));
+            }
+            checks.push(CheckResult {
+                scenario: sc.name.clone(),
+                source: c.source.clone(),
+                metric: format!("{} of e{}", c.metric, c.state),
+                value,
+                comparison: parts.join(", "),
+                holds,
+            });
+        }
+    }
+    Ok((runs, checks))
+}
+
+fn error(file: &str, raw: &str, scenario: &str, field: &str, message: String) -> WorkedError {
+    let lines: Vec<&str> = raw.lines().collect();
+    let start = lines
+        .iter()
+        .position(|l| l.trim_start().starts_with("name") && l.contains(&format!("\"{scenario}\"")))
+        .unwrap_or(0);
+    let line = lines
+        .iter()
+        .enumerate()
+        .skip(start)
+        .find(|(_, l)| l.trim_start().starts_with(field))
+        .map_or(start + 1, |(i, _)| i + 1);
+    WorkedError {
+        file: file.to_string(),
+        line,
+        field: format!("scenarios.{scenario}.{field}"),
+        message,
+    }
+}
+
+fn run_one(
+    file: &str,
+    raw: &str,
+    ex: &ExampleFile,
+    sc: &ScenarioSpec,
+) -> Result<ScenarioRun, WorkedError> {
+    let bad = |field: &str, m: String| error(file, raw, &sc.name, field, m);
+    let mut env: Environment = Environment::new();
+    for (k, v) in ex.parameters.iter().chain(&sc.parameters) {
+        let r = parse_scalar::<Rational>(v)
+            .map_err(|e| bad("parameters", format!("{k}: {}", e.show_in(v))))?;
+        env.insert(k.clone(), r);
+    }
+    let text =
+        |over: &Option<String>, sys: &Option<String>, name: &str| -> Result<String, WorkedError> {
+            over.clone().or_else(|| sys.clone()).ok_or_else(|| {
+                bad(
+                    name,
+                    format!("{name} is missing (in the scenario or [system])"),
+                )
+            })
+        };
+    let a_text = text(&sc.a, &ex.system.a, "A")?;
+    let b_text = text(&sc.b, &ex.system.b, "B")?;
+    let c_text = text(&sc.c, &ex.system.c, "C")?;
+    let a = float_matrix(&a_text, &env).map_err(|m| bad("A", m))?;
+    let b = float_matrix(&b_text, &env).map_err(|m| bad("B", m))?;
+    let c = float_matrix(&c_text, &env).map_err(|m| bad("C", m))?;
+    let d = match &ex.system.d {
+        Some(t) if sc.c.is_none() => float_matrix(t, &env).map_err(|m| bad("D", m))?,
+        _ => DMatrix::zeros(c.nrows(), b.ncols()),
+    };
+    let (n, m, p) = (a.nrows(), b.ncols(), c.nrows());
+    let convention = match &sc.convention {
+        None => Convention::AMinusKC,
+        Some(t) => Convention::parse(t)
+            .ok_or_else(|| bad("convention", format!("'{t}' is neither a-kc nor a+lc")))?,
+    };
+    let (gain, observer) = if sc.perfect {
+        (
+            DMatrix::zeros(n, p),
+            "perfect observer of [system]".to_string(),
+        )
+    } else if let Some(g) = &sc.gain {
+        (
+            float_matrix(g, &env).map_err(|m| bad("gain", m))?,
+            format!("gain {g}"),
+        )
+    } else if let Some(id) = &sc.gain_claim {
+        let claim = ex
+            .claims
+            .iter()
+            .find(|c| &c.id == id)
+            .ok_or_else(|| bad("gain_claim", format!("no claim with id '{id}'")))?;
+        let computed = compute(&Inputs {
+            file: ex,
+            claim,
+            env: &env,
+        })
+        .map_err(|e| {
+            bad(
+                "gain_claim",
+                format!("claim '{id}' could not be recomputed: {e}"),
+            )
+        })?;
+        let g = match computed.value {
+            Value::Matrix(mq) => {
+                DMatrix::from_fn(mq.rows(), mq.cols(), |i, j| mq.get(i, j).to_complex_f64().0)
+            }
+            Value::Approximate {
+                rows,
+                cols,
+                candidates,
+                ..
+            } if !candidates.is_empty() => DMatrix::from_row_slice(rows, cols, &candidates[0]),
+            other => {
+                return Err(bad(
+                    "gain_claim",
+                    format!("claim '{id}' is not a gain ({})", other.input()),
+                ))
+            }
+        };
+        let claim_convention = claim
+            .convention
+            .as_deref()
+            .and_then(Convention::parse)
+            .unwrap_or(Convention::AMinusKC);
+        let g = if claim_convention == Convention::APlusLC {
+            -g
+        } else {
+            g
+        };
+        let shown = g
+            .transpose()
+            .iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        (
+            g,
+            format!("gain of claim '{id}' (recomputed; entries row by row: {shown})"),
+        )
+    } else {
+        return Err(bad(
+            "gain",
+            "give gain, gain_claim or perfect = true".into(),
+        ));
+    };
+    let gain = if convention == Convention::APlusLC && !sc.perfect {
+        -gain
+    } else {
+        gain
+    };
+    let feedback = sc
+        .feedback
+        .as_ref()
+        .map(|f| float_matrix(f, &env).map_err(|m| bad("feedback", m)))
+        .transpose()?;
+    let vector = |t: &Option<String>, field: &str| -> Result<Vec<f64>, WorkedError> {
+        match t {
+            None => Ok(vec![0.0; n]),
+            Some(t) => {
+                let v = float_matrix(t, &env).map_err(|m| bad(field, m))?;
+                Ok(v.iter().copied().collect())
+            }
+        }
+    };
+    let integrator = match sc.integrator.as_deref() {
+        None | Some("rk4") => Integrator::Rk4,
+        Some("dormand-prince") => Integrator::DormandPrince {
+            rtol: 1e-9,
+            atol: 1e-12,
+        },
+        Some("discrete") => Integrator::Discrete,
+        Some(o) => {
+            return Err(bad(
+                "integrator",
+                format!("'{o}': use rk4, dormand-prince or discrete"),
+            ))
+        }
+    };
+    let mut input = sc.input.clone();
+    if input.is_empty() {
+        input = vec![simulation::Signal::Zero; m];
+    }
+    let setup = Setup {
+        horizon: sc.horizon,
+        step: sc.step,
+        integrator,
+        input,
+        output_noise: sc.output_noise.clone(),
+        process_noise: sc.process_noise.clone(),
+        x0: vector(&sc.x0, "x0")?,
+        xhat0: vector(&sc.xhat0, "xhat0")?,
+    };
+    let lp = Loop {
+        a,
+        b,
+        c,
+        d,
+        gain,
+        feedback,
+    };
+    let trace = if sc.perfect {
+        let sys = |t: &Option<String>, name: &str| -> Result<Matrix<Rational>, WorkedError> {
+            let t = t.as_ref().ok_or_else(|| {
+                bad(
+                    name,
+                    format!("[system] {name} is needed for the perfect observer"),
+                )
+            })?;
+            exact_matrix(t, &env).map_err(|m| bad(name, m))
+        };
+        let d_sys = ex
+            .system
+            .d
+            .as_ref()
+            .map(|t| exact_matrix(t, &env).map_err(|m| bad("D", m)))
+            .transpose()?;
+        let po = perfect_observer(
+            &sys(&ex.system.a, "A")?,
+            &sys(&ex.system.b, "B")?,
+            &sys(&ex.system.c, "C")?,
+            d_sys.as_ref(),
+        )
+        .map_err(|e| bad("perfect", e.to_string()))?;
+        simulation::simulate_perfect(&lp, &po, &setup)
+    } else {
+        simulation::simulate(&lp, &setup)
+    }
+    .map_err(|e| bad("horizon", e.to_string()))?;
+    let summary = summarize(&trace);
+    let plot = if sc.plot.is_empty() {
+        (1..=n).collect()
+    } else {
+        sc.plot.clone()
+    };
+    if let Some(bad_state) = plot.iter().find(|&&s| s == 0 || s > n) {
+        return Err(bad(
+            "plot",
+            format!("state {bad_state} does not exist (1…{n})"),
+        ));
+    }
+    Ok(ScenarioRun {
+        name: sc.name.clone(),
+        figure: sc.figure.clone(),
+        assumptions: sc.assumptions.clone(),
+        observer,
+        trace,
+        summary,
+        plot,
+        time_unit: sc.time_unit.clone().unwrap_or_else(|| "s".into()),
+    })
+}
