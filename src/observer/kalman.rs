@@ -269,7 +269,12 @@ pub fn kalman_filter(plant: &Plant, noise: &NoiseIntensities) -> Result<KalmanFi
         let k = p * c.transpose() + &s;
         let quad = &k * &r_inv * k.transpose();
         let res = &plant.a * p + p * plant.a.transpose() - &quad + &q;
-        res.norm() / (2.0 * plant.a.norm() * p.norm() + quad.norm() + q.norm())
+        let scale = 2.0 * plant.a.norm() * p.norm() + quad.norm() + q.norm();
+        if scale > 0.0 {
+            res.norm() / scale
+        } else {
+            res.norm()
+        }
     };
     let mut residual = residual_of(&p);
     for _ in 0..50 {
