@@ -10,6 +10,7 @@ pub mod algebra;
 pub mod canonical_form;
 pub mod control;
 pub mod derivation;
+pub mod exercise;
 pub mod linalg;
 pub mod observability;
 pub mod observer;

@@ -5,7 +5,7 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 
 /// One worked example: a system, and what a document printed about it.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExampleFile {
     /// Stable identifier (`stoustrup-pole-assignment`).
@@ -65,7 +65,7 @@ pub struct IntensitySpec {
 }
 
 /// One printed claim.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ClaimSpec {
     /// Identifier, unique in the file.

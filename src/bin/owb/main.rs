@@ -5,6 +5,7 @@
 mod args;
 mod canonical;
 mod control;
+mod exercise;
 mod gain;
 mod kalman;
 mod observe;
@@ -47,6 +48,12 @@ enum Command {
     Perfect(perfect::Args),
     /// Simulate a worked example's scenarios (its figures): SVG, CSV and the figures' claims checked.
     Simulate(simulate::Args),
+    /// Check a student's answers to an exercise: per part ✔/✘ with the mistake named.
+    Check(exercise::CheckArgs),
+    /// Grade a folder of submissions into a CSV report (and feedback files).
+    Grade(exercise::GradeArgs),
+    /// Exercises: generate new ones.
+    Exercise(exercise::ExerciseArgs),
 }
 
 /// What a subcommand reports back.
@@ -69,6 +76,9 @@ fn main() -> ExitCode {
         Command::Kalman(a) => kalman::run(a),
         Command::Perfect(a) => perfect::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Check(a) => exercise::check(a),
+        Command::Grade(a) => exercise::grade(a),
+        Command::Exercise(a) => exercise::exercise(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

@@ -1,0 +1,193 @@
+//! Checking one student's answers against the computed key.
+
+use super::diagnose::diagnose;
+use super::format::AnswerFile;
+use super::key::AnswerKey;
+use crate::worked::{compare, Agreement};
+use serde::Serialize;
+
+/// The verdict on one part.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PartVerdict {
+    /// Right (exactly, or to the decimals written).
+    Correct,
+    /// Wrong.
+    Wrong,
+    /// No answer given.
+    Missing,
+    /// The answer cannot be read (syntax), with where.
+    Unreadable,
+}
+
+impl PartVerdict {
+    /// ✔ or ✘.
+    pub fn mark(self) -> &'static str {
+        match self {
+            PartVerdict::Correct => "✔",
+            _ => "✘",
+        }
+    }
+}
+
+/// One part, checked.
+#[derive(Clone, Debug, Serialize)]
+pub struct PartResult {
+    /// Part id.
+    pub id: String,
+    /// The question.
+    pub prompt: String,
+    /// Verdict.
+    pub verdict: PartVerdict,
+    /// The mistake named, if any.
+    pub mistake: Option<String>,
+    /// Points earned.
+    pub score: f64,
+    /// Points possible.
+    pub points: f64,
+    /// The feedback, computed.
+    pub feedback: String,
+}
+
+/// A student's checked answers.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// The student.
+    pub student: String,
+    /// The exercise.
+    pub exercise: String,
+    /// Per part.
+    pub parts: Vec<PartResult>,
+    /// Total earned.
+    pub score: f64,
+    /// Total possible.
+    pub points: f64,
+    /// Answers that match no part.
+    pub unknown_answers: Vec<String>,
+}
+
+impl Report {
+    /// Whether every part is correct.
+    pub fn all_correct(&self) -> bool {
+        self.parts.iter().all(|p| p.verdict == PartVerdict::Correct)
+    }
+
+    /// The feedback as text for the student.
+    pub fn text(&self) -> String {
+        let mut out = format!("{} — exercise {}\n", self.student, self.exercise);
+        for p in &self.parts {
+            out.push_str(&format!(
+                "{} {} ({}/{} points): {}\n    {}\n",
+                p.verdict.mark(),
+                p.id,
+                trim(p.score),
+                trim(p.points),
+                p.prompt,
+                p.feedback.replace('\n', "\n    ")
+            ));
+        }
+        for a in &self.unknown_answers {
+            out.push_str(&format!(
+                "! answers.{a} is not a part of this exercise (ignored)\n"
+            ));
+        }
+        out.push_str(&format!(
+            "score: {} / {}\n",
+            trim(self.score),
+            trim(self.points)
+        ));
+        out
+    }
+}
+
+fn trim(x: f64) -> String {
+    let s = format!("{x:.2}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Checks `answers` against the key.
+pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Report {
+    let mut parts = Vec::new();
+    for part in &key.parts {
+        let points = part.spec.points;
+        let result = match answers.answers.get(&part.spec.id) {
+            None => PartResult {
+                id: part.spec.id.clone(),
+                prompt: part.spec.prompt.clone(),
+                verdict: PartVerdict::Missing,
+                mistake: None,
+                score: 0.0,
+                points,
+                feedback: "no answer given".into(),
+            },
+            Some(text) => match compare(&part.value, text, &key.env) {
+                Err(message) => PartResult {
+                    id: part.spec.id.clone(),
+                    prompt: part.spec.prompt.clone(),
+                    verdict: PartVerdict::Unreadable,
+                    mistake: None,
+                    score: 0.0,
+                    points,
+                    feedback: format!("cannot read the answer: {message}"),
+                },
+                Ok(agreement) if agreement.holds() => PartResult {
+                    id: part.spec.id.clone(),
+                    prompt: part.spec.prompt.clone(),
+                    verdict: PartVerdict::Correct,
+                    mistake: None,
+                    score: points,
+                    points,
+                    feedback: match agreement {
+                        Agreement::Rounded { digits } => format!(
+                            "correct to the {digits} decimals you wrote (your numbers are the exact answer rounded, not truncated); exactly: {}",
+                            part.value.input()
+                        ),
+                        _ => "correct".into(),
+                    },
+                },
+                Ok(_) => {
+                    let (diagnosis, notes) = diagnose(key, part, text);
+                    let credit = diagnosis
+                        .as_ref()
+                        .and_then(|d| part.spec.partial.get(d.mistake))
+                        .copied()
+                        .unwrap_or(0.0);
+                    let mut lines = Vec::new();
+                    if let Some(d) = &diagnosis {
+                        lines.push(format!("{} — {}", d.mistake.replace('_', " "), d.message));
+                    } else {
+                        lines.push("not the answer, and not a mistake the workbench recognises".into());
+                    }
+                    lines.extend(notes);
+                    if credit > 0.0 {
+                        lines.push(format!("partial credit for this mistake: {}", trim(credit * points)));
+                    }
+                    PartResult {
+                        id: part.spec.id.clone(),
+                        prompt: part.spec.prompt.clone(),
+                        verdict: PartVerdict::Wrong,
+                        mistake: diagnosis.map(|d| d.mistake.to_string()),
+                        score: credit * points,
+                        points,
+                        feedback: lines.join("\n"),
+                    }
+                }
+            },
+        };
+        parts.push(result);
+    }
+    let unknown_answers = answers
+        .answers
+        .keys()
+        .filter(|k| key.part(k).is_none())
+        .cloned()
+        .collect();
+    Report {
+        student: student.to_string(),
+        exercise: key.example.id.clone(),
+        score: parts.iter().map(|p| p.score).sum(),
+        points: parts.iter().map(|p| p.points).sum(),
+        parts,
+        unknown_answers,
+    }
+}

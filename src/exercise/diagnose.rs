@@ -1,0 +1,474 @@
+//! Naming a student's mistake. Each recognised mistake is a *candidate answer* computed from the
+//! exercise (the gain for the other convention, the canonical-coordinate gain, the transposed
+//! matrix, …); when the student's answer matches a candidate (with the same rounding rules as a
+//! correct answer) the mistake is named. For gains, the poles the answer actually places are
+//! computed and compared with other observer polynomials (another family, another time
+//! constant, mirrored poles).
+
+use super::key::{AnswerKey, KeyPart};
+use crate::algebra::{Quadratic, Rational};
+use crate::linalg::{characteristic_polynomial, Matrix};
+use crate::observer::float_check::companion_roots;
+use crate::observer::{Convention, DesiredPolynomial};
+use crate::poly::Poly;
+use crate::syntax::{evaluate_with, parse_matrix_expressions};
+use crate::worked::{compare, ClaimSpec, Inputs, Value};
+
+/// The mistakes that can be named (keys of a part's `partial` credit table).
+pub const MISTAKES: &[&str] = &[
+    "sign_convention",
+    "canonical_coordinates",
+    "transposed",
+    "reversed",
+    "wrong_polynomial",
+    "slip",
+    "other_canonical_form",
+    "inverse",
+    "negated",
+];
+
+/// A named mistake with its explanation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnosis {
+    /// One of [`MISTAKES`].
+    pub mistake: &'static str,
+    /// What the student did, in words, with the numbers.
+    pub message: String,
+}
+
+fn matches(key: &AnswerKey, candidate: &Value, answer: &str) -> bool {
+    compare(candidate, answer, &key.env).is_ok_and(|a| a.holds())
+}
+
+fn convention(part: &KeyPart) -> Convention {
+    part.claim
+        .convention
+        .as_deref()
+        .and_then(Convention::parse)
+        .unwrap_or(Convention::AMinusKC)
+}
+
+/// The student's matrix, exact (decimals as the rationals they denote).
+pub fn answer_matrix(key: &AnswerKey, answer: &str) -> Option<Matrix<Quadratic>> {
+    let rows = parse_matrix_expressions(answer).ok()?;
+    let values = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|e| evaluate_with::<Quadratic>(e, &key.env))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .ok()?;
+    Matrix::from_rows(values).ok()
+}
+
+fn recompute_as(key: &AnswerKey, part: &KeyPart, what: &str) -> Option<Value> {
+    let claim = ClaimSpec {
+        what: what.into(),
+        ..part.claim.clone()
+    };
+    key.recompute(&claim)
+}
+
+/// Candidate wrong answers for this part: (mistake, value, explanation).
+fn candidates(key: &AnswerKey, part: &KeyPart) -> Vec<(&'static str, Value, String)> {
+    let mut out = Vec::new();
+    let conv = convention(part);
+    let other = match conv {
+        Convention::AMinusKC => "A + LC",
+        Convention::APlusLC => "A − KC",
+    };
+    let asked = match conv {
+        Convention::AMinusKC => "A − KC",
+        Convention::APlusLC => "A + LC",
+    };
+    match (&part.value, part.spec.ask.as_str()) {
+        (Value::Matrix(m), ask) => {
+            if matches!(ask, "gain" | "canonical_gain" | "state_feedback") {
+                out.push((
+                    "sign_convention",
+                    Value::Matrix(m.neg()),
+                    format!("your answer is the negative of the gain: it is the gain for the {other} convention, but the exercise asks for {asked}"),
+                ));
+            }
+            if ask == "gain" {
+                if let Some(Value::Matrix(k_o)) = recompute_as(key, part, "canonical_gain") {
+                    out.push((
+                        "canonical_coordinates",
+                        Value::Matrix(k_o.clone()),
+                        format!("this is the gain in observer-canonical coordinates, K_o = {}; transform it back with T (K = T K_o) to get the gain of the original system", k_o.to_input()),
+                    ));
+                    out.push((
+                        "canonical_coordinates",
+                        Value::Matrix(k_o.neg()),
+                        format!("this is −K_o, the canonical-coordinate gain with the other sign convention: transform with T (K = T K_o) and use the {asked} convention"),
+                    ));
+                }
+            }
+            if ask == "canonical_transformation" || ask == "canonical_transformation_inverse" {
+                if let Ok(inv) = crate::linalg::inverse(m) {
+                    out.push((
+                        "inverse",
+                        Value::Matrix(inv),
+                        "you gave the inverse: the exercise uses x = T x_o (A_o = T⁻¹ A T); check which of T and T⁻¹ is asked".into(),
+                    ));
+                }
+            }
+            if ask == "canonical_a" || ask == "canonical_c" || ask == "canonical_b" {
+                out.push((
+                    "other_canonical_form",
+                    Value::Matrix(m.transpose()),
+                    "this is the transpose, the controller (companion) canonical form; the observer canonical form is its dual (coefficients in the first column of A_o, C_o = [1 0 … 0])".into(),
+                ));
+            }
+            if m.rows() != m.cols() {
+                out.push((
+                    "transposed",
+                    Value::Matrix(m.transpose()),
+                    format!("transposed: the answer should be {}×{}", m.rows(), m.cols()),
+                ));
+            }
+            if (m.rows() == 1 || m.cols() == 1) && m.rows() * m.cols() > 1 {
+                let entries: Vec<Quadratic> =
+                    (0..m.rows()).flat_map(|i| m.row(i).to_vec()).collect();
+                let rev: Vec<Quadratic> = entries.into_iter().rev().collect();
+                let r = Matrix::from_fn(m.rows(), m.cols(), |i, j| rev[i * m.cols() + j].clone());
+                out.push(("reversed", Value::Matrix(r), "the entries are in reverse order (the state ordering of the other canonical form, or Lemma 3.1's rotation undone)".into()));
+            }
+        }
+        (Value::Polynomial(p), ask) => {
+            out.push(("negated", Value::Polynomial(-p.clone()), "your polynomial is the negative of the answer; the characteristic polynomial det(λI − A) is monic (det(A − λI) differs from it by (−1)ⁿ)".into()));
+            if ask == "desired_polynomial" {
+                for (family, value) in other_families(key, part) {
+                    out.push((
+                        "wrong_polynomial",
+                        Value::Polynomial(value),
+                        format!(
+                            "this is the {family} polynomial; the exercise asks for {}",
+                            asked_family(key, part)
+                        ),
+                    ));
+                }
+            }
+        }
+        (Value::Transfer(t), _) => {
+            out.push(("negated", Value::Transfer(-t.clone()), "your transfer function has the wrong sign (u = F x̂ with F as given: check the sign of the feedback)".into()));
+        }
+        _ => {}
+    }
+    out
+}
+
+/// The design's time constant, evaluated with the exercise's parameters.
+fn time_constant(key: &AnswerKey, text: &str) -> Option<Rational> {
+    let e = crate::syntax::parse_expression(text).ok()?;
+    evaluate_with::<Rational>(&e, &key.env).ok()
+}
+
+fn asked_family(key: &AnswerKey, part: &KeyPart) -> String {
+    let c = &part.claim;
+    let t =
+        |text: &String| time_constant(key, text).map_or_else(|| text.clone(), |r| r.to_string());
+    if let Some(x) = &c.repeated {
+        format!("a repeated root with T = {}", t(x))
+    } else if let Some(x) = &c.butterworth {
+        format!("a Butterworth polynomial with T = {}", t(x))
+    } else if let Some(x) = &c.bessel {
+        format!("a Bessel polynomial with T = {}", t(x))
+    } else if let Some(p) = &c.poles {
+        format!("the poles {p}")
+    } else {
+        c.poly.clone().unwrap_or_default()
+    }
+}
+
+/// The other families with the asked time constant (exact where possible).
+fn other_families(key: &AnswerKey, part: &KeyPart) -> Vec<(String, Poly<Quadratic>)> {
+    let c = &part.claim;
+    let Ok(n) = Inputs {
+        file: &key.example,
+        claim: c,
+        env: &key.env,
+    }
+    .numeric("A")
+    .map(|a| a.rows()) else {
+        return Vec::new();
+    };
+    let t_text = c
+        .repeated
+        .as_ref()
+        .or(c.butterworth.as_ref())
+        .or(c.bessel.as_ref());
+    let Some(t) = t_text.and_then(|t| time_constant(key, t)) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for (name, asked, poly) in [
+        (
+            "repeated-root",
+            c.repeated.is_some(),
+            DesiredPolynomial::repeated(&t, n),
+        ),
+        (
+            "Butterworth",
+            c.butterworth.is_some(),
+            DesiredPolynomial::butterworth(&t, n),
+        ),
+        (
+            "Bessel",
+            c.bessel.is_some(),
+            DesiredPolynomial::bessel(&t, n),
+        ),
+    ] {
+        if let (false, Ok(Some(p))) = (asked, poly.map(|d| d.exact)) {
+            out.push((format!("{name} (T = {t})"), p));
+        }
+    }
+    out
+}
+
+/// The observer polynomial the student's gain actually gives, and a diagnosis when it is another
+/// recognisable polynomial. `None` when the answer is not a gain of the right shape.
+pub fn placed_polynomial(
+    key: &AnswerKey,
+    part: &KeyPart,
+    answer: &str,
+) -> Option<(Poly<Quadratic>, String, Option<Diagnosis>)> {
+    if part.spec.ask != "gain" {
+        return None;
+    }
+    let inputs = Inputs {
+        file: &key.example,
+        claim: &part.claim,
+        env: &key.env,
+    };
+    let lift = |m: Matrix<Rational>| m.map(|x| Quadratic::rational(x.clone()));
+    let a = lift(inputs.numeric("A").ok()?);
+    let c = lift(inputs.numeric("C").ok()?);
+    let k = answer_matrix(key, answer)?;
+    if k.rows() != a.rows() || k.cols() != c.rows() {
+        return None;
+    }
+    let obs = match convention(part) {
+        Convention::AMinusKC => a.sub(&k.mul(&c).ok()?).ok()?,
+        Convention::APlusLC => a.add(&k.mul(&c).ok()?).ok()?,
+    };
+    let p = characteristic_polynomial(&obs, "s").ok()?;
+    let pf = p.map(|x| x.to_complex_f64().0);
+    let roots: Vec<String> = companion_roots(&pf)
+        .iter()
+        .map(|z| {
+            if z.im.abs() < 1e-9 {
+                format!("{:.4}", z.re)
+            } else {
+                format!(
+                    "{:.4} {} {:.4}i",
+                    z.re,
+                    if z.im < 0.0 { "−" } else { "+" },
+                    z.im.abs()
+                )
+            }
+        })
+        .collect();
+    let text = format!(
+        "your gain gives the observer polynomial {p} (poles {})",
+        roots.join(", ")
+    );
+    let n = a.rows();
+    let close = |q: &Poly<f64>| {
+        (0..=n).all(|i| {
+            let (x, y) = (pf.coeff(i), q.coeff(i));
+            (x - y).abs() <= 2e-3 * y.abs().max(1.0)
+        })
+    };
+    let mut diagnosis = identify_family(key, part, &pf, n, "your gain places");
+    // mirrored poles: the desired polynomial at −s
+    if diagnosis.is_none() {
+        if let Value::Matrix(_) = &part.value {
+            if let Some(Value::Polynomial(d)) = {
+                let claim = ClaimSpec {
+                    what: "desired_polynomial".into(),
+                    ..part.claim.clone()
+                };
+                key.recompute(&claim)
+            } {
+                let df = d.map(|x| x.to_complex_f64().0);
+                let mirrored = Poly::new(
+                    (0..=n)
+                        .map(|i| {
+                            if (n - i) % 2 == 0 {
+                                df.coeff(i)
+                            } else {
+                                -df.coeff(i)
+                            }
+                        })
+                        .collect(),
+                    "s",
+                );
+                if close(&mirrored) && !close(&df) {
+                    diagnosis = Some(Diagnosis {
+                        mistake: "wrong_polynomial",
+                        message: "your gain places the poles mirrored into the right half-plane (s − p instead of s + p): the observer would be unstable".into(),
+                    });
+                }
+            }
+        }
+    }
+    Some((p, text, diagnosis))
+}
+
+/// Which family and time constant a polynomial is, if any (compared to 0.2 % in each
+/// coefficient, so rounded answers are recognised).
+fn identify_family(
+    key: &AnswerKey,
+    part: &KeyPart,
+    pf: &Poly<f64>,
+    n: usize,
+    lead: &str,
+) -> Option<Diagnosis> {
+    let close = |q: &Poly<f64>| {
+        (0..=n).all(|i| {
+            let (x, y) = (pf.coeff(i), q.coeff(i));
+            (x - y).abs() <= 2e-3 * y.abs().max(1.0)
+        })
+    };
+    let c0 = pf.coeff(0).abs();
+    if c0 <= 0.0 || pf.degree() != Some(n) {
+        return None;
+    }
+    for (name, make) in [
+        (
+            "a repeated root",
+            DesiredPolynomial::repeated as fn(&Rational, usize) -> _,
+        ),
+        ("the Butterworth polynomial", DesiredPolynomial::butterworth),
+        ("the Bessel polynomial", DesiredPolynomial::bessel),
+    ] {
+        let Ok(unit) = make(&Rational::from_integer(1.into()), n) else {
+            continue;
+        };
+        let t = (unit.float.coeff(0).abs() / c0).powf(1.0 / n as f64);
+        let Some(tq) = num_rational::BigRational::from_float(t) else {
+            continue;
+        };
+        if let Ok(q) = make(&tq, n) {
+            if close(&q.float) {
+                return Some(Diagnosis {
+                    mistake: "wrong_polynomial",
+                    message: format!(
+                        "{lead} {name} with time constant T ≈ {t:.4}; the exercise asks for {}",
+                        asked_family(key, part)
+                    ),
+                });
+            }
+        }
+    }
+    None
+}
+
+/// A desired-polynomial answer that is another family or time constant.
+fn polynomial_family(key: &AnswerKey, part: &KeyPart, answer: &str) -> Option<Diagnosis> {
+    let Value::Polynomial(q) = &part.value else {
+        return None;
+    };
+    if part.spec.ask != "desired_polynomial" {
+        return None;
+    }
+    let e = crate::syntax::parse_expression(answer).ok()?;
+    let rf =
+        crate::syntax::rational_function_with::<Quadratic>(&e, q.var(), Some(&key.env)).ok()?;
+    let p = rf.numerator().map(|x| x.to_complex_f64().0);
+    let d = rf.denominator().map(|x| x.to_complex_f64().0);
+    let scale = d.coeff(0);
+    if d.degree() != Some(0) || scale == 0.0 {
+        return None;
+    }
+    let p = p.map(|x| x / scale);
+    identify_family(key, part, &p, q.degree()?, "this is")
+}
+
+/// A single wrong entry, when everything else matches.
+fn single_slip(key: &AnswerKey, part: &KeyPart, answer: &str) -> Option<Diagnosis> {
+    let Value::Matrix(m) = &part.value else {
+        return None;
+    };
+    let rows = parse_matrix_expressions(answer).ok()?;
+    if rows.len() != m.rows() || rows.iter().any(|r| r.len() != m.cols()) {
+        return None;
+    }
+    let mut wrong = Vec::new();
+    for (i, row) in rows.iter().enumerate() {
+        for (j, _) in row.iter().enumerate() {
+            // compare entry by entry with the same rounding rules
+            let entry_text = answer_entry(answer, i, j)?;
+            let cell = Value::Matrix(Matrix::from_fn(1, 1, |_, _| m.get(i, j).clone()));
+            if !matches(key, &cell, &entry_text) {
+                wrong.push((i, j, entry_text));
+            }
+        }
+    }
+    if let [(i, j, text)] = wrong.as_slice() {
+        return Some(Diagnosis {
+            mistake: "slip",
+            message: format!(
+                "one slip: entry ({}, {}) is {text}, it should be {}; everything else is right",
+                i + 1,
+                j + 1,
+                m.get(*i, *j)
+            ),
+        });
+    }
+    None
+}
+
+/// The text of entry (i, j) of a matrix answer, split on MATLAB rules.
+fn answer_entry(answer: &str, i: usize, j: usize) -> Option<String> {
+    let inner = answer.trim().trim_start_matches('[').trim_end_matches(']');
+    let row = inner.split(';').nth(i)?;
+    let parts: Vec<&str> = if row.contains(',') {
+        row.split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .collect()
+    } else {
+        row.split_whitespace().collect()
+    };
+    parts.get(j).map(|s| (*s).to_string())
+}
+
+/// Names the mistake in a wrong answer, if it is one the workbench recognises, and says what the
+/// answer does (for gains: the poles it places).
+pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagnosis>, Vec<String>) {
+    let mut notes = Vec::new();
+    for (mistake, value, message) in candidates(key, part) {
+        if matches(key, &value, answer) {
+            return (Some(Diagnosis { mistake, message }), notes);
+        }
+    }
+    let mut found = None;
+    if let Some((_, text, d)) = placed_polynomial(key, part, answer) {
+        notes.push(text);
+        found = d;
+    }
+    if found.is_none() {
+        found = polynomial_family(key, part, answer);
+    }
+    if found.is_none() {
+        found = single_slip(key, part, answer);
+    }
+    if found.is_none() {
+        if let (Value::Matrix(m), Some(a)) = (&part.value, answer_matrix(key, answer)) {
+            if (a.rows(), a.cols()) != (m.rows(), m.cols()) {
+                notes.push(format!(
+                    "your answer is {}×{}, the answer is {}×{}",
+                    a.rows(),
+                    a.cols(),
+                    m.rows(),
+                    m.cols()
+                ));
+            }
+        }
+    }
+    (found, notes)
+}

@@ -1,0 +1,223 @@
+//! Exercise and answer files (TOML), documented for teachers in
+//! `worked_examples/exercises/README.md`.
+
+use super::ExerciseError;
+use crate::worked::SystemSpec;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// An exercise: a statement, a system, a design, and the parts to answer.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExerciseFile {
+    /// Identifier.
+    pub id: String,
+    /// Title.
+    pub title: String,
+    /// Where it comes from (document and place), or "generated".
+    pub source: String,
+    /// The statement, in markdown (used by the book).
+    pub statement: String,
+    /// Exact parameter values.
+    #[serde(default)]
+    pub parameters: BTreeMap<String, String>,
+    /// The system.
+    pub system: SystemSpec,
+    /// The design asked for.
+    #[serde(default)]
+    pub design: DesignSpec,
+    /// The parts to answer.
+    pub parts: Vec<PartSpec>,
+}
+
+/// The design the parts refer to.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DesignSpec {
+    /// `a-kc` or `a+lc`: the convention the answers must use.
+    pub convention: Option<String>,
+    /// Canonical-form procedure (`di-ruscio`, `stoustrup`).
+    pub procedure: Option<String>,
+    /// Desired observer poles.
+    pub poles: Option<String>,
+    /// Desired observer polynomial.
+    pub poly: Option<String>,
+    /// Repeated root with time constant T.
+    pub repeated: Option<String>,
+    /// Butterworth with time constant T.
+    pub butterworth: Option<String>,
+    /// Bessel with time constant T.
+    pub bessel: Option<String>,
+    /// State feedback `F` for control parts (u = F x̂).
+    pub feedback: Option<String>,
+    /// The observer gain for control parts (default: the computed `gain` part).
+    pub gain: Option<String>,
+}
+
+/// One part to answer.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartSpec {
+    /// The key of the answer (`O`, `T`, `K`…).
+    pub id: String,
+    /// What is asked: a worked-example computation (`observability_matrix`, `gain`, …).
+    pub ask: String,
+    /// The question, for the student.
+    pub prompt: String,
+    /// Points for a correct answer.
+    #[serde(default = "one")]
+    pub points: f64,
+    /// Partial credit (fraction of `points`) per diagnosed mistake, e.g. `{ sign_convention = 0.5 }`.
+    #[serde(default)]
+    pub partial: BTreeMap<String, f64>,
+    /// A C for this part only (e.g. one output).
+    #[serde(rename = "C")]
+    pub c: Option<String>,
+    /// Design settings for this part only (override the exercise's `[design]`).
+    pub design: Option<DesignSpec>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// The computations a part may ask for.
+pub const ASKABLE: &[&str] = &[
+    "observability_matrix",
+    "observability_determinant",
+    "observable",
+    "characteristic_polynomial",
+    "eigenvalues",
+    "canonical_transformation",
+    "canonical_transformation_inverse",
+    "canonical_a",
+    "canonical_b",
+    "canonical_c",
+    "desired_polynomial",
+    "canonical_gain",
+    "gain",
+    "state_feedback",
+    "closed_loop_poles",
+    "closed_loop_polynomial",
+    "controller_transfer_function",
+    "closed_loop_transfer_function",
+    "perfect_observer_e",
+    "perfect_observer_f",
+    "perfect_observer_input_matrix",
+    "perfect_observer_output_matrix",
+];
+
+/// A student's answers: `answers.K = "[-6; -12]"`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnswerFile {
+    /// The student (defaults to the file name).
+    pub student: Option<String>,
+    /// The exercise id these answers are for (checked when given).
+    pub exercise: Option<String>,
+    /// Part id → answer text in the input syntax.
+    #[serde(default)]
+    pub answers: BTreeMap<String, String>,
+}
+
+fn line_of(raw: &str, needle: &str) -> usize {
+    raw.lines()
+        .position(|l| l.trim_start().starts_with(needle))
+        .map_or(0, |i| i + 1)
+}
+
+fn read(path: &Path) -> Result<String, ExerciseError> {
+    std::fs::read_to_string(path).map_err(|e| ExerciseError {
+        file: path.display().to_string(),
+        line: 0,
+        field: "file".into(),
+        message: e.to_string(),
+    })
+}
+
+fn toml_error(path: &Path, raw: &str, e: &toml::de::Error) -> ExerciseError {
+    ExerciseError {
+        file: path.display().to_string(),
+        line: e.span().map_or(0, |s| {
+            raw[..s.start.min(raw.len())].matches('\n').count() + 1
+        }),
+        field: "toml".into(),
+        message: e.message().to_string(),
+    }
+}
+
+/// Reads an exercise file and checks its parts.
+///
+/// # Errors
+/// [`ExerciseError`] with file, line and field.
+pub fn load_exercise(path: &Path) -> Result<(ExerciseFile, String), ExerciseError> {
+    let raw = read(path)?;
+    let ex: ExerciseFile = toml::from_str(&raw).map_err(|e| toml_error(path, &raw, &e))?;
+    let mut seen = std::collections::BTreeSet::new();
+    for p in &ex.parts {
+        let bad = |field: &str, message: String| ExerciseError {
+            file: path.display().to_string(),
+            line: line_of(&raw, &format!("id = \"{}\"", p.id)),
+            field: format!("parts.{}.{field}", p.id),
+            message,
+        };
+        if !seen.insert(p.id.clone()) {
+            return Err(bad("id", format!("part '{}' appears twice", p.id)));
+        }
+        if !ASKABLE.contains(&p.ask.as_str()) {
+            return Err(bad(
+                "ask",
+                format!(
+                    "unknown computation '{}'; known: {}",
+                    p.ask,
+                    ASKABLE.join(", ")
+                ),
+            ));
+        }
+        if !(p.points.is_finite() && p.points >= 0.0) {
+            return Err(bad("points", "points must be a non-negative number".into()));
+        }
+        if let Some((k, v)) = p.partial.iter().find(|(_, v)| !(0.0..=1.0).contains(*v)) {
+            return Err(bad(
+                "partial",
+                format!("{k} = {v}: a fraction of the points, between 0 and 1"),
+            ));
+        }
+        if let Some(k) = p
+            .partial
+            .keys()
+            .find(|k| !super::diagnose::MISTAKES.contains(&k.as_str()))
+        {
+            return Err(bad(
+                "partial",
+                format!(
+                    "unknown mistake '{k}'; known: {}",
+                    super::diagnose::MISTAKES.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok((ex, raw))
+}
+
+/// Reads an answer file.
+///
+/// # Errors
+/// [`ExerciseError`] with file, line and field.
+pub fn load_answers(path: &Path) -> Result<(AnswerFile, String), ExerciseError> {
+    let raw = read(path)?;
+    let a: AnswerFile = toml::from_str(&raw).map_err(|e| toml_error(path, &raw, &e))?;
+    Ok((a, raw))
+}
+
+/// The line of `key = …` in an answer file (for messages).
+pub fn answer_line(raw: &str, key: &str) -> usize {
+    raw.lines()
+        .position(|l| {
+            let t = l.trim_start();
+            t.strip_prefix(key)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+        })
+        .map_or(0, |i| i + 1)
+}

@@ -1,0 +1,215 @@
+//! Fresh pole-placement exercises whose hand computation stays in small integers: the plant is
+//! built backwards from an observer canonical form with integer coefficients and a unimodular
+//! integer transformation (det T = ±1, so T⁻¹ is an integer matrix too), and the desired poles
+//! are distinct small negative integers. The same seed gives the same exercise.
+
+use crate::algebra::Rational;
+use crate::linalg::{self, Matrix};
+use crate::poly::Poly;
+
+/// Settings of a generated exercise.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// Smallest order.
+    pub min_order: usize,
+    /// Largest order.
+    pub max_order: usize,
+    /// Seed.
+    pub seed: u64,
+    /// `a-kc` or `a+lc`.
+    pub convention: String,
+}
+
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn range(&mut self, lo: i64, hi: i64) -> i64 {
+        lo + (self.next() % (hi - lo + 1) as u64) as i64
+    }
+}
+
+fn int(x: i64) -> Rational {
+    Rational::from_integer(x.into())
+}
+
+fn largest(m: &Matrix<Rational>) -> Rational {
+    let mut top = int(0);
+    for i in 0..m.rows() {
+        for j in 0..m.cols() {
+            let v = m.get(i, j).clone();
+            let a = if v < int(0) { -v } else { v };
+            if a > top {
+                top = a;
+            }
+        }
+    }
+    top
+}
+
+/// Why no exercise could be generated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GenerateError {
+    /// The order range is empty or too large for hand computation.
+    #[error(
+        "order range {0}..{1}: give 1 ≤ min ≤ max ≤ 5 (larger orders are no hand computation)"
+    )]
+    Orders(usize, usize),
+    /// Unknown convention.
+    #[error("convention '{0}': use a-kc or a+lc")]
+    Convention(String),
+}
+
+/// A pole-placement exercise file (TOML text).
+///
+/// # Errors
+/// [`GenerateError`] for a bad order range or convention.
+pub fn pole_placement(s: &Settings) -> Result<String, GenerateError> {
+    if s.min_order == 0 || s.min_order > s.max_order || s.max_order > 5 {
+        return Err(GenerateError::Orders(s.min_order, s.max_order));
+    }
+    if s.convention != "a-kc" && s.convention != "a+lc" {
+        return Err(GenerateError::Convention(s.convention.clone()));
+    }
+    let mut rng = Rng(s.seed ^ 0x5EED_0B5E_7E7E_0001);
+    let n = rng.range(s.min_order as i64, s.max_order as i64) as usize;
+    let (a, c, poles) = loop {
+        // open-loop poles: small integers (a stable, marginal or unstable plant)
+        let open: Vec<Rational> = (0..n).map(|_| int(rng.range(-3, 2))).collect();
+        let coeffs = Poly::from_roots(&open, "s");
+        // observer canonical form: first column −a_1 … −a_n, superdiagonal ones
+        let a_o = Matrix::from_fn(n, n, |i, j| {
+            if j == 0 {
+                -coeffs.coeff(n - 1 - i)
+            } else if j == i + 1 {
+                int(1)
+            } else {
+                int(0)
+            }
+        });
+        let c_o = Matrix::from_fn(1, n, |_, j| if j == 0 { int(1) } else { int(0) });
+        // unimodular T: unit lower times unit upper triangular, entries in {−1, 0, 1}
+        let lower = Matrix::from_fn(n, n, |i, j| match i.cmp(&j) {
+            std::cmp::Ordering::Equal => int(1),
+            std::cmp::Ordering::Greater => int(rng.range(-1, 1)),
+            std::cmp::Ordering::Less => int(0),
+        });
+        let upper = Matrix::from_fn(n, n, |i, j| match i.cmp(&j) {
+            std::cmp::Ordering::Equal => int(1),
+            std::cmp::Ordering::Less => int(rng.range(-1, 1)),
+            std::cmp::Ordering::Greater => int(0),
+        });
+        let Ok(t) = lower.mul(&upper) else { continue };
+        let Ok(t_inv) = linalg::inverse(&t) else {
+            continue;
+        };
+        let (Ok(ta), Ok(c)) = (t.mul(&a_o), c_o.mul(&t_inv)) else {
+            continue;
+        };
+        let Ok(a) = ta.mul(&t_inv) else { continue };
+        let mut candidates: Vec<i64> = (1..=6).map(|k| -k).collect();
+        let mut poles = Vec::new();
+        for _ in 0..n {
+            let k = rng.range(0, candidates.len() as i64 - 1) as usize;
+            poles.push(candidates.remove(k));
+        }
+        poles.sort_unstable_by(|x, y| y.cmp(x));
+        if largest(&a) <= int(9) && largest(&t_inv) <= int(3) && largest(&c) <= int(3) {
+            break (a, c, poles);
+        }
+    };
+    let poles_text = poles
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(", ");
+    let letter = if s.convention == "a-kc" { "K" } else { "L" };
+    let matrix = if s.convention == "a-kc" {
+        "A − KC"
+    } else {
+        "A + LC"
+    };
+    Ok(format!(
+        r#"id = "generated-pole-placement-{seed}"
+title = "Observer pole placement, order {n} (generated, seed {seed})"
+source = "generated by owb exercise new --kind pole-placement --seed {seed}"
+statement = """
+For the system ẋ = A x, y = C x with
+
+A = {a}, C = {c},
+
+1. form the observability matrix O and decide whether the pair (A, C) is observable;
+2. find the transformation T to observer canonical form (x = T x_o, A_o = T⁻¹ A T, C_o = C T = [1 0 … 0]) and A_o, C_o;
+3. read off the open-loop characteristic polynomial;
+4. write the desired observer polynomial for the poles {poles_text};
+5. find the observer gain in canonical coordinates and then the gain {letter} of the original system, for the observer matrix {matrix}.
+"""
+
+[system]
+A = "{a}"
+C = "{c}"
+
+[design]
+convention = "{conv}"
+poles = "{poles_text}"
+
+[[parts]]
+id = "O"
+ask = "observability_matrix"
+prompt = "the observability matrix O = [C; CA; …]"
+
+[[parts]]
+id = "observable"
+ask = "observable"
+prompt = "is (A, C) observable? (yes / no)"
+
+[[parts]]
+id = "T"
+ask = "canonical_transformation"
+prompt = "the transformation T (x = T x_o)"
+
+[[parts]]
+id = "A_o"
+ask = "canonical_a"
+prompt = "A_o = T⁻¹ A T"
+
+[[parts]]
+id = "C_o"
+ask = "canonical_c"
+prompt = "C_o = C T"
+
+[[parts]]
+id = "open_loop"
+ask = "characteristic_polynomial"
+prompt = "the open-loop characteristic polynomial det(sI − A)"
+
+[[parts]]
+id = "desired"
+ask = "desired_polynomial"
+prompt = "the desired observer polynomial"
+
+[[parts]]
+id = "{letter}_o"
+ask = "canonical_gain"
+prompt = "the gain in canonical coordinates ({matrix} convention)"
+partial = {{ sign_convention = 0.5 }}
+
+[[parts]]
+id = "{letter}"
+ask = "gain"
+prompt = "the observer gain {letter} ({matrix})"
+points = 2
+partial = {{ sign_convention = 0.5, canonical_coordinates = 0.5, slip = 0.5, reversed = 0.25, transposed = 0.75 }}
+"#,
+        seed = s.seed,
+        a = a.to_input(),
+        c = c.to_input(),
+        conv = s.convention,
+    ))
+}

@@ -1,0 +1,290 @@
+//! Issue 6: exercises checked with feedback that names the mistake, batch grading, generated
+//! exercises.
+
+use observer_workbench::exercise::diagnose::diagnose;
+use observer_workbench::exercise::generate::{pole_placement, Settings};
+use observer_workbench::exercise::{
+    answer_key, check_answers, load_exercise, AnswerFile, AnswerKey, PartVerdict,
+};
+use proptest::prelude::*;
+use std::path::Path;
+use std::process::Command;
+
+fn owb(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_owb"))
+        .args(args)
+        .output()
+        .expect("owb runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn key(id: &str) -> AnswerKey {
+    let path = format!("worked_examples/exercises/{id}.toml");
+    let (ex, _) = load_exercise(Path::new(&path)).unwrap();
+    answer_key(&path, &ex).unwrap()
+}
+
+fn mistake(key: &AnswerKey, part: &str, answer: &str) -> Option<&'static str> {
+    let p = key.part(part).unwrap();
+    diagnose(key, p, answer).0.map(|d| d.mistake)
+}
+
+#[test]
+fn every_exercise_has_a_computable_key() {
+    let dir = Path::new("worked_examples/exercises");
+    let mut count = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|x| x == "toml") {
+            let (ex, _) = load_exercise(&path).unwrap();
+            let k = answer_key(&path.display().to_string(), &ex).unwrap();
+            assert_eq!(k.parts.len(), ex.parts.len());
+            // the key answers itself
+            let answers = AnswerFile {
+                answers: k
+                    .parts
+                    .iter()
+                    .map(|p| (p.spec.id.clone(), p.value.input()))
+                    .collect(),
+                ..AnswerFile::default()
+            };
+            assert!(
+                check_answers(&k, &answers, "key").all_correct(),
+                "{}",
+                path.display()
+            );
+            count += 1;
+        }
+    }
+    assert!(count >= 5);
+}
+
+/// Realistic wrong answers, each with the diagnosis it must get.
+#[test]
+fn each_mistake_kind_is_named() {
+    let st = key("stoustrup-pole-assignment");
+    // L = (−6, −12) in A + LC
+    assert_eq!(mistake(&st, "L", "[6; 12]"), Some("sign_convention"));
+    assert_eq!(
+        mistake(&st, "L", "[-6; -18]"),
+        Some("canonical_coordinates")
+    );
+    assert_eq!(mistake(&st, "L", "[-6 -12]"), Some("transposed"));
+    assert_eq!(mistake(&st, "L", "[-12; -6]"), Some("reversed"));
+    assert_eq!(mistake(&st, "L", "[-6; -13]"), Some("slip"));
+    assert_eq!(mistake(&st, "O", "[-3 2; 2 -2]"), Some("slip"));
+    assert_eq!(mistake(&st, "T", "[-3 2; -7 5]"), Some("inverse"));
+    assert_eq!(
+        mistake(&st, "A_o", "[-3 -2; 1 0]"),
+        Some("other_canonical_form")
+    );
+    assert_eq!(
+        mistake(&st, "open_loop", "-(s^2 + 3s + 2)"),
+        Some("negated")
+    );
+    assert_eq!(mistake(&st, "L", "[1; 2]"), None);
+    let dr = key("diruscio-example-7-1");
+    // gain for T = 0.5 (the plant's time constant) instead of T = 0.125
+    assert_eq!(
+        mistake(&dr, "K_butterworth", "[-1.1716; 2]"),
+        Some("wrong_polynomial")
+    );
+    // Butterworth where a double root was asked
+    assert_eq!(
+        mistake(&dr, "double_root", "s^2 + 8 sqrt(2) s + 64"),
+        Some("wrong_polynomial")
+    );
+    assert_eq!(
+        mistake(&dr, "K_double_root", "[18; -32]"),
+        Some("sign_convention")
+    );
+    let oc = key("stoustrup-observer-based-control");
+    assert_eq!(
+        mistake(&oc, "controller", "108 (s + 7/3)/(s^2 + 15 s + 74)"),
+        Some("negated")
+    );
+}
+
+#[test]
+fn equivalent_forms_and_rounding_count_as_correct() {
+    let st = key("stoustrup-pole-assignment");
+    let dr = key("diruscio-example-7-1");
+    let oc = key("stoustrup-observer-based-control");
+    let ok = |k: &AnswerKey, part: &str, answer: &str| {
+        let answers = AnswerFile {
+            answers: [(part.to_string(), answer.to_string())].into(),
+            ..AnswerFile::default()
+        };
+        let r = check_answers(k, &answers, "s");
+        r.parts.iter().find(|p| p.id == part).unwrap().verdict == PartVerdict::Correct
+    };
+    assert!(ok(&st, "desired", "(s + 4)(s + 5)"));
+    assert!(ok(&st, "desired", "s^2 + 9 s + 20"));
+    assert!(ok(&oc, "controller", "(-216 s - 504)/(2 s^2 + 30 s + 148)"));
+    assert!(ok(&oc, "controller", "-108 (s + 7/3)/(s^2 + 15 s + 74)"));
+    // 8√2 − 34 = −22.6863 (rounded to 4 decimals), truncation −22.6862 is wrong
+    assert!(ok(&dr, "K_butterworth", "[-22.6863; 32]"));
+    assert!(!ok(&dr, "K_butterworth", "[-22.6862; 32]"));
+    assert!(ok(&dr, "K_butterworth", "[8*sqrt(2) - 34; 32]"));
+}
+
+#[test]
+fn feedback_for_three_typical_wrong_answers() {
+    let st = key("stoustrup-pole-assignment");
+    let dr = key("diruscio-example-7-1");
+    let answers = |pairs: &[(&str, &str)]| AnswerFile {
+        answers: pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect(),
+        ..AnswerFile::default()
+    };
+    let a = check_answers(
+        &st,
+        &answers(&[
+            ("L", "[6; 12]"),
+            ("L_o", "[-6; -18]"),
+            ("T", "[-3 2; -7 5]"),
+        ]),
+        "student-a",
+    );
+    let b = check_answers(
+        &dr,
+        &answers(&[
+            ("K_butterworth", "[-1.1716; 2]"),
+            ("double_root", "s^2 + 11.3137 s + 64"),
+        ]),
+        "student-b",
+    );
+    insta::assert_snapshot!(format!("{}\n{}", a.text(), b.text()));
+}
+
+#[test]
+fn check_and_grade_from_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("owb-grade-{}", std::process::id()));
+    let subs = dir.join("subs");
+    std::fs::create_dir_all(&subs).unwrap();
+    std::fs::write(
+        subs.join("ada.toml"),
+        "[answers]\nL = \"[-6; -12]\"\nO = \"[-3 2; 2 -1]\"\n",
+    )
+    .unwrap();
+    std::fs::write(subs.join("bob.toml"), "[answers]\nL = \"[6; 12]\"\n").unwrap();
+    std::fs::write(subs.join("eve.toml"), "[answers\nL = ").unwrap();
+    std::fs::write(subs.join("zed.toml"), "[answers]\nL = \"[6; 12\"\n").unwrap();
+    let (code, out, err) = owb(&[
+        "check",
+        "stoustrup-pole-assignment",
+        subs.join("bob.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(out.contains("sign convention"));
+    let (code, _, err) = owb(&[
+        "check",
+        "stoustrup-pole-assignment",
+        subs.join("eve.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("eve.toml:"), "{err}");
+    let csv = dir.join("report.csv");
+    let fb = dir.join("feedback");
+    let (code, out, err) = owb(&[
+        "grade",
+        "stoustrup-pole-assignment",
+        subs.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+        "--feedback",
+        fb.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    let report = std::fs::read_to_string(&csv).unwrap();
+    // eve's file is reported, not skipped; zed's unreadable answer is named
+    assert!(
+        report
+            .lines()
+            .any(|l| l.starts_with("eve,") && l.contains(",invalid,")),
+        "{report}"
+    );
+    assert!(
+        report
+            .lines()
+            .any(|l| l.starts_with("zed,") && l.contains(",unreadable,")),
+        "{report}"
+    );
+    assert!(
+        report
+            .lines()
+            .any(|l| l.starts_with("bob,") && l.contains(",L,wrong,sign_convention,")),
+        "{report}"
+    );
+    assert_eq!(report.lines().filter(|l| l.starts_with("ada,")).count(), 8);
+    assert!(fb.join("bob.txt").is_file());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn generated_exercises_are_reproducible_and_small() {
+    let settings = |seed| Settings {
+        min_order: 2,
+        max_order: 4,
+        seed,
+        convention: "a-kc".into(),
+    };
+    assert_eq!(
+        pole_placement(&settings(5)).unwrap(),
+        pole_placement(&settings(5)).unwrap()
+    );
+    assert_ne!(
+        pole_placement(&settings(5)).unwrap(),
+        pole_placement(&settings(6)).unwrap()
+    );
+    for seed in 0..20 {
+        let text = pole_placement(&settings(seed)).unwrap();
+        let ex: observer_workbench::exercise::ExerciseFile = toml::from_str(&text).unwrap();
+        let k = answer_key("generated", &ex).unwrap();
+        // T and the system stay in small integers
+        for id in ["T", "O"] {
+            let v = k.part(id).unwrap().value.input();
+            assert!(!v.contains('/'), "seed {seed}: {id} = {v}");
+        }
+        let t = k.part("T").unwrap().value.input();
+        let biggest = t
+            .split(|c: char| !c.is_ascii_digit())
+            .filter_map(|s| s.parse::<i64>().ok())
+            .max()
+            .unwrap_or(0);
+        assert!(biggest <= 9, "seed {seed}: T = {t}");
+    }
+    let (code, out, _) = owb(&["exercise", "new", "--seed", "3", "--order", "2..3", "--key"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("# K = "));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn random_answer_text_never_panics(text in "\\PC{0,40}", part in 0usize..8) {
+        let st = key("stoustrup-pole-assignment");
+        let id = st.parts[part].spec.id.clone();
+        let answers = AnswerFile { answers: [(id, text)].into(), ..AnswerFile::default() };
+        let r = check_answers(&st, &answers, "fuzz");
+        prop_assert_eq!(r.parts.len(), 8);
+    }
+
+    #[test]
+    fn matrix_like_answers_never_panic(entries in proptest::collection::vec(-50i64..50, 0..7), rows in 1usize..4) {
+        let st = key("stoustrup-pole-assignment");
+        let per = entries.len().div_ceil(rows).max(1);
+        let text = format!("[{}]", entries.chunks(per).map(|c| c.iter().map(ToString::to_string).collect::<Vec<_>>().join(" ")).collect::<Vec<_>>().join("; "));
+        for id in ["L", "T", "O", "A_o"] {
+            let answers = AnswerFile { answers: [(id.to_string(), text.clone())].into(), ..AnswerFile::default() };
+            let _ = check_answers(&st, &answers, "fuzz");
+        }
+    }
+}
