@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod algebra;
+pub mod book;
 pub mod canonical_form;
 pub mod control;
 pub mod derivation;

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Ships KaTeX's stylesheet and fonts with the book (no CDN at reading time). The version matches
+# the KaTeX bundled in mdbook-katex 0.10.0 (katex-rs 0.4.6: KaTeX 0.16.4). Taken from the npm
+# registry, pinned.
+set -euo pipefail
+cd "$(dirname "$0")"
+KATEX_VERSION=0.16.4
+if [ -f src/katex/katex.min.css ] && grep -q "$KATEX_VERSION" src/katex/VERSION 2>/dev/null; then
+  exit 0
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+(cd "$tmp" && npm pack --silent "katex@$KATEX_VERSION" >/dev/null)
+tar -xzf "$tmp/katex-$KATEX_VERSION.tgz" -C "$tmp"
+rm -rf src/katex
+mkdir -p src/katex
+cp "$tmp/package/dist/katex.min.css" src/katex/
+cp -r "$tmp/package/dist/fonts" src/katex/
+echo "$KATEX_VERSION" > src/katex/VERSION

@@ -1,0 +1,389 @@
+//! The course book's directives: `{{#owb …}}` in the book's markdown, expanded from the code at
+//! build time by the `mdbook-owb` preprocessor, so book and workbench cannot disagree.
+//!
+//! | directive | expands to |
+//! |---|---|
+//! | `{{#owb verify-table EXAMPLE}}` | the example's claims: printed, recomputed, verdict |
+//! | `{{#owb derivation EXAMPLE CLAIM}}` | the claim's derivation in LaTeX (display math) |
+//! | `{{#owb figure EXAMPLE SCENARIO}}` | the simulated figure (inline SVG), its numbers and checked statements |
+//! | `{{#owb exercise ID}}` | an exercise's statement and parts, with how to check answers |
+//! | `{{#owb errata}}` | the errata found in the documents |
+//! | `{{#owb run ARGS…}}` | the output of `owb ARGS…` (quotes group words) |
+//!
+//! An unknown directive or a failing computation is an error naming the chapter and the
+//! directive, and fails the book build.
+
+use crate::exercise::{answer_key, load_exercise};
+use crate::simulation::plot::svg;
+use crate::worked::{
+    errata_markdown, load_example, load_folder, run_scenarios, verify_example, ExampleReport,
+};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+/// A directive that could not be expanded.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{chapter}: {{{{#owb {directive}}}}}: {message}")]
+pub struct BookError {
+    /// The chapter (source path).
+    pub chapter: String,
+    /// The directive text.
+    pub directive: String,
+    /// What went wrong.
+    pub message: String,
+}
+
+/// Where the workbench's data and the `owb` binary are.
+#[derive(Clone, Debug)]
+pub struct BookContext {
+    /// The crate root (holds `worked_examples/`).
+    pub root: PathBuf,
+    /// The `owb` binary for `run` directives.
+    pub owb: Option<PathBuf>,
+}
+
+/// Splits directive arguments on whitespace; double quotes group words.
+fn split_args(text: &str) -> Result<Vec<String>, String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut quoted = false;
+    let mut any = false;
+    for ch in text.chars() {
+        match ch {
+            '"' => {
+                quoted = !quoted;
+                any = true;
+            }
+            c if c.is_whitespace() && !quoted => {
+                if any {
+                    out.push(std::mem::take(&mut cur));
+                    any = false;
+                }
+            }
+            c => {
+                cur.push(c);
+                any = true;
+            }
+        }
+    }
+    if quoted {
+        return Err("unclosed double quote".into());
+    }
+    if any {
+        out.push(cur);
+    }
+    Ok(out)
+}
+
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|")
+        .replace('\n', " ")
+        .replace('*', "\\*")
+        .replace('_', "\\_")
+}
+
+impl BookContext {
+    fn example(&self, id: &str) -> Result<(PathBuf, crate::worked::ExampleFile, String), String> {
+        let dir = self.root.join("worked_examples");
+        let files = load_folder(&dir).map_err(|e| e.to_string())?;
+        let path = files
+            .into_iter()
+            .find(|f| f.file_stem().is_some_and(|s| s == id))
+            .ok_or_else(|| format!("no worked example '{id}' in {}", dir.display()))?;
+        let (ex, raw) = load_example(&path).map_err(|e| e.to_string())?;
+        Ok((path, ex, raw))
+    }
+
+    fn report(&self, id: &str) -> Result<ExampleReport, String> {
+        let (path, ex, raw) = self.example(id)?;
+        verify_example(&path, &ex, &raw).map_err(|e| e.to_string())
+    }
+
+    fn verify_table(&self, id: &str) -> Result<String, String> {
+        let r = self.report(id)?;
+        let mut out = format!(
+            "*Worked example `{}` — {} (source: `{}`), recomputed by `owb verify {}`:*\n\n| claim | where | printed | recomputed | verdict |\n|---|---|---|---|---|\n",
+            r.id, r.title, r.document, r.id
+        );
+        for c in &r.claims {
+            let _ = writeln!(
+                out,
+                "| {} | {} | `{}` | `{}` | **{}** |",
+                cell(&c.id),
+                cell(&c.source),
+                c.printed.replace('|', "\\|").replace('\n', " "),
+                c.recomputed.replace('|', "\\|").replace('\n', " "),
+                c.verdict.word()
+            );
+        }
+        let notes: Vec<String> = r
+            .claims
+            .iter()
+            .filter(|c| c.verdict != crate::worked::Verdict::Holds)
+            .map(|c| {
+                format!(
+                    "- **{}** ({}): {}",
+                    c.id,
+                    c.verdict.word(),
+                    cell(&c.explanation)
+                )
+            })
+            .collect();
+        if !notes.is_empty() {
+            out.push('\n');
+            out.push_str(&notes.join("\n"));
+            out.push('\n');
+        }
+        Ok(out)
+    }
+
+    fn derivation(&self, id: &str, claim: &str) -> Result<String, String> {
+        let r = self.report(id)?;
+        let c = r
+            .claims
+            .iter()
+            .find(|c| c.id == claim)
+            .ok_or_else(|| format!("example '{id}' has no claim '{claim}'"))?;
+        let mut out = format!(
+            "*Derivation of `{}` ({}), computed by the workbench — verdict: **{}**.*\n\n$$\n{}\n$$\n",
+            c.id,
+            c.source,
+            c.verdict.word(),
+            c.derivation.to_latex()
+        );
+        out.push('\n');
+        Ok(out)
+    }
+
+    fn figure(&self, id: &str, scenario: &str) -> Result<String, String> {
+        let (path, ex, raw) = self.example(id)?;
+        let (runs, checks) = run_scenarios(&path, &ex, &raw).map_err(|e| e.to_string())?;
+        let run = runs
+            .iter()
+            .find(|r| r.name == scenario)
+            .ok_or_else(|| format!("example '{id}' has no scenario '{scenario}'"))?;
+        let title = format!("{} — {}", ex.id, run.figure);
+        let picture =
+            svg(&run.trace, &run.plot, &title, &run.time_unit).map_err(|e| e.to_string())?;
+        let picture = picture
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .collect::<Vec<_>>()
+            .join("\n");
+        let mut out = format!(
+            "<figure class=\"owb-figure\">\n{picture}\n<figcaption>{} (`owb simulate {id} --scenario {scenario}`)</figcaption>\n</figure>\n\n",
+            run.figure
+        );
+        let _ = writeln!(
+            out,
+            "*Observer:* {}. *Assumptions:* {}\n",
+            run.observer, run.assumptions
+        );
+        out.push_str("| error | ∫e² dt | overshoot | settling (s) | steady RMS | max \\|e\\|/max \\|x\\| |\n|---|---|---|---|---|---|\n");
+        for s in &run.summary {
+            let _ = writeln!(
+                out,
+                "| e{} | {:.4e} | {:.4} | {:.3} | {:.3e} | {:.3e} |",
+                s.state, s.ise, s.overshoot, s.settling_time, s.steady_rms, s.max_relative_error
+            );
+        }
+        let mine: Vec<_> = checks.iter().filter(|c| c.scenario == scenario).collect();
+        if !mine.is_empty() {
+            out.push_str("\nWhat the document says about this figure, checked by the numbers:\n\n");
+            for c in mine {
+                let _ = writeln!(
+                    out,
+                    "- {} — {}: {} → **{}**",
+                    c.source,
+                    c.metric,
+                    c.comparison,
+                    if c.holds { "holds" } else { "does not hold" }
+                );
+            }
+        }
+        Ok(out)
+    }
+
+    fn exercise(&self, id: &str) -> Result<String, String> {
+        let path = self
+            .root
+            .join("worked_examples/exercises")
+            .join(format!("{id}.toml"));
+        let (ex, _) = load_exercise(&path).map_err(|e| e.to_string())?;
+        // the key must be computable, or the exercise is not in the book
+        let key = answer_key(&path.display().to_string(), &ex).map_err(|e| e.to_string())?;
+        let mut out = format!(
+            "### Exercise: {}\n\n*Source: {}.*\n\n{}\n\nParts to answer:\n\n",
+            ex.title,
+            ex.source,
+            ex.statement.trim()
+        );
+        for p in &key.parts {
+            let _ = writeln!(
+                out,
+                "- `{}` — {} ({} point{})",
+                p.spec.id,
+                p.spec.prompt,
+                p.spec.points,
+                if p.spec.points == 1.0 { "" } else { "s" }
+            );
+        }
+        let _ = write!(
+            out,
+            "\nWrite your answers in a TOML file (`[answers]` then `{} = \"…\"`, in the workbench's input syntax) and check them with `owb check {id} answers.toml`: the checker names the mistake when it recognises it.\n",
+            key.parts.first().map_or("K", |p| p.spec.id.as_str())
+        );
+        Ok(out)
+    }
+
+    fn errata(&self) -> Result<String, String> {
+        let dir = self.root.join("worked_examples");
+        let files = load_folder(&dir).map_err(|e| e.to_string())?;
+        let mut reports = Vec::new();
+        for f in &files {
+            let (ex, raw) = load_example(f).map_err(|e| e.to_string())?;
+            reports.push(verify_example(f, &ex, &raw).map_err(|e| e.to_string())?);
+        }
+        let md = errata_markdown(&reports);
+        // the chapter has its own title
+        Ok(md
+            .lines()
+            .skip_while(|l| l.starts_with("# "))
+            .collect::<Vec<_>>()
+            .join("\n"))
+    }
+
+    fn run(&self, args: &[String]) -> Result<String, String> {
+        let owb = self
+            .owb
+            .as_ref()
+            .ok_or("no owb binary found beside the preprocessor")?;
+        let out = std::process::Command::new(owb)
+            .args(args)
+            .current_dir(&self.root)
+            .output()
+            .map_err(|e| format!("running {}: {e}", owb.display()))?;
+        if !out.status.success() {
+            return Err(format!(
+                "owb {} exited with {}: {}",
+                args.join(" "),
+                out.status,
+                String::from_utf8_lossy(&out.stderr)
+            ));
+        }
+        Ok(format!(
+            "```text\n$ owb {}\n{}```\n",
+            args.iter()
+                .map(|a| if a.contains(' ') || a.is_empty() {
+                    format!("\"{a}\"")
+                } else {
+                    a.clone()
+                })
+                .collect::<Vec<_>>()
+                .join(" "),
+            String::from_utf8_lossy(&out.stdout)
+        ))
+    }
+
+    /// Expands one directive (the text between `{{#owb ` and `}}`).
+    ///
+    /// # Errors
+    /// A message for an unknown directive, wrong arguments or a failing computation.
+    pub fn directive(&self, text: &str) -> Result<String, String> {
+        let args = split_args(text)?;
+        let (name, rest) = args.split_first().ok_or("empty directive")?;
+        let want = |n: usize| -> Result<(), String> {
+            if rest.len() == n {
+                Ok(())
+            } else {
+                Err(format!(
+                    "'{name}' takes {n} argument(s), {} given",
+                    rest.len()
+                ))
+            }
+        };
+        match name.as_str() {
+            "verify-table" => want(1).and_then(|()| self.verify_table(&rest[0])),
+            "derivation" => want(2).and_then(|()| self.derivation(&rest[0], &rest[1])),
+            "figure" => want(2).and_then(|()| self.figure(&rest[0], &rest[1])),
+            "exercise" => want(1).and_then(|()| self.exercise(&rest[0])),
+            "errata" => want(0).and_then(|()| self.errata()),
+            "run" => self.run(rest),
+            other => Err(format!(
+                "unknown directive '{other}' (verify-table, derivation, figure, exercise, errata, run)"
+            )),
+        }
+    }
+
+    /// Expands every `{{#owb …}}` in a chapter.
+    ///
+    /// # Errors
+    /// [`BookError`] for the first directive that fails.
+    pub fn expand(&self, chapter: &str, content: &str) -> Result<String, BookError> {
+        let mut out = String::with_capacity(content.len());
+        let mut rest = content;
+        while let Some(start) = rest.find("{{#owb") {
+            out.push_str(&rest[..start]);
+            let after = &rest[start + "{{#owb".len()..];
+            let end = after.find("}}").ok_or_else(|| BookError {
+                chapter: chapter.into(),
+                directive: after.lines().next().unwrap_or("").into(),
+                message: "no closing }}".into(),
+            })?;
+            let body = after[..end].trim();
+            let expanded = self.directive(body).map_err(|message| BookError {
+                chapter: chapter.into(),
+                directive: body.into(),
+                message,
+            })?;
+            out.push_str(&expanded);
+            rest = &after[end + 2..];
+        }
+        out.push_str(rest);
+        Ok(out)
+    }
+}
+
+/// The chapters of a book's `src/` folder (markdown files), for tests and checks.
+pub fn chapters(src: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(src)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "md"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arguments_split_on_spaces_and_quotes() {
+        assert_eq!(
+            split_args(r#"run gain --a "[2 -3; 4 -5]" --c "[-3 2]""#).unwrap(),
+            vec!["run", "gain", "--a", "[2 -3; 4 -5]", "--c", "[-3 2]"]
+        );
+        assert!(split_args("run \"open").is_err());
+    }
+
+    #[test]
+    fn unknown_directives_fail_with_the_chapter() {
+        let ctx = BookContext {
+            root: PathBuf::from(env!("CARGO_MANIFEST_DIR")),
+            owb: None,
+        };
+        let e = ctx
+            .expand("intro.md", "text {{#owb nonsense 1}} more")
+            .unwrap_err();
+        assert_eq!(e.chapter, "intro.md");
+        assert!(e.message.contains("unknown directive"));
+        assert!(ctx
+            .expand("a.md", "{{#owb verify-table no-such-example}}")
+            .is_err());
+        assert_eq!(ctx.expand("a.md", "plain").unwrap(), "plain");
+    }
+}
