@@ -5,15 +5,17 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 KATEX_VERSION=0.16.4
-if [ -f src/katex/katex.min.css ] && grep -q "$KATEX_VERSION" src/katex/VERSION 2>/dev/null; then
+# The stylesheet goes to book/katex/ (book.toml's additional-css, relative to the book root);
+# the fonts to src/katex/fonts/, which mdBook copies beside it in the output (katex/fonts/).
+if [ -f katex/katex.min.css ] && grep -q "$KATEX_VERSION" src/katex/VERSION 2>/dev/null; then
   exit 0
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 (cd "$tmp" && npm pack --silent "katex@$KATEX_VERSION" >/dev/null)
 tar -xzf "$tmp/katex-$KATEX_VERSION.tgz" -C "$tmp"
-rm -rf src/katex
-mkdir -p src/katex
-cp "$tmp/package/dist/katex.min.css" src/katex/
+rm -rf src/katex katex
+mkdir -p src/katex katex
+cp "$tmp/package/dist/katex.min.css" katex/
 cp -r "$tmp/package/dist/fonts" src/katex/
 echo "$KATEX_VERSION" > src/katex/VERSION
