@@ -71,6 +71,24 @@ fn every_worked_example_and_exercise_is_in_the_book() {
     }
 }
 
+/// Runs the preprocessor on a `[context, book]` input.
+fn preprocess(exe: &Path, input: &serde_json::Value) -> std::process::Output {
+    use std::io::Write;
+    let mut child = std::process::Command::new(exe)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.to_string().as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
 #[test]
 fn the_preprocessor_speaks_the_mdbook_protocol() {
     let exe = PathBuf::from(env!("CARGO_BIN_EXE_mdbook-owb"));
@@ -86,19 +104,7 @@ fn the_preprocessor_speaks_the_mdbook_protocol() {
             "number": [1], "sub_items": [], "path": "t.md", "source_path": "t.md", "parent_names": []}}],
          "__non_exhaustive": null}
     ]);
-    let mut child = std::process::Command::new(&exe)
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    use std::io::Write;
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.to_string().as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
+    let out = preprocess(&exe, &input);
     assert!(out.status.success());
     let book: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let content = book["sections"][0]["Chapter"]["content"].as_str().unwrap();
@@ -108,19 +114,7 @@ fn the_preprocessor_speaks_the_mdbook_protocol() {
         {"root": book_root},
         {"sections": [{"Chapter": {"name": "t", "content": "{{#owb figure nowhere x}}", "sub_items": [], "source_path": "bad.md"}}]}
     ]);
-    let mut child = std::process::Command::new(&exe)
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(bad.to_string().as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
+    let out = preprocess(&exe, &bad);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("bad.md"));
 }

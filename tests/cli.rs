@@ -1,21 +1,10 @@
 //! The command line: human output of each subcommand as reviewed snapshots, the `--json` shape
 //! that graders rely on, and exit codes.
 
+mod common;
+use common::owb;
 use observer_workbench::algebra::{Quadratic, Rational};
 use observer_workbench::syntax::{parse_polynomial, parse_scalar};
-use std::process::Command;
-
-fn owb(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_owb"))
-        .args(args)
-        .output()
-        .expect("owb runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 #[test]
 fn observe_series_connection() {

@@ -1,6 +1,8 @@
 //! Issue 6: exercises checked with feedback that names the mistake, batch grading, generated
 //! exercises.
 
+mod common;
+use common::owb;
 use observer_workbench::exercise::diagnose::diagnose;
 use observer_workbench::exercise::generate::{pole_placement, Settings};
 use observer_workbench::exercise::{
@@ -8,19 +10,6 @@ use observer_workbench::exercise::{
 };
 use proptest::prelude::*;
 use std::path::Path;
-use std::process::Command;
-
-fn owb(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_owb"))
-        .args(args)
-        .output()
-        .expect("owb runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn key(id: &str) -> AnswerKey {
     let path = format!("worked_examples/exercises/{id}.toml");

@@ -1,24 +1,13 @@
 //! Issue 7: the simulator against analytic solutions, the observer's designed decay, seeded
 //! noise reproducibility, and the documents' figures as reviewed summaries.
 
+mod common;
+use common::owb;
 use nalgebra::DMatrix;
 use observer_workbench::simulation::csv::to_csv;
 use observer_workbench::simulation::integrate::{dopri5, rk4_step, AdaptiveStats};
 use observer_workbench::simulation::noise::NoiseSpec;
 use observer_workbench::simulation::{simulate, Integrator, Loop, Setup, Signal};
-use std::process::Command;
-
-fn owb(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_owb"))
-        .args(args)
-        .output()
-        .expect("owb runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 /// ẋ = [[0, 1], [−1, 0]] x from (1, 0) is (cos t, −sin t).
 fn rk4_error(h: f64) -> f64 {
@@ -206,4 +195,44 @@ fn simulate_writes_svg_and_csv() {
     assert_eq!(code, 2);
     assert!(err.contains("fig-1-butterworth"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn discrete_time_deadbeat_observer_is_exact_after_n_steps() {
+    // x[k+1] = [1 1; 0 1] x[k], y = x1; K = (2, 1) makes A − KC nilpotent (both poles at 0)
+    let l = Loop {
+        a: DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 0.0, 1.0]),
+        b: DMatrix::from_row_slice(2, 1, &[0.0, 1.0]),
+        c: DMatrix::from_row_slice(1, 2, &[1.0, 0.0]),
+        d: DMatrix::zeros(1, 1),
+        gain: DMatrix::from_row_slice(2, 1, &[2.0, 1.0]),
+        feedback: None,
+    };
+    let s = Setup {
+        horizon: 5.0,
+        step: 1.0,
+        integrator: Integrator::Discrete,
+        input: vec![Signal::Step {
+            amplitude: 1.0,
+            at: 0.0,
+        }],
+        output_noise: None,
+        process_noise: None,
+        x0: vec![3.0, -1.0],
+        xhat0: vec![0.0, 0.0],
+    };
+    let trace = simulate(&l, &s).unwrap();
+    assert_ne!(trace.x[1], trace.xhat[1]);
+    for k in 2..trace.t.len() {
+        assert_eq!(trace.x[k], trace.xhat[k], "step {k}");
+    }
+}
+
+#[test]
+fn csv_input_signals_interpolate_and_report_bad_lines() {
+    let s = Signal::from_csv("t,u\n0,0\n1,2\n3,2\n").unwrap();
+    assert_eq!(s.value(0.5), 1.0);
+    assert_eq!(s.value(10.0), 2.0);
+    let e = Signal::from_csv("t,u\n0,0\n1,x\n").unwrap_err();
+    assert!(e.contains("line 3"), "{e}");
 }

@@ -176,13 +176,7 @@ pub fn minimal_dynamical_error(
             .and_then(|g| dynamical_error_cost(&af, &cf, &g, &wf).ok())
             .map_or(f64::INFINITY, |(j, _)| j)
     };
-    let mut state = seed | 1;
-    let mut uniform = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = super::search::seeded_uniform(seed);
     let mut runs: Vec<(Vec<f64>, DynamicalErrorMinimum)> = Vec::new();
     let mut converged = 0;
     for _ in 0..starts {

@@ -186,13 +186,7 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, 
 /// (entries uniform in [−15, 15]).
 pub fn minimum_norm_gain(cons: &Constraints, starts: usize, seed: u64) -> MinimumNormReport {
     let m = cons.variables.len();
-    let mut state = seed | 1;
-    let mut uniform = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = super::search::seeded_uniform(seed);
     let mut minima: Vec<LocalMinimum> = Vec::new();
     let mut converged = 0;
     for _ in 0..starts {

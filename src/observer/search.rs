@@ -2,6 +2,18 @@
 //! (a largest eigenvalue) or are only evaluated: Nelder–Mead on `Rⁿ` and golden-section search
 //! on an interval. Both are deterministic: same start, same result.
 
+/// A seeded generator of uniform numbers in `[0, 1)` (xorshift64), for the starts of multistart
+/// searches: the same seed gives the same starts on every platform.
+pub fn seeded_uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed | 1;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// The result of a Nelder–Mead run.
 #[derive(Clone, Debug)]
 pub struct SimplexResult {

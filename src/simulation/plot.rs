@@ -18,6 +18,48 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+type Series = (Vec<(f64, f64)>, RGBColor, u32, String);
+
+/// One panel: labelled axes, the series, a legend.
+fn panel(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    t: (f64, f64),
+    y_desc: &str,
+    time_unit: &str,
+    series: Vec<Series>,
+) -> Result<(), SimulationError> {
+    let err = |e: &dyn std::fmt::Display| SimulationError::Plot(e.to_string());
+    let (lo, hi) = range(series.iter().flat_map(|s| s.0.iter().map(|p| p.1)));
+    let mut chart = ChartBuilder::on(area)
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t.0..t.1, lo..hi)
+        .map_err(|e| err(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc(format!("t ({time_unit})"))
+        .y_desc(y_desc)
+        .draw()
+        .map_err(|e| err(&e))?;
+    for (points, color, width, label) in series {
+        chart
+            .draw_series(LineSeries::new(points, color.stroke_width(width)))
+            .map_err(|e| err(&e))?
+            .label(label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(width))
+            });
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| err(&e))?;
+    Ok(())
+}
+
 /// Draws the figure as SVG text.
 ///
 /// # Errors
@@ -40,84 +82,37 @@ pub fn svg(
         let panels = root.split_evenly((states.len().max(1) * 2, 1));
         let t0 = trace.t.first().copied().unwrap_or(0.0);
         let t1 = trace.t.last().copied().unwrap_or(1.0).max(t0 + 1e-9);
-        let colors = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
+        let (blue, red) = (RGBColor(31, 119, 180), RGBColor(214, 39, 40));
         for (k, &s) in states.iter().enumerate() {
             let i = s.saturating_sub(1);
-            let truth: Vec<(f64, f64)> = trace
-                .t
-                .iter()
-                .zip(&trace.x)
-                .map(|(t, x)| (*t, x[i]))
-                .collect();
-            let est: Vec<(f64, f64)> = trace
-                .t
-                .iter()
-                .zip(&trace.xhat)
-                .map(|(t, x)| (*t, x[i]))
-                .collect();
-            let error: Vec<(f64, f64)> = trace
-                .t
-                .iter()
-                .zip(trace.x.iter().zip(&trace.xhat))
-                .map(|(t, (x, xh))| (*t, xh[i] - x[i]))
-                .collect();
-            let (lo, hi) = range(truth.iter().chain(&est).map(|p| p.1));
-            let mut chart = ChartBuilder::on(&panels[2 * k])
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(70)
-                .build_cartesian_2d(t0..t1, lo..hi)
-                .map_err(|e| err(&e))?;
-            chart
-                .configure_mesh()
-                .x_desc(format!("t ({time_unit})"))
-                .y_desc(format!("x{s}"))
-                .draw()
-                .map_err(|e| err(&e))?;
-            chart
-                .draw_series(LineSeries::new(truth, colors[0].stroke_width(2)))
-                .map_err(|e| err(&e))?
-                .label(format!("x{s} (plant)"))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colors[0].stroke_width(2))
-                });
-            chart
-                .draw_series(LineSeries::new(est, colors[1].stroke_width(2)))
-                .map_err(|e| err(&e))?
-                .label(format!("x̂{s} (observer)"))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colors[1].stroke_width(2))
-                });
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| err(&e))?;
-            let (lo, hi) = range(error.iter().map(|p| p.1));
-            let mut chart = ChartBuilder::on(&panels[2 * k + 1])
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(70)
-                .build_cartesian_2d(t0..t1, lo..hi)
-                .map_err(|e| err(&e))?;
-            chart
-                .configure_mesh()
-                .x_desc(format!("t ({time_unit})"))
-                .y_desc(format!("e{s} = x̂{s} − x{s}"))
-                .draw()
-                .map_err(|e| err(&e))?;
-            chart
-                .draw_series(LineSeries::new(error, BLACK.stroke_width(1)))
-                .map_err(|e| err(&e))?
-                .label(format!("estimation error e{s}"))
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| err(&e))?;
+            let column = |f: &dyn Fn(usize) -> f64| -> Vec<(f64, f64)> {
+                trace
+                    .t
+                    .iter()
+                    .enumerate()
+                    .map(|(j, t)| (*t, f(j)))
+                    .collect()
+            };
+            let truth = column(&|j| trace.x[j][i]);
+            let est = column(&|j| trace.xhat[j][i]);
+            let error = column(&|j| trace.xhat[j][i] - trace.x[j][i]);
+            panel(
+                &panels[2 * k],
+                (t0, t1),
+                &format!("x{s}"),
+                time_unit,
+                vec![
+                    (truth, blue, 2, format!("x{s} (plant)")),
+                    (est, red, 2, format!("x̂{s} (observer)")),
+                ],
+            )?;
+            panel(
+                &panels[2 * k + 1],
+                (t0, t1),
+                &format!("e{s} = x̂{s} − x{s}"),
+                time_unit,
+                vec![(error, BLACK, 1, format!("estimation error e{s}"))],
+            )?;
         }
         root.present().map_err(|e| err(&e))?;
     }

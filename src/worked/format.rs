@@ -205,6 +205,10 @@ pub struct ScenarioSpec {
     /// One signal per input (default zero).
     #[serde(default)]
     pub input: Vec<crate::simulation::Signal>,
+    /// Or: CSV files of `t,u` samples, one per input (paths relative to the example file),
+    /// linearly interpolated.
+    #[serde(default)]
+    pub input_csv: Vec<String>,
     /// Measurement noise on every output.
     pub output_noise: Option<crate::simulation::noise::NoiseSpec>,
     /// Noise on the plant input, unseen by the observer.

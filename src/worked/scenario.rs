@@ -360,6 +360,21 @@ fn run_one(
         }
     };
     let mut input = sc.input.clone();
+    if !sc.input_csv.is_empty() {
+        if !input.is_empty() {
+            return Err(bad("input_csv", "give input or input_csv, not both".into()));
+        }
+        let base = Path::new(file).parent().unwrap_or_else(|| Path::new("."));
+        for f in &sc.input_csv {
+            let path = base.join(f);
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| bad("input_csv", format!("{}: {e}", path.display())))?;
+            input.push(
+                simulation::Signal::from_csv(&text)
+                    .map_err(|e| bad("input_csv", format!("{}: {e}", path.display())))?,
+            );
+        }
+    }
     if input.is_empty() {
         input = vec![simulation::Signal::Zero; m];
     }

@@ -72,3 +72,16 @@ pub fn nonconstant_polynomial(max_deg: usize) -> impl Strategy<Value = Poly<Rati
             Poly::new(c, "s")
         })
 }
+
+/// Runs the `owb` binary: (exit code, stdout, stderr).
+pub fn owb(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_owb"))
+        .args(args)
+        .output()
+        .expect("owb runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}

@@ -102,3 +102,19 @@ pub fn write_atomically(path: &std::path::Path, text: &str) -> Result<()> {
     std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))?;
     Ok(())
 }
+
+/// A float matrix as rows (for JSON).
+pub fn float_rows(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| m.row(i).iter().copied().collect())
+        .collect()
+}
+
+/// A float matrix in input syntax, each entry formatted by `entry`.
+pub fn float_matrix_text(m: &nalgebra::DMatrix<f64>, entry: impl Fn(f64) -> String) -> String {
+    let r: Vec<String> = float_rows(m)
+        .iter()
+        .map(|r| r.iter().map(|x| entry(*x)).collect::<Vec<_>>().join(", "))
+        .collect();
+    format!("[{}]", r.join("; "))
+}

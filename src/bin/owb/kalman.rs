@@ -60,22 +60,11 @@ struct Row {
 }
 
 fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
-    (0..m.nrows())
-        .map(|i| m.row(i).iter().copied().collect())
-        .collect()
+    crate::args::float_rows(m)
 }
 
 fn show(m: &DMatrix<f64>) -> String {
-    let r: Vec<String> = rows(m)
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|x| format!("{x:.6e}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        })
-        .collect();
-    format!("[{}]", r.join("; "))
+    crate::args::float_matrix_text(m, |x| format!("{x:.6e}"))
 }
 
 fn pole_text(z: &Complex<f64>) -> String {

@@ -72,28 +72,10 @@ fn desired(args: &Args, n: usize) -> Result<Poly<Rational>> {
     Ok(p)
 }
 
-fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
-    (0..m.nrows())
-        .map(|i| m.row(i).iter().copied().collect())
-        .collect()
-}
-
 fn show(m: &DMatrix<f64>) -> String {
-    let r: Vec<String> = rows(m)
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|x| format!("{x:.6}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        })
-        .collect();
-    format!("[{}]", r.join("; "))
+    crate::args::float_matrix_text(m, |x| format!("{x:.6}"))
 }
 
-/// For each rational root `λ0` of multiplicity `m` of `desired`: the largest distance of the
-/// achieved poles from it, and the first-order prediction `(|δ(λ0)| / |Π_{λj≠λ0}(λ0 − λj)|)^(1/m)`
-/// where `δ` = achieved − desired.
 fn scatter(
     desired: &Poly<Rational>,
     achieved: &Poly<Rational>,
