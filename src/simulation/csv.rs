@@ -6,9 +6,7 @@ use std::fmt::Write;
 
 /// The CSV text of a run.
 pub fn to_csv(trace: &Trace) -> String {
-    let n = trace.x.first().map_or(0, Vec::len);
-    let p = trace.y.first().map_or(0, Vec::len);
-    let m = trace.u.first().map_or(0, Vec::len);
+    let (n, p, m) = (trace.x.width(), trace.y.width(), trace.u.width());
     let mut header = vec!["t".to_string()];
     header.extend((1..=n).map(|i| format!("x{i}")));
     header.extend((1..=n).map(|i| format!("xhat{i}")));
@@ -19,13 +17,13 @@ pub fn to_csv(trace: &Trace) -> String {
     out.push('\n');
     for k in 0..trace.t.len() {
         let _ = write!(out, "{}", trace.t[k]);
-        for v in trace.x[k].iter().chain(&trace.xhat[k]) {
+        for v in trace.x[k].iter().chain(&trace.xhat[k][..]) {
             let _ = write!(out, ",{v}");
         }
         for i in 0..n {
             let _ = write!(out, ",{}", trace.xhat[k][i] - trace.x[k][i]);
         }
-        for v in trace.y[k].iter().chain(&trace.u[k]) {
+        for v in trace.y[k].iter().chain(&trace.u[k][..]) {
             let _ = write!(out, ",{v}");
         }
         out.push('\n');

@@ -31,7 +31,7 @@ pub struct StateSummary {
 
 /// Summaries for every state.
 pub fn summarize(trace: &Trace) -> Vec<StateSummary> {
-    let n = trace.x.first().map_or(0, Vec::len);
+    let n = trace.x.width();
     let len = trace.t.len();
     (0..n)
         .map(|i| {

@@ -71,19 +71,61 @@ pub struct Setup {
     pub xhat0: Vec<f64>,
 }
 
+/// Samples of a vector signal, stored flat (one allocation per run, not per sample);
+/// `series[k]` is the vector at sample `k`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Series {
+    data: Vec<f64>,
+    width: usize,
+}
+
+impl Series {
+    /// An empty series of vectors of `width` entries, room for `samples`.
+    pub fn new(width: usize, samples: usize) -> Series {
+        Series {
+            data: Vec::with_capacity(width * samples),
+            width,
+        }
+    }
+    /// Entries per sample.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.data.len().checked_div(self.width).unwrap_or(0)
+    }
+    /// Whether there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+    /// Appends one sample (its length must be the width).
+    pub fn push(&mut self, v: &[f64]) {
+        debug_assert_eq!(v.len(), self.width);
+        self.data.extend_from_slice(v);
+    }
+}
+
+impl std::ops::Index<usize> for Series {
+    type Output = [f64];
+    fn index(&self, k: usize) -> &[f64] {
+        &self.data[k * self.width..(k + 1) * self.width]
+    }
+}
+
 /// A simulated run, sampled every `step`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trace {
     /// Times.
     pub t: Vec<f64>,
     /// Plant states.
-    pub x: Vec<Vec<f64>>,
+    pub x: Series,
     /// Estimates.
-    pub xhat: Vec<Vec<f64>>,
+    pub xhat: Series,
     /// Measured outputs (with noise).
-    pub y: Vec<Vec<f64>>,
+    pub y: Series,
     /// Applied inputs.
-    pub u: Vec<Vec<f64>>,
+    pub u: Series,
     /// Accepted and rejected adaptive steps (zero for fixed steps).
     pub adaptive_steps: (usize, usize),
 }
@@ -180,10 +222,10 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
     let mut z: Vec<f64> = s.x0.iter().chain(&s.xhat0).copied().collect();
     let mut trace = Trace {
         t: Vec::with_capacity(samples + 1),
-        x: Vec::with_capacity(samples + 1),
-        xhat: Vec::with_capacity(samples + 1),
-        y: Vec::with_capacity(samples + 1),
-        u: Vec::with_capacity(samples + 1),
+        x: Series::new(n, samples + 1),
+        xhat: Series::new(n, samples + 1),
+        y: Series::new(l.c.nrows(), samples + 1),
+        u: Series::new(m, samples + 1),
         adaptive_steps: (0, 0),
     };
     // The loop is linear and time-invariant: z = (x, x̂),
@@ -212,18 +254,35 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
     );
     let fm = l.feedback.as_ref().map(row_major);
     let p = l.c.nrows();
-    let dot = |row: &[f64], v: &[f64]| row.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
-    let mut r = vec![0.0; m];
-    let deriv = |t: f64, zz: &[f64], constant: &[f64], r: &mut [f64], out: &mut [f64]| {
+    let dot = |row: &[f64], v: &[f64]| {
+        let len = row.len().min(v.len());
+        let (row, v) = (&row[..len], &v[..len]);
+        let mut acc = 0.0;
+        for j in 0..len {
+            acc += row[j] * v[j];
+        }
+        acc
+    };
+    let reference = |t: f64, r: &mut [f64]| {
         for (rk, sig) in r.iter_mut().zip(&s.input) {
             *rk = sig.value(t);
         }
+    };
+    // z' given the reference r already evaluated at the stage time
+    let deriv_at = |zz: &[f64], constant: &[f64], r: &[f64], out: &mut [f64]| {
         for i in 0..2 * n {
             out[i] = constant[i]
                 + dot(&system[i * 2 * n..(i + 1) * 2 * n], zz)
                 + dot(&drive[i * m..(i + 1) * m], r);
         }
     };
+    let deriv = |t: f64, zz: &[f64], constant: &[f64], r: &mut [f64], out: &mut [f64]| {
+        reference(t, r);
+        deriv_at(zz, constant, r, out);
+    };
+    // RK4 needs r at t, t + h/2 and t + h; r(t + h) is the next step's r(t)
+    let (mut r0, mut r_half, mut r1) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+    reference(0.0, &mut r0);
     let mut h_adaptive = s.step;
     let mut stats = AdaptiveStats::default();
     let mut constant = vec![0.0; 2 * n];
@@ -234,35 +293,36 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
         vec![0.0; 2 * n],
         vec![0.0; 2 * n],
     );
+    let (mut u, mut v, mut w, mut y) = (vec![0.0; m], vec![0.0; p], vec![0.0; m], vec![0.0; p]);
     for k in 0..=samples {
         let t = k as f64 * s.step;
         let (x, xhat) = z.split_at(n);
-        let mut u: Vec<f64> = s.input.iter().map(|sig| sig.value(t)).collect();
+        for (uj, sig) in u.iter_mut().zip(&s.input) {
+            *uj = sig.value(t);
+        }
         if let Some(f) = &fm {
             for (j, uj) in u.iter_mut().enumerate() {
                 *uj += dot(&f[j * n..(j + 1) * n], xhat);
             }
         }
-        let v: Vec<f64> = out_noise
-            .iter_mut()
-            .map(|s| s.as_mut().map_or(0.0, Noise::sample))
-            .collect();
-        let w: Vec<f64> = in_noise
-            .iter_mut()
-            .map(|s| s.as_mut().map_or(0.0, Noise::sample))
-            .collect();
-        let y: Vec<f64> = (0..p)
-            .map(|i| dot(&cm[i * n..(i + 1) * n], x) + dot(&dm[i * m..(i + 1) * m], &u) + v[i])
-            .collect();
+        for (vi, src) in v.iter_mut().zip(out_noise.iter_mut()) {
+            *vi = src.as_mut().map_or(0.0, Noise::sample);
+        }
+        for (wi, src) in w.iter_mut().zip(in_noise.iter_mut()) {
+            *wi = src.as_mut().map_or(0.0, Noise::sample);
+        }
+        for (i, yi) in y.iter_mut().enumerate() {
+            *yi = dot(&cm[i * n..(i + 1) * n], x) + dot(&dm[i * m..(i + 1) * m], &u) + v[i];
+        }
         trace.t.push(t);
-        trace.x.push(x.to_vec());
-        trace.xhat.push(xhat.to_vec());
+        trace.x.push(x);
+        trace.xhat.push(xhat);
         if z.iter().any(|v| !v.is_finite()) {
             return Err(SimulationError::Diverged(t));
         }
         if k == samples {
-            trace.y.push(y);
-            trace.u.push(u);
+            trace.y.push(&y);
+            trace.u.push(&u);
             break;
         }
         for i in 0..n {
@@ -272,19 +332,22 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
         match s.integrator {
             Integrator::Rk4 => {
                 let h = s.step;
-                deriv(t, &z, &constant, &mut r, &mut k1);
+                reference(t + 0.5 * h, &mut r_half);
+                reference(t + h, &mut r1);
+                deriv_at(&z, &constant, &r0, &mut k1);
                 for i in 0..2 * n {
                     tmp[i] = z[i] + 0.5 * h * k1[i];
                 }
-                deriv(t + 0.5 * h, &tmp, &constant, &mut r, &mut k2);
+                deriv_at(&tmp, &constant, &r_half, &mut k2);
                 for i in 0..2 * n {
                     tmp[i] = z[i] + 0.5 * h * k2[i];
                 }
-                deriv(t + 0.5 * h, &tmp, &constant, &mut r, &mut k3);
+                deriv_at(&tmp, &constant, &r_half, &mut k3);
                 for i in 0..2 * n {
                     tmp[i] = z[i] + h * k3[i];
                 }
-                deriv(t + h, &tmp, &constant, &mut r, &mut k4);
+                deriv_at(&tmp, &constant, &r1, &mut k4);
+                std::mem::swap(&mut r0, &mut r1);
                 for i in 0..2 * n {
                     z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
                 }
@@ -321,8 +384,8 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
                 z = xn.iter().chain(xhn.iter()).copied().collect();
             }
         }
-        trace.y.push(y);
-        trace.u.push(u);
+        trace.y.push(&y);
+        trace.u.push(&u);
     }
     trace.adaptive_steps = (stats.accepted, stats.rejected);
     Ok(trace)
@@ -361,7 +424,7 @@ pub fn simulate_perfect(
     let binomial = |k: usize, i: usize| -> f64 {
         (0..i).fold(1.0, |acc, j| acc * (k - j) as f64 / (j + 1) as f64)
     };
-    let derivative = |series: &[Vec<f64>], j: usize, k: usize, dim: usize| -> DVector<f64> {
+    let derivative = |series: &Series, j: usize, k: usize, dim: usize| -> DVector<f64> {
         let mut d = DVector::zeros(dim);
         for i in 0..=k {
             let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
@@ -371,10 +434,10 @@ pub fn simulate_perfect(
     };
     let mut trace = Trace {
         t: Vec::new(),
-        x: Vec::new(),
-        xhat: Vec::new(),
-        y: Vec::new(),
-        u: Vec::new(),
+        x: Series::new(n, raw.t.len()),
+        xhat: Series::new(n, raw.t.len()),
+        y: Series::new(p, raw.t.len()),
+        u: Series::new(m, raw.t.len()),
         adaptive_steps: raw.adaptive_steps,
     };
     for j in order..raw.t.len() {
@@ -383,10 +446,10 @@ pub fn simulate_perfect(
             xhat += uk * derivative(&raw.u, j, k, m) + yk * derivative(&raw.y, j, k, p);
         }
         trace.t.push(raw.t[j]);
-        trace.x.push(raw.x[j].clone());
-        trace.xhat.push(xhat.iter().copied().collect());
-        trace.y.push(raw.y[j].clone());
-        trace.u.push(raw.u[j].clone());
+        trace.x.push(&raw.x[j]);
+        trace.xhat.push(xhat.as_slice());
+        trace.y.push(&raw.y[j]);
+        trace.u.push(&raw.u[j]);
     }
     Ok(trace)
 }
