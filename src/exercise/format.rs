@@ -221,3 +221,13 @@ pub fn answer_line(raw: &str, key: &str) -> usize {
         })
         .map_or(0, |i| i + 1)
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_askable_part_is_a_worked_computation() {
+        for a in super::ASKABLE {
+            assert!(crate::worked::COMPUTATIONS.contains(a), "{a}");
+        }
+    }
+}

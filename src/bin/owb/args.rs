@@ -118,3 +118,28 @@ pub fn float_matrix_text(m: &nalgebra::DMatrix<f64>, entry: impl Fn(f64) -> Stri
         .collect();
     format!("[{}]", r.join("; "))
 }
+
+/// The input side of a plant (`--b`, and `--d` defaulting to zero), for the subcommands that
+/// need the whole (A, B, C, D).
+#[derive(clap::Args)]
+pub struct InputMatrices {
+    /// The input matrix B.
+    #[arg(allow_hyphen_values = true, long = "b")]
+    b: String,
+    /// The feedthrough D (default zero).
+    #[arg(allow_hyphen_values = true, long = "d")]
+    d: Option<String>,
+}
+
+impl InputMatrices {
+    /// B, and D if given.
+    pub fn parse(&self) -> Result<(Matrix<Rational>, Option<Matrix<Rational>>)> {
+        let b = matrix::<Rational>("--b", &self.b)?;
+        let d = self
+            .d
+            .as_deref()
+            .map(|t| matrix::<Rational>("--d", t))
+            .transpose()?;
+        Ok((b, d))
+    }
+}

@@ -23,12 +23,8 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     system: crate::args::SystemPair,
-    /// The input matrix B.
-    #[arg(allow_hyphen_values = true, long = "b")]
-    b: String,
-    /// The feedthrough D (default zero).
-    #[arg(allow_hyphen_values = true, long = "d")]
-    d: Option<String>,
+    #[command(flatten)]
+    inputs: crate::args::InputMatrices,
     /// White-noise intensity C_U of the measured input (m×m), e.g. "[4.47e-8]".
     #[arg(allow_hyphen_values = true, long)]
     input_noise: String,
@@ -82,11 +78,8 @@ fn pole_text(z: &Complex<f64>) -> String {
 
 pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
-    let b = matrix::<Rational>("--b", &args.b)?;
-    let d = match &args.d {
-        Some(t) => matrix::<Rational>("--d", t)?,
-        None => Matrix::zeros(c.rows(), b.cols()),
-    };
+    let (b, d) = args.inputs.parse()?;
+    let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
     let cu = matrix::<Rational>("--input-noise", &args.input_noise)?;
     let cy = matrix::<Rational>("--output-noise", &args.output_noise)?;
     let plant = Plant {
@@ -217,6 +210,14 @@ pub fn run(args: Args) -> Result<Outcome> {
         }));
     }
     text.push_str("ω_n = (Π|λ_i|)^(1/n); Σ: steady-state estimation-error covariance with C_U, C_Y read as white-noise intensities.\n");
+    if args.poles.is_some() {
+        let (n, p) = (a.rows(), c.rows());
+        text.push_str(&format!(
+            "Placing {n} poles with a {n}×{p} gain leaves {} free parameters{}; the rows above are different choices of them.\n",
+            n * p - n,
+            if p == n { " (C is square: every observer matrix M with those poles is reached by L = (A − M)C⁻¹)" } else { "" }
+        ));
+    }
     if args.json {
         print_json(&json!({
             "convention": "a-lc",

@@ -17,12 +17,8 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     system: crate::args::SystemPair,
-    /// The input matrix B.
-    #[arg(allow_hyphen_values = true, long = "b")]
-    b: String,
-    /// The feedthrough D (default zero).
-    #[arg(allow_hyphen_values = true, long = "d")]
-    d: Option<String>,
+    #[command(flatten)]
+    inputs: crate::args::InputMatrices,
     /// A changed plant to test the observer on: its A (default: unchanged).
     #[arg(allow_hyphen_values = true, long)]
     changed_a: Option<String>,
@@ -39,12 +35,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
-    let b = matrix::<Rational>("--b", &args.b)?;
-    let d = args
-        .d
-        .as_deref()
-        .map(|t| matrix::<Rational>("--d", t))
-        .transpose()?;
+    let (b, d) = args.inputs.parse()?;
     let p = perfect_observer(&a, &b, &c, d.as_ref())?;
     let conditions = robustness_conditions(&p);
     let changed = args.changed_a.is_some() || args.changed_b.is_some() || args.changed_c.is_some();
