@@ -208,9 +208,31 @@ pub fn natural_frequency(poles: &[Complex<f64>]) -> f64 {
 /// [`KalmanError`] for bad shapes, a singular `R`, or no convergence (an undetectable or
 /// unstabilisable problem has no stabilising solution).
 pub fn kalman_filter(plant: &Plant, noise: &NoiseIntensities) -> Result<KalmanFilter, KalmanError> {
+    kalman_filter_with(plant, noise, true)
+}
+
+/// The Kalman filter a designer gets by ignoring the correlation `S = B C_U Dᵀ` between process
+/// and measurement noise (same `Q` and `R`): not optimal for the true model, which
+/// [`error_covariance`] of its gain shows.
+///
+/// # Errors
+/// As [`kalman_filter`].
+pub fn kalman_filter_ignoring_correlation(
+    plant: &Plant,
+    noise: &NoiseIntensities,
+) -> Result<KalmanFilter, KalmanError> {
+    kalman_filter_with(plant, noise, false)
+}
+
+fn kalman_filter_with(
+    plant: &Plant,
+    noise: &NoiseIntensities,
+    correlated: bool,
+) -> Result<KalmanFilter, KalmanError> {
     plant.check(noise)?;
     let n = plant.a.nrows();
     let (q, r, s) = plant.intensities(noise);
+    let s = if correlated { s } else { s * 0.0 };
     let r_inv = r.clone().try_inverse().ok_or(KalmanError::SingularR)?;
     if !r_inv.iter().all(|x| x.is_finite()) {
         return Err(KalmanError::SingularR);

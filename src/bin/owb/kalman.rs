@@ -9,7 +9,8 @@ use observer_workbench::algebra::{Rational, Zero};
 use observer_workbench::linalg::float::{eigenvalues, to_nalgebra};
 use observer_workbench::linalg::Matrix;
 use observer_workbench::observer::kalman::{
-    error_covariance, kalman_filter, natural_frequency, NoiseIntensities, Plant,
+    error_covariance, kalman_filter, kalman_filter_ignoring_correlation, natural_frequency,
+    NoiseIntensities, Plant,
 };
 use observer_workbench::observer::partial::gain_for_observer_matrix;
 use observer_workbench::observer::robust::robust_observer_gain;
@@ -99,6 +100,18 @@ pub fn run(args: Args) -> Result<Outcome> {
         gain: kalman_gain.clone(),
         note: format!("Riccati residual {:.1e}", k.residual),
     }];
+    let (_, _, s_corr) = plant.intensities(&noise);
+    if s_corr.iter().any(|x| *x != 0.0) {
+        let u = kalman_filter_ignoring_correlation(&plant, &noise)?;
+        table.push(Row {
+            method: "kalman-uncorrelated".into(),
+            gain: DMatrix::from_fn(u.gain.len(), c.rows(), |i, j| u.gain[i][j]),
+            note: format!(
+                "designed with S = B C_U Dᵀ ignored (Riccati residual {:.1e}); Σ is for the true, correlated noise",
+                u.residual
+            ),
+        });
+    }
     if let Some(ptext) = &args.poles {
         let poles = parse_list::<Rational>(ptext)
             .map_err(|e| anyhow!("in --poles: {}", e.show_in(ptext)))?;
@@ -177,7 +190,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         show(&DMatrix::from_fn(k.covariance.len(), k.covariance.len(), |i, j| k.covariance[i][j])),
         k.sign_iterations, k.newton_steps, k.residual
     ));
-    text.push_str("method             poles                          ω_n (rad/s)   diag Σ                        trace Σ       √trace Σ\n");
+    text.push_str("method               poles                          ω_n (rad/s)   diag Σ                        trace Σ       √trace Σ\n");
     for row in &table {
         let f = &plant.a - &row.gain * &plant.c;
         let ev = eigenvalues(&f);
@@ -187,7 +200,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             .map(|i| format!("{:.4e}", sigma[(i, i)]))
             .collect();
         text.push_str(&format!(
-            "{:<18} {:<30} {:>11.3}   {:<29} {:<13.4e} {:.4e}\n    L = {}  ({}; Lyapunov residual {:.1e})\n",
+            "{:<20} {:<30} {:>11.3}   {:<29} {:<13.4e} {:.4e}\n    L = {}  ({}; Lyapunov residual {:.1e})\n",
             row.method,
             ev.iter().map(pole_text).collect::<Vec<_>>().join(", "),
             wn,
