@@ -192,7 +192,11 @@ fn rounding_a_triple_pole_moves_it_by_the_cube_root_of_the_error() {
         .fold(0.0, f64::max);
     // for p(s) = (s + 4)^3 + δ(s) the roots move by about |δ(−4)|^(1/3)
     let predicted = at_root.cbrt();
-    assert!(moved > 0.02 && moved < 0.05, "moved {moved}");
+    // the rounding is visible: the poles move hundreds of times more than |δ(−4)| itself
+    assert!(
+        moved > 100.0 * at_root,
+        "moved {moved}, |δ(−4)| = {at_root}"
+    );
     assert!(
         (moved / predicted - 1.0).abs() < 0.3,
         "moved {moved}, predicted {predicted}"

@@ -50,17 +50,7 @@ fn convention(part: &KeyPart) -> Convention {
 
 /// The student's matrix, exact (decimals as the rationals they denote).
 pub fn answer_matrix(key: &AnswerKey, answer: &str) -> Option<Matrix<Quadratic>> {
-    let rows = parse_matrix_expressions(answer).ok()?;
-    let values = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|e| evaluate_with::<Quadratic>(e, &key.env))
-                .collect::<Result<Vec<_>, _>>()
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .ok()?;
-    Matrix::from_rows(values).ok()
+    crate::syntax::parse_matrix_with(answer, &key.env).ok()
 }
 
 fn recompute_as(key: &AnswerKey, part: &KeyPart, what: &str) -> Option<Value> {

@@ -121,12 +121,6 @@ pub struct AnswerFile {
     pub answers: BTreeMap<String, String>,
 }
 
-fn line_of(raw: &str, needle: &str) -> usize {
-    raw.lines()
-        .position(|l| l.trim_start().starts_with(needle))
-        .map_or(0, |i| i + 1)
-}
-
 fn read(path: &Path) -> Result<String, ExerciseError> {
     std::fs::read_to_string(path).map_err(|e| ExerciseError {
         file: path.display().to_string(),
@@ -158,7 +152,7 @@ pub fn load_exercise(path: &Path) -> Result<(ExerciseFile, String), ExerciseErro
     for p in &ex.parts {
         let bad = |field: &str, message: String| ExerciseError {
             file: path.display().to_string(),
-            line: line_of(&raw, &format!("id = \"{}\"", p.id)),
+            line: crate::worked::locate(&raw, Some(("id", &p.id)), field),
             field: format!("parts.{}.{field}", p.id),
             message,
         };
@@ -209,17 +203,6 @@ pub fn load_answers(path: &Path) -> Result<(AnswerFile, String), ExerciseError> 
     let raw = read(path)?;
     let a: AnswerFile = toml::from_str(&raw).map_err(|e| toml_error(path, &raw, &e))?;
     Ok((a, raw))
-}
-
-/// The line of `key = …` in an answer file (for messages).
-pub fn answer_line(raw: &str, key: &str) -> usize {
-    raw.lines()
-        .position(|l| {
-            let t = l.trim_start();
-            t.strip_prefix(key)
-                .is_some_and(|r| r.trim_start().starts_with('='))
-        })
-        .map_or(0, |i| i + 1)
 }
 
 #[cfg(test)]

@@ -158,7 +158,7 @@ pub fn minimal_dynamical_error(
     }
     let am = a.map(|x| x.to_f64());
     let cm = c.map(|x| x.to_f64());
-    let dp = Poly::new(desired.coeffs().iter().map(|x| x.to_f64()).collect(), "s");
+    let dp = desired.map(ToF64::to_f64);
     let free: Vec<(usize, usize)> = (0..p)
         .filter(|&j| j != placed_column)
         .flat_map(|j| (0..n).map(move |i| (i, j)))

@@ -127,7 +127,7 @@ pub fn weighted_design(
         output: to_nalgebra(output_noise),
     };
     let (af, cf) = (a.map(|x| x.to_f64()), c.map(|x| x.to_f64()));
-    let pf = Poly::new(desired.coeffs().iter().map(|x| x.to_f64()).collect(), "s");
+    let pf = desired.map(ToF64::to_f64);
     let variance = |w: f64| -> f64 {
         weighted_gain(&af, &cf, &pf, derivative_output, state, w)
             .ok()

@@ -1,27 +1,6 @@
-//! Integrators for `ẋ = f(t, x)`: the classical fixed-step Runge–Kutta of order 4 (the
-//! documents' choice) and the adaptive Dormand–Prince 5(4) pair with error control, for fast
-//! (stiff-ish) observers such as Furlan's 600 rad/s one.
-
-fn axpy(x: &[f64], a: f64, k: &[f64]) -> Vec<f64> {
-    x.iter().zip(k).map(|(x, k)| x + a * k).collect()
-}
-
-/// One RK4 step of size `h` from `(t, x)`.
-pub fn rk4_step(
-    f: &mut impl FnMut(f64, &[f64]) -> Vec<f64>,
-    t: f64,
-    x: &[f64],
-    h: f64,
-) -> Vec<f64> {
-    let k1 = f(t, x);
-    let k2 = f(t + h / 2.0, &axpy(x, h / 2.0, &k1));
-    let k3 = f(t + h / 2.0, &axpy(x, h / 2.0, &k2));
-    let k4 = f(t + h, &axpy(x, h, &k3));
-    x.iter()
-        .enumerate()
-        .map(|(i, xi)| xi + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
-        .collect()
-}
+//! The adaptive Dormand–Prince 5(4) pair with error control, for fast (stiff-ish) observers
+//! such as Furlan's 600 rad/s one. (The documents' fixed-step RK4 is written into the
+//! simulator's loop in [`super::run`], where the loop's linearity lets it reuse buffers.)
 
 /// Statistics of an adaptive run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -5,7 +5,7 @@
 //! * [`signal`]: inputs — step, sine, square, piecewise, samples (from CSV).
 //! * [`noise`]: seeded measurement and process noise, uniform or Gaussian, from our own
 //!   SplitMix64 generator so runs are reproducible bit for bit.
-//! * [`integrate`]: fixed-step RK4 and adaptive Dormand–Prince 5(4).
+//! * [`integrate`]: adaptive Dormand–Prince 5(4) (the fixed-step RK4 lives in [`run`]).
 //! * [`run`]: continuous and discrete-time plant + observer loops, and the perfect observer's
 //!   reconstruction from sampled `y`, `u` with causal finite-difference derivatives.
 //! * [`metrics`]: numbers that check a figure's claim — integral of squared error, overshoot,

@@ -172,6 +172,38 @@ pub fn parse_matrix<T: FromExpr>(input: &str) -> Result<Matrix<T>, SyntaxError> 
     })
 }
 
+/// Parses a matrix whose entries may use named values from `env` (`[a 0; 0 -k/m]`).
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::Rational;
+/// use observer_workbench::syntax::{parse_matrix_with, Environment};
+/// let env: Environment = [("a".to_string(), Rational::from_integer((-2).into()))].into();
+/// assert_eq!(parse_matrix_with::<Rational>("[a 0; 1 a^2]", &env).unwrap().to_input(), "[-2, 0; 1, 4]");
+/// ```
+///
+/// # Errors
+/// [`SyntaxError`] naming the column (an unknown name, ragged rows…).
+pub fn parse_matrix_with<T: FromExpr>(
+    input: &str,
+    env: &Environment,
+) -> Result<Matrix<T>, SyntaxError> {
+    let rows = parser::parse_matrix_rows(input)?;
+    let values = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|e| evaluate_with::<T>(e, env))
+                .collect::<Result<Vec<T>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Matrix::from_rows(values).map_err(|e| SyntaxError::TooLarge {
+        column: 1,
+        what: e.to_string(),
+        limit: crate::linalg::MAX_EXACT_ORDER,
+    })
+}
+
 /// Parses a comma-separated list of scalars (`-1+2i, -1-2i, -3`); brackets are optional.
 ///
 /// # Errors

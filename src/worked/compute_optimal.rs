@@ -336,38 +336,29 @@ fn float_poles(inputs: &Inputs) -> Result<Vec<(f64, f64)>, ComputeError> {
 pub(super) fn perfect_robustness(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let mut d = Derivation::new(title);
     // The observer is always the one of [system]; a claim's A, B, C describe a changed plant.
-    let system = |name: &str| -> Result<Option<Matrix<Rational>>, ComputeError> {
-        let text = match name {
-            "A" => &inputs.file.system.a,
-            "B" => &inputs.file.system.b,
-            "C" => &inputs.file.system.c,
-            _ => &inputs.file.system.d,
-        };
-        text.as_deref()
-            .map(|t| {
-                crate::syntax::parse_matrix_expressions(t)
-                    .map_err(|e| input_error(name, e.show_in(t)))
-                    .and_then(|rows| {
-                        rows.iter()
-                            .map(|r| {
-                                r.iter()
-                                    .map(|e| {
-                                        crate::syntax::evaluate_with::<Rational>(e, inputs.env)
-                                    })
-                                    .collect::<Result<Vec<_>, _>>()
-                            })
-                            .collect::<Result<Vec<_>, _>>()
-                            .map_err(|e| input_error(name, e.show_in(t)))
-                    })
-                    .and_then(|rows| {
-                        Matrix::from_rows(rows).map_err(|e| input_error(name, e.to_string()))
-                    })
-            })
-            .transpose()
+    let plain = crate::worked::ClaimSpec {
+        a: None,
+        b: None,
+        c: None,
+        ..inputs.claim.clone()
     };
-    let need = |name: &str| system(name)?.ok_or_else(|| input_error(name, "missing in [system]"));
-    let observer = perfect_observer(&need("A")?, &need("B")?, &need("C")?, system("D")?.as_ref())
-        .map_err(failed)?;
+    let system = Inputs {
+        file: inputs.file,
+        claim: &plain,
+        env: inputs.env,
+    };
+    let d_sys = if system.has("D") {
+        Some(system.numeric("D")?)
+    } else {
+        None
+    };
+    let observer = perfect_observer(
+        &system.numeric("A")?,
+        &system.numeric("B")?,
+        &system.numeric("C")?,
+        d_sys.as_ref(),
+    )
+    .map_err(failed)?;
     d.extend(observer.derivation.clone());
     let value = if inputs.claim.what == "perfect_observer_robustness" {
         let conds = robustness_conditions(&observer);

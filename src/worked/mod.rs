@@ -24,6 +24,7 @@ pub use format::{
 pub use report::{errata_markdown, render_derivations, render_table, report_json};
 pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
 pub use value::{compare, Agreement, Value};
+pub(crate) use verify::locate;
 pub use verify::{
     load_example, load_folder, verify_example, ClaimReport, ExampleReport, Summary, Verdict,
     WorkedError,

@@ -9,7 +9,7 @@ use crate::linalg::Matrix;
 use crate::observer::perfect::perfect_observer;
 use crate::observer::Convention;
 use crate::simulation::{self, summarize, Integrator, Loop, Setup, StateSummary, Trace};
-use crate::syntax::{evaluate_with, parse_matrix_expressions, parse_scalar, Environment};
+use crate::syntax::{parse_matrix_with, parse_scalar, Environment};
 use nalgebra::DMatrix;
 use serde::Serialize;
 use std::path::Path;
@@ -72,43 +72,24 @@ pub const METRICS: &[&str] = &[
     "max_relative_error",
 ];
 
+/// A real matrix (square roots allowed) for the simulator.
 fn float_matrix(text: &str, env: &Environment) -> Result<DMatrix<f64>, String> {
-    let rows = parse_matrix_expressions(text).map_err(|e| e.show_in(text))?;
-    let values: Vec<Vec<f64>> = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|e| {
-                    let v = evaluate_with::<Quadratic>(e, env).map_err(|e| e.show_in(text))?;
-                    let (re, im) = v.to_complex_f64();
-                    if im != 0.0 {
-                        return Err(format!("'{v}' is not real"));
-                    }
-                    Ok(re)
-                })
-                .collect()
-        })
-        .collect::<Result<_, _>>()?;
-    let n = values.len();
-    let m = values.first().map_or(0, Vec::len);
-    if values.iter().any(|r| r.len() != m) {
-        return Err("rows of different lengths".into());
+    let m = parse_matrix_with::<Quadratic>(text, env).map_err(|e| e.show_in(text))?;
+    let mut out = DMatrix::zeros(m.rows(), m.cols());
+    for i in 0..m.rows() {
+        for j in 0..m.cols() {
+            let (re, im) = m.get(i, j).to_complex_f64();
+            if im != 0.0 {
+                return Err(format!("'{}' is not real", m.get(i, j)));
+            }
+            out[(i, j)] = re;
+        }
     }
-    Ok(DMatrix::from_fn(n, m, |i, j| values[i][j]))
+    Ok(out)
 }
 
 fn exact_matrix(text: &str, env: &Environment) -> Result<Matrix<Rational>, String> {
-    let rows = parse_matrix_expressions(text).map_err(|e| e.show_in(text))?;
-    let values = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|e| evaluate_with::<Rational>(e, env))
-                .collect::<Result<Vec<_>, _>>()
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.show_in(text))?;
-    Matrix::from_rows(values).map_err(|e| e.to_string())
+    parse_matrix_with::<Rational>(text, env).map_err(|e| e.show_in(text))
 }
 
 /// Runs every scenario of an example (all are run, since checks may compare scenarios) and
@@ -199,20 +180,9 @@ pub fn run_scenarios(
 }
 
 fn error(file: &str, raw: &str, scenario: &str, field: &str, message: String) -> WorkedError {
-    let lines: Vec<&str> = raw.lines().collect();
-    let start = lines
-        .iter()
-        .position(|l| l.trim_start().starts_with("name") && l.contains(&format!("\"{scenario}\"")))
-        .unwrap_or(0);
-    let line = lines
-        .iter()
-        .enumerate()
-        .skip(start)
-        .find(|(_, l)| l.trim_start().starts_with(field))
-        .map_or(start + 1, |(i, _)| i + 1);
     WorkedError {
         file: file.to_string(),
-        line,
+        line: super::verify::locate(raw, Some(("name", scenario)), field),
         field: format!("scenarios.{scenario}.{field}"),
         message,
     }

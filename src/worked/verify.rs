@@ -109,29 +109,28 @@ pub struct WorkedError {
     pub message: String,
 }
 
-/// The 1-based line of `field` inside the claim `claim_id` (or at top level when `None`).
-fn locate(raw: &str, claim_id: Option<&str>, field: &str) -> usize {
+/// The 1-based line of `field = …` inside the block that starts at the line `key = "value"`
+/// (a claim's `id`, a scenario's `name`), or from the top when `block` is `None`; the block's
+/// own line when the field is not written there.
+pub(crate) fn locate(raw: &str, block: Option<(&str, &str)>, field: &str) -> usize {
     let lines: Vec<&str> = raw.lines().collect();
-    let start = match claim_id {
-        Some(id) => lines
+    let assigns = |l: &str, key: &str| {
+        l.trim_start()
+            .strip_prefix(key)
+            .is_some_and(|r| r.trim_start().starts_with('='))
+    };
+    let start = match block {
+        Some((key, value)) => lines
             .iter()
-            .position(|l| {
-                let t = l.trim_start();
-                t.starts_with("id") && t.contains(&format!("\"{id}\""))
-            })
+            .position(|l| assigns(l, key) && l.contains(&format!("\"{value}\"")))
             .unwrap_or(0),
         None => 0,
-    };
-    let key = |l: &str| {
-        let t = l.trim_start();
-        t.strip_prefix(field)
-            .is_some_and(|r| r.trim_start().starts_with('='))
     };
     lines
         .iter()
         .enumerate()
         .skip(start)
-        .find(|(_, l)| key(l))
+        .find(|(_, l)| assigns(l, field))
         .map_or(start + 1, |(i, _)| i + 1)
 }
 
@@ -172,7 +171,7 @@ pub fn load_example(path: &Path) -> Result<(ExampleFile, String), WorkedError> {
         if !seen.insert(c.id.clone()) {
             return Err(WorkedError {
                 file: file.clone(),
-                line: locate(&raw, Some(&c.id), "id"),
+                line: locate(&raw, Some(("id", &c.id)), "id"),
                 field: "id".into(),
                 message: format!("claim id '{}' appears twice", c.id),
             });
@@ -180,7 +179,7 @@ pub fn load_example(path: &Path) -> Result<(ExampleFile, String), WorkedError> {
         if !super::compute::COMPUTATIONS.contains(&c.what.as_str()) {
             return Err(WorkedError {
                 file: file.clone(),
-                line: locate(&raw, Some(&c.id), "what"),
+                line: locate(&raw, Some(("id", &c.id)), "what"),
                 field: format!("claims.{}.what", c.id),
                 message: format!(
                     "unknown computation '{}'; known: {}",
@@ -427,7 +426,7 @@ pub fn verify_example(
         if in_claim {
             WorkedError {
                 file: file.clone(),
-                line: locate(raw, Some(&claim.id), key),
+                line: locate(raw, Some(("id", &claim.id)), key),
                 field: format!("claims.{}.{field}", claim.id),
                 message,
             }

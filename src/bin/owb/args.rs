@@ -1,8 +1,11 @@
 //! Turning raw command-line strings into validated values, naming the flag on error.
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
+use observer_workbench::algebra::Quadratic;
 use observer_workbench::algebra::Rational;
 use observer_workbench::linalg::Matrix;
+use observer_workbench::observer::DesiredPolynomial;
+use observer_workbench::syntax::{parse_list, parse_polynomial};
 use observer_workbench::syntax::{parse_matrix, parse_scalar, FromExpr};
 
 /// Parses a matrix flag, e.g. `--a "[2 -3; 4 -5]"`.
@@ -141,5 +144,55 @@ impl InputMatrices {
             .map(|t| matrix::<Rational>("--d", t))
             .transpose()?;
         Ok((b, d))
+    }
+}
+
+/// The desired observer polynomial (`--poles`, `--poly`, `--repeated T`, `--butterworth T`,
+/// `--bessel T`), shared by the design subcommands.
+#[derive(clap::Args)]
+pub struct DesiredArgs {
+    /// Desired observer poles, e.g. "-4, -5" or "-1+2i, -1-2i, -3".
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
+    poles: Option<String>,
+    /// Desired observer polynomial, e.g. "s^2 + 9s + 20".
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
+    poly: Option<String>,
+    /// All n poles at −1/T.
+    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
+    repeated: Option<String>,
+    /// Order-n Butterworth polynomial with time constant T.
+    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
+    butterworth: Option<String>,
+    /// Order-n Bessel (Thomson) polynomial with low-frequency delay T.
+    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
+    bessel: Option<String>,
+}
+
+impl DesiredArgs {
+    /// The desired polynomial of degree `n`; errors name the flag.
+    pub fn parse(&self, n: usize) -> Result<DesiredPolynomial> {
+        Ok(if let Some(p) = &self.poles {
+            let poles =
+                parse_list::<Quadratic>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
+            if poles.len() != n {
+                bail!(
+                    "in --poles: {} poles given, the system has order {n}",
+                    poles.len()
+                );
+            }
+            DesiredPolynomial::from_poles(&poles)?
+        } else if let Some(p) = &self.poly {
+            let poly = parse_polynomial::<Quadratic>(p, "s")
+                .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
+            DesiredPolynomial::from_polynomial(poly, n)?
+        } else if let Some(t) = &self.repeated {
+            DesiredPolynomial::repeated(&rational("--repeated", t)?, n)?
+        } else if let Some(t) = &self.butterworth {
+            DesiredPolynomial::butterworth(&rational("--butterworth", t)?, n)?
+        } else if let Some(t) = &self.bessel {
+            DesiredPolynomial::bessel(&rational("--bessel", t)?, n)?
+        } else {
+            bail!("give the desired observer polynomial: --poles, --poly, --repeated T, --butterworth T or --bessel T")
+        })
     }
 }

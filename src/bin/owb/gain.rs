@@ -4,13 +4,12 @@
 //! `owb gain --a M --c M (--poles L | --poly P | --repeated T | --butterworth T) [--method M]
 //! [--convention a-kc|a+lc] [--float] [--json]`.
 
-use crate::args::{json_matrix, print_json, rational};
+use crate::args::{json_matrix, print_json};
 use crate::Outcome;
 use anyhow::{anyhow, bail, Result};
 use observer_workbench::algebra::{Quadratic, Rational};
 use observer_workbench::observer::float_check::{float_check, FloatCheck, FloatVerdict};
 use observer_workbench::observer::{design, Convention, DesiredPolynomial, GainMethod};
-use observer_workbench::syntax::{parse_list, parse_polynomial};
 use serde_json::json;
 
 /// Arguments of `owb gain`.
@@ -18,21 +17,8 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     system: crate::args::SystemPair,
-    /// Desired observer poles, e.g. "-4, -5" or "-1+2i, -1-2i, -3".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poles: Option<String>,
-    /// Desired observer polynomial, e.g. "s^2 + 9s + 20".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poly: Option<String>,
-    /// All n poles at −1/T.
-    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
-    repeated: Option<String>,
-    /// Order-n Butterworth polynomial with time constant T.
-    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
-    butterworth: Option<String>,
-    /// Order-n Bessel (Thomson) polynomial with low-frequency delay T.
-    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
-    bessel: Option<String>,
+    #[command(flatten)]
+    desired: crate::args::DesiredArgs,
     /// ackermann (default), bass-gura, canonical or lemma-3.1.
     #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
     method: String,
@@ -52,32 +38,6 @@ pub struct Args {
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
-}
-
-fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
-    Ok(if let Some(p) = &args.poles {
-        let poles =
-            parse_list::<Quadratic>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
-        if poles.len() != n {
-            bail!(
-                "in --poles: {} poles given, the system has order {n}",
-                poles.len()
-            );
-        }
-        DesiredPolynomial::from_poles(&poles)?
-    } else if let Some(p) = &args.poly {
-        let poly = parse_polynomial::<Quadratic>(p, "s")
-            .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
-        DesiredPolynomial::from_polynomial(poly, n)?
-    } else if let Some(t) = &args.repeated {
-        DesiredPolynomial::repeated(&rational("--repeated", t)?, n)?
-    } else if let Some(t) = &args.butterworth {
-        DesiredPolynomial::butterworth(&rational("--butterworth", t)?, n)?
-    } else if let Some(t) = &args.bessel {
-        DesiredPolynomial::bessel(&rational("--bessel", t)?, n)?
-    } else {
-        bail!("give the desired observer polynomial: --poles, --poly, --repeated T, --butterworth T or --bessel T")
-    })
 }
 
 fn float_json(f: &FloatCheck) -> serde_json::Value {
@@ -145,7 +105,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             args.convention
         )
     })?;
-    let desired = desired(&args, a.rows())?;
+    let desired = args.desired.parse(a.rows())?;
     if c.rows() > 1 {
         return multi_output(&args, &a, &c, &desired, method, convention);
     }

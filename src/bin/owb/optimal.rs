@@ -13,7 +13,6 @@ use observer_workbench::observer::dynamical_error::{
 };
 use observer_workbench::observer::optimal::{minimum_norm_gain, pole_placement_constraints};
 use observer_workbench::poly::{exact_roots, Poly};
-use observer_workbench::syntax::{parse_list, parse_polynomial};
 use serde_json::json;
 
 /// Arguments of `owb optimal`.
@@ -21,12 +20,8 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     system: crate::args::SystemPair,
-    /// Desired observer poles (rational), e.g. "-4, -4, -4".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poles: Option<String>,
-    /// Desired observer polynomial, e.g. "(s + 4)^3".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poly: Option<String>,
+    #[command(flatten)]
+    desired: crate::args::DesiredArgs,
     /// j1 (minimum norm Σ k_i², default) or j2 (minimal dynamical error λ_max(H)).
     #[arg(allow_hyphen_values = true, long, default_value = "j1")]
     index: String,
@@ -48,28 +43,6 @@ pub struct Args {
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
-}
-
-fn desired(args: &Args, n: usize) -> Result<Poly<Rational>> {
-    let p = if let Some(p) = &args.poles {
-        let poles =
-            parse_list::<Rational>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
-        if poles.len() != n {
-            bail!(
-                "in --poles: {} poles given, the system has order {n}",
-                poles.len()
-            );
-        }
-        Poly::from_roots(&poles, "s")
-    } else if let Some(p) = &args.poly {
-        parse_polynomial::<Rational>(p, "s").map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?
-    } else {
-        bail!("give the desired observer polynomial: --poles or --poly (rational)")
-    };
-    if p.degree() != Some(n) || !p.is_monic() {
-        bail!("the desired polynomial {p} must be monic of degree {n} (the order of A)");
-    }
-    Ok(p)
 }
 
 fn show(m: &DMatrix<f64>) -> String {
@@ -127,7 +100,9 @@ pub fn run(args: Args) -> Result<Outcome> {
         );
     }
     let n = a.rows();
-    let p = desired(&args, n)?;
+    let p = args.desired.parse(n)?.rational().ok_or_else(|| {
+        anyhow!("the optimal designs need a desired polynomial with rational coefficients")
+    })?;
     let weight = match &args.weight {
         Some(w) => matrix::<Rational>("--weight", w)?,
         None => Matrix::identity(n),
