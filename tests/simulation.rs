@@ -37,10 +37,16 @@ fn rk4_error(h: f64) -> f64 {
 
 #[test]
 fn rk4_error_falls_as_h_to_the_fourth() {
-    let errors: Vec<f64> = [0.2, 0.1, 0.05, 0.025].iter().map(|&h| rk4_error(h)).collect();
+    let errors: Vec<f64> = [0.2, 0.1, 0.05, 0.025]
+        .iter()
+        .map(|&h| rk4_error(h))
+        .collect();
     for w in errors.windows(2) {
         let order = (w[0] / w[1]).log2();
-        assert!((order - 4.0).abs() < 0.15, "observed order {order:.3} from {errors:?}");
+        assert!(
+            (order - 4.0).abs() < 0.15,
+            "observed order {order:.3} from {errors:?}"
+        );
     }
 }
 
