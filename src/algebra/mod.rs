@@ -13,10 +13,12 @@
 //!
 //! Exactness is a property of the type ([`Ring::EXACT`]); tolerances never appear in exact code.
 
+mod gcd;
 mod multivariate;
 mod quadratic;
 mod scalars;
 
+pub use gcd::{fraction, gcd, lcm_of_denominators};
 pub(crate) use multivariate::latex_symbol;
 pub use multivariate::{Monomial, MultiPoly};
 pub use num_bigint::BigInt;

@@ -71,15 +71,13 @@ impl IntegralDomain for BigRational {
 impl Field for BigRational {
     type Integers = BigInt;
     fn common_denominator(values: &[Self]) -> BigInt {
-        values
-            .iter()
-            .fold(BigInt::from(1), |acc, v| acc.lcm(v.denom()))
+        super::lcm_of_denominators(values)
     }
     fn scale_to_integer(&self, d: &BigInt) -> BigInt {
         (self.numer() * d) / self.denom()
     }
     fn from_integer_ratio(n: BigInt, d: BigInt) -> Option<Self> {
-        (!Zero::is_zero(&d)).then(|| BigRational::new(n, d))
+        (!Zero::is_zero(&d)).then(|| super::fraction(n, d))
     }
     fn inverse(&self) -> Option<Self> {
         (!Zero::is_zero(self)).then(|| self.recip())

@@ -123,7 +123,17 @@ pub fn determinant<F: Field>(a: &Matrix<F>) -> Result<F, LinalgError> {
 
 /// The rank over a field (exact for exact types; for `f64` use [`super::float::rank`], which takes
 /// a tolerance).
+///
+/// Large rational matrices are first tried modulo a prime: a full rank there proves full rank
+/// over Q ([`super::modular::has_full_rank`]); otherwise fraction-free elimination decides.
 pub fn rank<F: Field>(a: &Matrix<F>) -> usize {
+    if a.rows().max(a.cols()) >= super::MODULAR_FROM_ORDER {
+        if let Some(q) = super::as_rational(a) {
+            if super::modular::has_full_rank(q) {
+                return a.rows().min(a.cols());
+            }
+        }
+    }
     let (rows, _) = integer_rows(a);
     bareiss(rows, a.cols()).pivots.len()
 }

@@ -194,6 +194,11 @@ impl<T: Ring> Matrix<T> {
     /// `self + other`.
     pub fn add(&self, other: &Self) -> Result<Self, LinalgError> {
         self.check_same(other, "sum")?;
+        if let (Some(x), Some(y)) = (super::as_rational(self), super::as_rational(other)) {
+            if let Some(r) = super::from_rational(super::rational::add(x, y, false)) {
+                return Ok(r);
+            }
+        }
         Ok(Matrix::from_fn(self.rows, self.cols, |i, j| {
             self.get(i, j).clone() + other.get(i, j).clone()
         }))
@@ -201,6 +206,11 @@ impl<T: Ring> Matrix<T> {
     /// `self − other`.
     pub fn sub(&self, other: &Self) -> Result<Self, LinalgError> {
         self.check_same(other, "difference")?;
+        if let (Some(x), Some(y)) = (super::as_rational(self), super::as_rational(other)) {
+            if let Some(r) = super::from_rational(super::rational::add(x, y, true)) {
+                return Ok(r);
+            }
+        }
         Ok(Matrix::from_fn(self.rows, self.cols, |i, j| {
             self.get(i, j).clone() - other.get(i, j).clone()
         }))
@@ -213,6 +223,11 @@ impl<T: Ring> Matrix<T> {
     pub fn mul(&self, other: &Self) -> Result<Self, LinalgError> {
         if self.cols != other.rows {
             return Err(self.mismatch(other, "product"));
+        }
+        if let (Some(x), Some(y)) = (super::as_rational(self), super::as_rational(other)) {
+            if let Some(r) = super::from_rational(super::rational::mul(x, y)) {
+                return Ok(r);
+            }
         }
         let mut out = Matrix::<T>::zeros(self.rows, other.cols);
         for i in 0..self.rows {

@@ -17,6 +17,7 @@ pub mod kronecker;
 pub mod lyapunov;
 mod matrix;
 pub mod modular;
+mod rational;
 
 pub use charpoly::{
     berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_vector,

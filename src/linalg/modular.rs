@@ -427,6 +427,48 @@ fn lift_cramer(
     None
 }
 
+/// Rank of a row-major `rows × cols` matrix mod p, by elimination.
+fn rank_mod(mut m: Vec<u64>, rows: usize, cols: usize, p: u64) -> usize {
+    let br = Barrett::new(p);
+    let mut rank = 0;
+    for col in 0..cols {
+        if rank == rows {
+            break;
+        }
+        let Some(piv) = (rank..rows).find(|&i| m[i * cols + col] != 0) else {
+            continue;
+        };
+        for j in 0..cols {
+            m.swap(piv * cols + j, rank * cols + j);
+        }
+        let inv = inv_mod(m[rank * cols + col], p).unwrap_or(0);
+        for i in rank + 1..rows {
+            let u = br.mul(m[i * cols + col], inv);
+            if u == 0 {
+                continue;
+            }
+            let neg_u = p - u;
+            for j in col..cols {
+                m[i * cols + j] = br.reduce(m[i * cols + j] + neg_u * m[rank * cols + j]);
+            }
+        }
+        rank += 1;
+    }
+    rank
+}
+
+/// Whether `a` has full rank, `min(rows, cols)`, proved by its rank modulo one prime (a rank
+/// mod p is never larger than the rank over Q). `false` means "not proved": the caller decides
+/// exactly (a rank deficiency cannot be proved modulo a prime).
+pub fn has_full_rank(a: &Matrix<Rational>) -> bool {
+    let (rows, cols) = (a.rows(), a.cols());
+    let full = rows.min(cols);
+    let scaled = scaled_rows(a);
+    primes()
+        .take(3)
+        .any(|p| rank_mod(scaled.residues(p), rows, cols, p) == full)
+}
+
 /// Solves `A X = B` over the rationals exactly: `det(A)·X = adj(A)·B` is lifted by Chinese
 /// remaindering up to a Hadamard bound, so the result is exact by construction. `None` when A is
 /// singular (the caller reports it).
@@ -476,7 +518,7 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
     }
     let x: Vec<Rational> = y
         .into_iter()
-        .map(|v| Rational::new(v, det.clone()))
+        .map(|v| crate::algebra::fraction(v, det.clone()))
         .collect();
     Some(Matrix::from_fn(n, k, |i, j| x[i * k + j].clone()))
 }
@@ -537,11 +579,11 @@ pub fn ackermann_gain_rational(
     if det.is_zero() {
         return None;
     }
-    // K = e/(f d) · Y / det
-    let scale = Rational::new(e, f * d);
+    // K = e/(f d) · Y / det, one reduction per entry
+    let denominator = f * d * &det;
     Some(Matrix::column(
         y.into_iter()
-            .map(|v| Rational::new(v, det.clone()) * scale.clone())
+            .map(|v| crate::algebra::fraction(v * &e, denominator.clone()))
             .collect(),
     ))
 }

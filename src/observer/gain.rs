@@ -10,7 +10,7 @@
 
 use super::{Convention, DesiredPolynomial, ObserverGain};
 use crate::algebra::{Field, Quadratic, Rational};
-use crate::canonical_form::{observer_form_di_ruscio, toeplitz_m, CanonicalFormError};
+use crate::canonical_form::{toeplitz_m, CanonicalFormError};
 use crate::derivation::{Derivation, Words};
 use crate::linalg::{self, LinalgError, Matrix};
 use crate::observability::{require_observable, ObservabilityError};
@@ -116,6 +116,81 @@ fn coefficient_difference<F: Field>(desired: &Poly<F>, open_loop: &Poly<F>, n: u
     })
 }
 
+/// What every method shares, computed once: `O_n` (observability certified) and `det(sI − A)`.
+struct Shared<F: Field> {
+    n: usize,
+    o: Matrix<F>,
+    open_loop: Poly<F>,
+}
+
+impl<F: Field> Shared<F> {
+    fn new(
+        a: &Matrix<F>,
+        c: &Matrix<F>,
+        desired: &Poly<F>,
+        method: GainMethod,
+    ) -> Result<Self, DesignError> {
+        let n = check_desired(a, desired)?;
+        if c.rows() != 1 {
+            return Err(DesignError::MultiOutput {
+                method,
+                outputs: c.rows(),
+            });
+        }
+        let o = require_observable(a, c)?;
+        let open_loop = linalg::characteristic_polynomial(a, "s")?;
+        Ok(Shared { n, o, open_loop })
+    }
+    /// `M`, the Toeplitz matrix of `[1 a_1 … a_(n−1)]`.
+    fn toeplitz(&self) -> Matrix<F> {
+        toeplitz_m(&self.open_loop)
+    }
+    /// `T_o = (Mᵀ O_n)⁻¹`.
+    fn transformation(&self, m: &Matrix<F>) -> Result<Matrix<F>, DesignError> {
+        Ok(linalg::inverse(&m.transpose().mul(&self.o)?)?)
+    }
+    /// `q_n = O_n⁻¹ e_n`.
+    fn last_column_of_inverse(&self) -> Result<Matrix<F>, DesignError> {
+        Ok(linalg::solve(&self.o, &Matrix::unit(self.n, self.n - 1))?)
+    }
+    /// `K = O_n⁻¹ M⁻ᵀ (c − a)`.
+    fn bass_gura(&self, m: &Matrix<F>, diff: &Matrix<F>) -> Result<Matrix<F>, DesignError> {
+        let y = linalg::solve(&m.transpose(), diff)?;
+        Ok(linalg::solve(&self.o, &y)?)
+    }
+    /// `K̃_o = C P(A) O_n⁻¹`, with `C P(A) = (P(Aᵀ) Cᵀ)ᵀ` by Horner on vectors.
+    fn lemma_3_1_row(
+        &self,
+        a: &Matrix<F>,
+        c: &Matrix<F>,
+        desired: &Poly<F>,
+    ) -> Result<Matrix<F>, DesignError> {
+        let cp = linalg::polynomial_times_vector(desired, &a.transpose(), &c.transpose())?;
+        // K̃_o O_n = C P(A)  ⇔  O_nᵀ K̃_oᵀ = (C P(A))ᵀ
+        Ok(linalg::solve(&self.o.transpose(), &cp)?.transpose())
+    }
+    /// `det(sI − (A − KC))` for this single-output pair, by the rank-one update
+    /// `det(sI − A + KC) = det(sI − A) + C adj(sI − A) K` with
+    /// `adj(sI − A) = Σ_j A^j Σ_(i>j) a_i s^(i−j−1)`: only the numbers `C A^j K = (O_n K)_j` enter,
+    /// so the check costs one matrix–vector product, whatever the size of `K`.
+    fn observer_polynomial(&self, k: &Matrix<F>) -> Result<Poly<F>, DesignError> {
+        let m = self.o.mul(k)?;
+        let a = self.open_loop.coeffs();
+        let mut coeffs = a.to_vec();
+        for j in 0..self.n {
+            let mj = m.get(j, 0);
+            if mj.is_zero() {
+                continue;
+            }
+            for i in j + 1..=self.n {
+                let e = i - j - 1;
+                coeffs[e] = coeffs[e].clone() + mj.clone() * a[i].clone();
+            }
+        }
+        Ok(Poly::new(coeffs, "s"))
+    }
+}
+
 /// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC), for one output row `c`.
 ///
 /// Over the rationals from order [`linalg::MODULAR_FROM_ORDER`] on, the gain is computed by
@@ -167,8 +242,8 @@ pub fn ackermann_gain<F: Field>(
         }
     }
     // Generic path (and the error report when the modular path finds O_n singular).
-    let o = require_observable(a, c)?;
-    let q = linalg::solve(&o, &Matrix::unit(n, n - 1))?;
+    let s = Shared::new(a, c, desired, GainMethod::Ackermann)?;
+    let q = s.last_column_of_inverse()?;
     Ok(linalg::polynomial_times_vector(desired, a, &q)?)
 }
 
@@ -182,11 +257,13 @@ pub fn bass_gura_gain<F: Field>(
     desired: &Poly<F>,
 ) -> Result<Matrix<F>, DesignError> {
     let n = check_desired(a, desired)?;
-    let open_loop = linalg::characteristic_polynomial(a, "s")?;
-    let m = toeplitz_m(&open_loop);
-    let diff = coefficient_difference(desired, &open_loop, n);
-    let y = linalg::solve(&m.transpose(), &diff)?;
-    Ok(linalg::solve(o, &y)?)
+    let s = Shared {
+        n,
+        o: o.clone(),
+        open_loop: linalg::characteristic_polynomial(a, "s")?,
+    };
+    let m = s.toeplitz();
+    s.bass_gura(&m, &coefficient_difference(desired, &s.open_loop, n))
 }
 
 /// The canonical-form design with its intermediate values.
@@ -200,7 +277,21 @@ pub struct CanonicalGain<F: Field> {
     pub transformation: Matrix<F>,
 }
 
-/// Canonical-form gain: `K_o = c − a`, `K = T_o K_o` (A − KC).
+fn canonical_from<F: Field>(
+    s: &Shared<F>,
+    desired: &Poly<F>,
+) -> Result<CanonicalGain<F>, DesignError> {
+    let t = s.transformation(&s.toeplitz())?;
+    let k_o = coefficient_difference(desired, &s.open_loop, s.n);
+    Ok(CanonicalGain {
+        gain: t.mul(&k_o)?,
+        canonical: k_o,
+        transformation: t,
+    })
+}
+
+/// Canonical-form gain: `K_o = c − a`, `K = T_o K_o` (A − KC), with `T_o = (Mᵀ O_n)⁻¹` as in
+/// [`observer_form_di_ruscio`](crate::canonical_form::observer_form_di_ruscio).
 ///
 /// # Errors
 /// [`DesignError`] for several outputs or an unobservable pair.
@@ -209,14 +300,20 @@ pub fn canonical_gain<F: Field>(
     c: &Matrix<F>,
     desired: &Poly<F>,
 ) -> Result<CanonicalGain<F>, DesignError> {
-    let n = check_desired(a, desired)?;
-    let form = observer_form_di_ruscio(a, None, c)?;
-    let k_o = coefficient_difference(desired, &form.open_loop, n);
-    Ok(CanonicalGain {
-        gain: form.t.mul(&k_o)?,
-        canonical: k_o,
-        transformation: form.t,
-    })
+    canonical_from(&Shared::new(a, c, desired, GainMethod::Canonical)?, desired)
+}
+
+fn lemma_3_1_from<F: Field>(
+    s: &Shared<F>,
+    a: &Matrix<F>,
+    c: &Matrix<F>,
+    desired: &Poly<F>,
+) -> Result<(Matrix<F>, Matrix<F>), DesignError> {
+    let t = s.transformation(&s.toeplitz())?;
+    let k_tilde = s.lemma_3_1_row(a, c, desired)?;
+    let n = s.n;
+    let k_o = Matrix::from_fn(n, 1, |i, _| k_tilde.get(0, n - 1 - i).clone());
+    Ok((t.mul(&k_o)?, k_tilde))
 }
 
 /// Lemma 3.1: `K̃_o = C P(A) O_n⁻¹`, `K_o = rot90(K̃_o)`, `K = T_o K_o`. Returns `(K, K̃_o)`.
@@ -228,13 +325,8 @@ pub fn lemma_3_1_gain<F: Field>(
     c: &Matrix<F>,
     desired: &Poly<F>,
 ) -> Result<(Matrix<F>, Matrix<F>), DesignError> {
-    let n = check_desired(a, desired)?;
-    let form = observer_form_di_ruscio(a, None, c)?;
-    let cp = c.mul(&linalg::matrix_polynomial(desired, a)?)?;
-    // K̃_o O_n = C P(A)  ⇔  O_nᵀ K̃_oᵀ = (C P(A))ᵀ
-    let k_tilde = linalg::solve(&form.test_matrix.transpose(), &cp.transpose())?.transpose();
-    let k_o = Matrix::from_fn(n, 1, |i, _| k_tilde.get(0, n - 1 - i).clone());
-    Ok((form.t.mul(&k_o)?, k_tilde))
+    let s = Shared::new(a, c, desired, GainMethod::Lemma31)?;
+    lemma_3_1_from(&s, a, c, desired)
 }
 
 /// A finished exact design with its working.
@@ -252,6 +344,17 @@ pub struct ObserverDesign {
     pub derivation: Derivation,
 }
 
+/// How much of the working a design records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Detail {
+    /// Every intermediate matrix (the default; what a student reads).
+    #[default]
+    Full,
+    /// Only the polynomials and the gain: for large systems, whose intermediate matrices
+    /// (`O_n`, `q_n`, `A − KC`) run to millions of digits. The computation is the same.
+    Summary,
+}
+
 /// Designs an exact single-output observer gain with `method`, reported in `convention`.
 ///
 /// The arithmetic runs over the rationals when the desired polynomial is rational, otherwise in
@@ -267,6 +370,21 @@ pub fn design(
     method: GainMethod,
     convention: Convention,
 ) -> Result<ObserverDesign, DesignError> {
+    design_with(a, c, desired, method, convention, Detail::Full)
+}
+
+/// [`design`] with the amount of recorded working chosen.
+///
+/// # Errors
+/// As [`design`].
+pub fn design_with(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &DesiredPolynomial,
+    method: GainMethod,
+    convention: Convention,
+    detail: Detail,
+) -> Result<ObserverDesign, DesignError> {
     if c.rows() != 1 {
         return Err(DesignError::MultiOutput {
             method,
@@ -275,7 +393,7 @@ pub fn design(
     }
     let (k, derivation, achieved) = match desired.rational() {
         Some(p) => {
-            let (k, d, ach) = design_in(a, c, &p, method)?;
+            let (k, d, ach) = design_in(a, c, &p, method, detail)?;
             let lift = |x: &Rational| Quadratic::rational(x.clone());
             (k.map(lift), d, ach.map(lift))
         }
@@ -284,7 +402,7 @@ pub fn design(
                 DesignError::NotExact(desired.inexact_reason.clone().unwrap_or_default())
             })?;
             let lift = |x: &Rational| Quadratic::rational(x.clone());
-            design_in(&a.map(lift), &c.map(lift), &p, method)?
+            design_in(&a.map(lift), &c.map(lift), &p, method, detail)?
         }
     };
     let gain = ObserverGain {
@@ -305,55 +423,76 @@ pub fn design(
     })
 }
 
+/// A derivation that records a step only when the detail asks for it.
+struct Steps {
+    d: Derivation,
+    full: bool,
+}
+
+impl Steps {
+    fn push(&mut self, label: &str, formula: &str, value: &dyn crate::derivation::Show) {
+        self.d.push(label, formula, value);
+    }
+    fn intermediate(&mut self, label: &str, formula: &str, value: &dyn crate::derivation::Show) {
+        if self.full {
+            self.d.push(label, formula, value);
+        }
+    }
+}
+
 fn design_in<F: Field>(
     a: &Matrix<F>,
     c: &Matrix<F>,
     desired: &Poly<F>,
     method: GainMethod,
+    detail: Detail,
 ) -> Result<(Matrix<F>, Derivation, Poly<F>), DesignError> {
-    let n = check_desired(a, desired)?;
-    let mut d = Derivation::new(&format!("Observer gain by the {method} method (A − KC)"));
-    let o = require_observable(a, c)?;
-    d.push("O_n", "[C; CA; …; CA^(n−1)]", &o);
-    let open_loop = linalg::characteristic_polynomial(a, "s")?;
-    d.push("det(sI − A)", "open-loop polynomial", &open_loop);
+    let mut d = Steps {
+        d: Derivation::new(&format!("Observer gain by the {method} method (A − KC)")),
+        full: detail == Detail::Full,
+    };
+    let s = Shared::new(a, c, desired, method)?;
+    d.intermediate("O_n", "[C; CA; …; CA^(n−1)]", &s.o);
+    d.push("det(sI − A)", "open-loop polynomial", &s.open_loop);
     d.push("P(s)", "desired observer polynomial", &desired.clone());
     let k = match method {
         GainMethod::Ackermann => {
-            let q = linalg::solve(&o, &Matrix::unit(n, n - 1))?;
-            d.push("q_n", "O_n⁻¹ e_n", &q);
+            let q = s.last_column_of_inverse()?;
+            d.intermediate("q_n", "O_n⁻¹ e_n", &q);
             let k = linalg::polynomial_times_vector(desired, a, &q)?;
             d.push("K", "P(A) q_n", &k);
             k
         }
         GainMethod::BassGura => {
-            let m = toeplitz_m(&open_loop);
-            d.push("M", "Toeplitz of [1 a_1 … a_(n−1)]", &m);
-            let diff = coefficient_difference(desired, &open_loop, n);
+            let m = s.toeplitz();
+            d.intermediate("M", "Toeplitz of [1 a_1 … a_(n−1)]", &m);
+            let diff = coefficient_difference(desired, &s.open_loop, s.n);
             d.push("c − a", "coefficient difference", &diff);
-            let k = bass_gura_gain(a, &o, desired)?;
+            let k = s.bass_gura(&m, &diff)?;
             d.push("K", "O_n⁻¹ M⁻ᵀ (c − a)", &k);
             k
         }
         GainMethod::Canonical => {
-            let g = canonical_gain(a, c, desired)?;
-            d.push("T_o", "(Mᵀ O_n)⁻¹", &g.transformation);
+            let g = canonical_from(&s, desired)?;
+            d.intermediate("T_o", "(Mᵀ O_n)⁻¹", &g.transformation);
             d.push("K_o", "c − a", &g.canonical);
             d.push("K", "T_o K_o", &g.gain);
             g.gain
         }
         GainMethod::Lemma31 => {
-            let (k, k_tilde) = lemma_3_1_gain(a, c, desired)?;
+            let (k, k_tilde) = lemma_3_1_from(&s, a, c, desired)?;
             d.push("K̃_o", "C P(A) O_n⁻¹", &k_tilde);
             d.push("K", "T_o rot90(K̃_o)", &k);
             k
         }
     };
-    let observer = a.sub(&k.mul(c)?)?;
-    d.push("A − KC", "observer matrix", &observer);
-    let achieved = linalg::characteristic_polynomial(&observer, "s")?;
+    if d.full {
+        let observer = a.sub(&k.mul(c)?)?;
+        d.push("A − KC", "observer matrix", &observer);
+    }
+    let achieved = s.observer_polynomial(&k)?;
     d.push("det(sI − (A − KC))", "check", &achieved);
-    Ok((k, d, achieved))
+    Ok((k, d.d, achieved))
 }
 
 impl ObserverDesign {
