@@ -125,7 +125,12 @@ pub fn observability_report(
     } else {
         None
     };
-    let basis = linalg::null_space(&o);
+    // ker O_n is {0} when the rank is full (proved cheaply for large matrices)
+    let basis = if rank == n {
+        Vec::new()
+    } else {
+        linalg::null_space(&o)
+    };
     let restricted = restriction(a, &basis)?;
     let unobservable_polynomial = linalg::characteristic_polynomial(&restricted, "s")?;
     let unobservable_eigenvalues = exact_roots(&unobservable_polynomial);

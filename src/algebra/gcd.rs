@@ -5,8 +5,8 @@
 //! with a small one costs as much (it subtracts the small number bit by bit). Exact linear algebra
 //! normalises every entry of a result once, so this is where a profile of a large exact design
 //! ends up. Lehmer's algorithm (Knuth, TAOCP vol. 2, §4.5.2, Algorithm L) runs Euclid's
-//! algorithm on the leading 64 bits with single-precision cofactors and applies the accumulated
-//! 2×2 matrix to the full numbers once per ~30 bits of quotients; unbalanced operands take one
+//! algorithm on the leading 126 bits with double-word cofactors and applies the accumulated 2×2
+//! matrix to the full numbers once per ~60 bits of quotients; unbalanced operands take one
 //! full division step first.
 //!
 //! The results are the same numbers as num-integer's (a property test compares them); only the
@@ -43,19 +43,20 @@ fn gcd_unsigned(a: &BigUint, b: &BigUint) -> BigUint {
             return a;
         }
         let bits = a.bits();
-        if bits <= 64 {
-            let (x, y) = (a.to_u64().unwrap_or(0), b.to_u64().unwrap_or(0));
+        if bits <= 126 {
+            let (x, y) = (a.to_u128().unwrap_or(0), b.to_u128().unwrap_or(0));
             return BigUint::from(x.gcd(&y));
         }
-        let shift = bits - 64;
+        // the leading 126 bits, so that x + s stays inside i128
+        let shift = bits - 126;
         if b.bits() <= shift {
             // Very different sizes: one division does what Lehmer's steps cannot.
             let r = &a % &b;
             a = std::mem::replace(&mut b, r);
             continue;
         }
-        let x = (&a >> shift).to_u64().unwrap_or(0);
-        let y = (&b >> shift).to_u64().unwrap_or(0);
+        let x = (&a >> shift).to_u128().unwrap_or(0);
+        let y = (&b >> shift).to_u128().unwrap_or(0);
         match lehmer_cofactors(x, y) {
             Some([s, t, u, v]) => {
                 let (ai, bi) = (BigInt::from(a), BigInt::from(b));
@@ -79,16 +80,25 @@ fn gcd_unsigned(a: &BigUint, b: &BigUint) -> BigUint {
 /// The cofactor matrix `[s t; u v]` of the Euclidean steps that the leading digits `x ≥ y`
 /// determine for sure (Knuth's test on `(x + s)/(y + u)` and `(x + t)/(y + v)`), or `None` when
 /// not even one step is certain.
-fn lehmer_cofactors(x: u64, y: u64) -> Option<[i128; 4]> {
-    let (mut x, mut y) = (i128::from(x), i128::from(y));
+fn lehmer_cofactors(x: u128, y: u128) -> Option<[i128; 4]> {
+    let (Ok(mut x), Ok(mut y)) = (i128::try_from(x), i128::try_from(y)) else {
+        return None;
+    };
     let (mut s, mut t, mut u, mut v) = (1i128, 0i128, 0i128, 1i128);
     loop {
-        let (du, dv) = (y + u, y + v);
+        let (Some(du), Some(dv), Some(xs), Some(xt)) = (
+            y.checked_add(u),
+            y.checked_add(v),
+            x.checked_add(s),
+            x.checked_add(t),
+        ) else {
+            break;
+        };
         if du == 0 || dv == 0 {
             break;
         }
-        let q = (x + s).div_euclid(du);
-        if q != (x + t).div_euclid(dv) || q < 0 {
+        let q = xs.div_euclid(du);
+        if q != xt.div_euclid(dv) || q < 0 {
             break;
         }
         let (Some(qu), Some(qv), Some(qy)) = (q.checked_mul(u), q.checked_mul(v), q.checked_mul(y))

@@ -114,7 +114,15 @@ pub fn determinant_in_domain<D: IntegralDomain>(a: &Matrix<D>) -> Result<D, Lina
 /// # Errors
 /// [`LinalgError::NotSquare`].
 pub fn determinant<F: Field>(a: &Matrix<F>) -> Result<F, LinalgError> {
-    a.require_square("determinant")?;
+    let n = a.require_square("determinant")?;
+    if n >= super::MODULAR_FROM_ORDER {
+        if let Some(d) = super::as_rational(a)
+            .map(super::modular::determinant_rational)
+            .and_then(super::from_rational)
+        {
+            return Ok(d);
+        }
+    }
     let (rows, scale) = integer_rows(a);
     let m = Matrix::from_rows(rows)?;
     let d = determinant_in_domain(&m)?;

@@ -3,7 +3,7 @@
 
 use super::Matrix;
 use crate::algebra::{Ring, ToF64};
-use nalgebra::{Complex, DMatrix};
+use nalgebra::{linalg::Schur, Complex, DMatrix};
 
 /// The nearest `f64` matrix, as an nalgebra `DMatrix`.
 pub fn to_nalgebra<T: Ring + ToF64>(a: &Matrix<T>) -> DMatrix<f64> {
@@ -16,11 +16,33 @@ pub fn from_nalgebra(a: &DMatrix<f64>) -> Matrix<f64> {
 }
 
 /// The eigenvalues (real Schur form), sorted by real part then imaginary part.
+///
+/// The QR iteration is bounded (LAPACK's 30 sweeps per eigenvalue); when it does not converge
+/// the matrix is balanced (Parlett–Reinsch, a diagonal similarity) and tried once more. A matrix
+/// whose eigenvalues still cannot be computed — or one with infinite or NaN entries — gives NaN
+/// eigenvalues, which every comparison downstream treats as "not verified", never as a hang.
 pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
-    if a.nrows() == 0 || a.nrows() != a.ncols() {
+    let n = a.nrows();
+    if n == 0 || n != a.ncols() {
         return Vec::new();
     }
-    let mut ev: Vec<Complex<f64>> = a.clone().complex_eigenvalues().iter().copied().collect();
+    let unknown = vec![Complex::new(f64::NAN, f64::NAN); n];
+    if a.iter().any(|x| !x.is_finite()) {
+        return unknown;
+    }
+    let budget = 30 * n.max(10);
+    let schur = |m: DMatrix<f64>| Schur::try_new(m, f64::EPSILON, budget);
+    let found = schur(a.clone()).or_else(|| {
+        let mut balanced = a.clone();
+        if balanced.amax() < 1e150 {
+            nalgebra::linalg::balancing::balance_parlett_reinsch(&mut balanced);
+        }
+        schur(balanced)
+    });
+    let Some(s) = found else {
+        return unknown;
+    };
+    let mut ev: Vec<Complex<f64>> = s.complex_eigenvalues().iter().copied().collect();
     ev.sort_by(|x, y| x.re.total_cmp(&y.re).then(x.im.total_cmp(&y.im)));
     ev
 }

@@ -198,41 +198,80 @@ fn charpoly_mod(mut h: Vec<Vec<u64>>, p: u64) -> Vec<u64> {
     polys.pop().unwrap_or_default()
 }
 
-/// Incremental Chinese remaindering of a vector of residues.
+/// Chinese remaindering of a vector of residues, by Garner's mixed-radix algorithm.
+///
+/// Residues are only stored while primes are added; the integers are built once, at the end:
+/// the mixed-radix digits of each value come from word-size dot products (one reduction per
+/// digit), and the value from them by Horner with word-size multipliers. No big-integer
+/// remainder is ever taken, which incremental remaindering needs once per value and prime.
 struct Crt {
-    values: Vec<BigInt>,
-    modulus: BigInt,
+    len: usize,
+    primes: Vec<u64>,
+    residues: Vec<Vec<u64>>,
+    bits: u64,
 }
 
 impl Crt {
     fn new(len: usize) -> Self {
         Crt {
-            values: vec![BigInt::zero(); len],
-            modulus: BigInt::one(),
+            len,
+            primes: Vec::new(),
+            residues: Vec::new(),
+            bits: 0,
         }
     }
     fn add(&mut self, residues: &[u64], p: u64) {
-        let m_mod_p = int_mod(&self.modulus, p);
-        let inv = inv_mod(m_mod_p, p).expect("distinct primes");
-        for (v, &r) in self.values.iter_mut().zip(residues) {
-            let vp = int_mod(v, p);
-            let t = (r + p - vp) % p * inv % p;
-            if t != 0 {
-                *v += &self.modulus * t;
-            }
-        }
-        self.modulus *= p;
+        debug_assert_eq!(residues.len(), self.len);
+        self.primes.push(p);
+        self.residues.push(residues.to_vec());
+        // a lower bound on log2 of the modulus: each prime is at least 2^ilog2(p)
+        self.bits += u64::from(p.ilog2());
     }
-    /// Symmetric (signed) integers.
+    /// A lower bound on the bit length of the modulus.
+    fn bits(&self) -> u64 {
+        self.bits
+    }
+    /// The values in the symmetric range `(−M/2, M/2]`, `M` the product of the primes.
     fn signed(&self) -> Vec<BigInt> {
-        let half = &self.modulus >> 1;
-        self.values
-            .iter()
+        let k = self.primes.len();
+        if k == 0 {
+            return vec![BigInt::zero(); self.len];
+        }
+        // w[j][i] = p_0 ⋯ p_(i−1) mod p_j, and the inverse of p_0 ⋯ p_(j−1) mod p_j
+        let mut w: Vec<Vec<u64>> = Vec::with_capacity(k);
+        let mut inv: Vec<u64> = Vec::with_capacity(k);
+        for (j, &pj) in self.primes.iter().enumerate() {
+            let mut row = Vec::with_capacity(j);
+            let mut prod = 1u64;
+            for &pi in &self.primes[..j] {
+                row.push(prod);
+                prod = prod * (pi % pj) % pj;
+            }
+            inv.push(inv_mod(prod, pj).unwrap_or(0));
+            w.push(row);
+        }
+        let mut modulus = BigInt::one();
+        for &p in &self.primes {
+            modulus *= p;
+        }
+        let half = &modulus >> 1;
+        let mut digits = vec![0u64; k];
+        (0..self.len)
             .map(|v| {
-                if *v > half {
-                    v - &self.modulus
+                for j in 0..k {
+                    let pj = self.primes[j];
+                    let prefix = dot(&digits[..j], &w[j], pj);
+                    let r = self.residues[j][v];
+                    digits[j] = (r + pj - prefix) % pj * inv[j] % pj;
+                }
+                let mut value = BigInt::zero();
+                for j in (0..k).rev() {
+                    value = value * self.primes[j] + digits[j];
+                }
+                if value > half {
+                    value - &modulus
                 } else {
-                    v.clone()
+                    value
                 }
             })
             .collect()
@@ -272,7 +311,7 @@ pub fn charpoly_integer(a: &Matrix<BigInt>) -> Vec<BigInt> {
     let need = charpoly_bound_bits(a) + 1;
     let mut crt = Crt::new(n + 1);
     for p in primes() {
-        if crt.modulus.bits() > need {
+        if crt.bits() > need {
             break;
         }
         let h: Vec<Vec<u64>> = (0..n)
@@ -406,7 +445,7 @@ fn lift_cramer(
     let mut crt = Crt::new(len + 1);
     let mut unlucky = 0;
     for p in primes() {
-        if crt.modulus.bits() > bits {
+        if crt.bits() > bits {
             let v = crt.signed();
             return Some((v[len].clone(), v[..len].to_vec()));
         }
@@ -467,6 +506,40 @@ pub fn has_full_rank(a: &Matrix<Rational>) -> bool {
     primes()
         .take(3)
         .any(|p| rank_mod(scaled.residues(p), rows, cols, p) == full)
+}
+
+/// The determinant of a square rational matrix, exact: the rows are scaled to integers, the
+/// integer determinant is lifted by Chinese remaindering up to Hadamard's bound (exact by
+/// construction), and the row scales are divided out once.
+pub fn determinant_rational(a: &Matrix<Rational>) -> Rational {
+    let n = a.rows();
+    if n == 0 || a.cols() != n {
+        return Rational::one();
+    }
+    let mut scale = BigInt::one();
+    for i in 0..n {
+        scale *= Rational::common_denominator(a.row(i));
+    }
+    let ints = scaled_rows(a);
+    let bits: f64 = (0..n)
+        .map(|i| {
+            let m = ints.big[i * n..(i + 1) * n]
+                .iter()
+                .map(|x| x.bits())
+                .max()
+                .unwrap_or(0) as f64;
+            m + 0.5 * (n as f64).log2()
+        })
+        .sum();
+    let mut crt = Crt::new(1);
+    for p in primes() {
+        if crt.bits() > bits.ceil() as u64 + 2 {
+            break;
+        }
+        let det = det_and_solve_mod(ints.residues(p), n, Vec::new(), 0, p).map_or(0, |(d, _)| d);
+        crt.add(&[det], p);
+    }
+    crate::algebra::fraction(crt.signed().swap_remove(0), scale)
 }
 
 /// Solves `A X = B` over the rationals exactly: `det(A)·X = adj(A)·B` is lifted by Chinese
