@@ -94,6 +94,8 @@ struct Working<F: Field> {
     test_matrix: Matrix<F>,
     toeplitz: Matrix<F>,
     t: Matrix<F>,
+    /// `T⁻¹` when the procedure already has it (Di Ruscio's `T_o⁻¹ = Mᵀ O_n`).
+    t_inv: Option<Matrix<F>>,
 }
 
 fn finish<F: Field>(
@@ -108,8 +110,12 @@ fn finish<F: Field>(
         test_matrix,
         toeplitz,
         t,
+        t_inv,
     } = w;
-    let t_inv = linalg::inverse(&t)?;
+    let t_inv = match t_inv {
+        Some(t_inv) => t_inv,
+        None => linalg::inverse(&t)?,
+    };
     let n = a.rows();
     let b = b.cloned().unwrap_or_else(|| Matrix::zeros(n, 0));
     Ok(CanonicalForm {
@@ -162,7 +168,8 @@ pub fn observer_form_di_ruscio<F: Field>(
     let o = require_observable(a, c)?;
     let open_loop = linalg::characteristic_polynomial(a, "s")?;
     let m = toeplitz_m(&open_loop);
-    let t = linalg::inverse(&m.transpose().mul(&o)?)?;
+    let t_inv = m.transpose().mul(&o)?;
+    let t = linalg::inverse(&t_inv)?;
     Ok(finish(
         CanonicalProcedure::DiRuscio,
         a,
@@ -173,6 +180,7 @@ pub fn observer_form_di_ruscio<F: Field>(
             test_matrix: o,
             toeplitz: m,
             t,
+            t_inv: Some(t_inv),
         },
     )?)
 }
@@ -198,6 +206,14 @@ pub fn observer_form_stoustrup<F: Field>(
     cols.reverse();
     let t = Matrix::from_fn(n, n, |i, j| cols[j].get(i, 0).clone());
     let m = toeplitz_m(&open_loop);
+    // T⁻¹ should be Mᵀ O_n (Di Ruscio's); a product proves it, far cheaper than inverting T,
+    // whose entries run to thousands of digits for large n.
+    let candidate = m.transpose().mul(&o)?;
+    let t_inv = if t.mul(&candidate)? == Matrix::identity(n) {
+        candidate
+    } else {
+        linalg::inverse(&t)?
+    };
     Ok(finish(
         CanonicalProcedure::Stoustrup,
         a,
@@ -208,6 +224,7 @@ pub fn observer_form_stoustrup<F: Field>(
             test_matrix: o,
             toeplitz: m,
             t,
+            t_inv: Some(t_inv),
         },
     )?)
 }
@@ -248,6 +265,7 @@ pub fn controller_form<F: Field>(
             test_matrix: cn,
             toeplitz: m,
             t,
+            t_inv: None,
         },
     )?)
 }

@@ -15,6 +15,10 @@ pub trait Show {
     fn latex(&self) -> String;
     /// The workbench's input syntax.
     fn input(&self) -> String;
+    /// `(text, latex, input)` together, for values that can share the work.
+    fn all(&self) -> (String, String, String) {
+        (self.text(), self.latex(), self.input())
+    }
 }
 
 impl<T: Ring> Show for Matrix<T> {
@@ -26,6 +30,9 @@ impl<T: Ring> Show for Matrix<T> {
     }
     fn input(&self) -> String {
         self.to_input()
+    }
+    fn all(&self) -> (String, String, String) {
+        self.renderings()
     }
 }
 
@@ -110,12 +117,13 @@ pub struct Step {
 impl Step {
     /// A step showing `value`.
     pub fn new(label: &str, formula: &str, value: &dyn Show) -> Self {
+        let (text, latex, input) = value.all();
         Step {
             label: label.into(),
             formula: formula.into(),
-            text: value.text(),
-            latex: value.latex(),
-            input: value.input(),
+            text,
+            latex,
+            input,
         }
     }
 }

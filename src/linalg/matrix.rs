@@ -294,63 +294,95 @@ impl<T: Ring> Matrix<T> {
 
     /// Aligned rows for a terminal, one row per line: `[ 2  -3 ]`.
     pub fn render(&self) -> String {
-        let cells: Vec<Vec<String>> = (0..self.rows)
-            .map(|i| self.row(i).iter().map(|x| x.to_string()).collect())
-            .collect();
-        let widths: Vec<usize> = (0..self.cols)
-            .map(|j| {
-                cells
-                    .iter()
-                    .map(|r| r[j].chars().count())
-                    .max()
-                    .unwrap_or(0)
-            })
-            .collect();
-        if self.rows == 0 || self.cols == 0 {
-            return format!("[] ({}×{})", self.rows, self.cols);
-        }
-        cells
-            .iter()
-            .map(|r| {
-                let body: Vec<String> = r
-                    .iter()
-                    .zip(&widths)
-                    .map(|(c, w)| format!("{}{c}", " ".repeat(w - c.chars().count())))
-                    .collect();
-                format!("[ {} ]", body.join("  "))
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
+        let cells: Vec<String> = self.data.iter().map(|x| x.to_string()).collect();
+        layout_text(self.rows, self.cols, &cells)
     }
     /// Input syntax: `[2, -3; 4, -5]`.
     pub fn to_input(&self) -> String {
-        let rows: Vec<String> = (0..self.rows)
-            .map(|i| {
-                self.row(i)
-                    .iter()
-                    .map(|x| x.to_input())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            })
-            .collect();
-        format!("[{}]", rows.join("; "))
+        let cells: Vec<String> = self.data.iter().map(|x| x.to_input()).collect();
+        layout_input(self.rows, self.cols, &cells)
     }
     /// LaTeX `bmatrix`.
     pub fn to_latex(&self) -> String {
-        let rows: Vec<String> = (0..self.rows)
-            .map(|i| {
-                self.row(i)
-                    .iter()
-                    .map(|x| x.to_latex())
-                    .collect::<Vec<_>>()
-                    .join(" & ")
-            })
-            .collect();
-        format!(
-            "\\begin{{bmatrix}} {} \\end{{bmatrix}}",
-            rows.join(" \\\\ ")
-        )
+        let cells: Vec<String> = self.data.iter().map(|x| x.to_latex()).collect();
+        layout_latex(self.rows, self.cols, &cells)
     }
+    /// `(render, to_latex, to_input)` at once. For rationals each entry's digits are produced
+    /// once and shared by the three forms (a large exact result has millions of digits, and
+    /// decimal conversion is then most of the cost of showing it).
+    pub fn renderings(&self) -> (String, String, String) {
+        if let Some(q) = super::as_rational(self) {
+            let mut text = Vec::with_capacity(self.data.len());
+            let mut latex = Vec::with_capacity(self.data.len());
+            for x in q.entries() {
+                let numer = x.numer().to_string();
+                if x.is_integer() {
+                    latex.push(numer.clone());
+                    text.push(numer);
+                } else {
+                    let denom = x.denom().to_string();
+                    let (sign, digits) = match numer.strip_prefix('-') {
+                        Some(d) => ("-", d),
+                        None => ("", numer.as_str()),
+                    };
+                    latex.push(format!("{sign}\\frac{{{digits}}}{{{denom}}}"));
+                    text.push(format!("{numer}/{denom}"));
+                }
+            }
+            return (
+                layout_text(self.rows, self.cols, &text),
+                layout_latex(self.rows, self.cols, &latex),
+                layout_input(self.rows, self.cols, &text),
+            );
+        }
+        (self.render(), self.to_latex(), self.to_input())
+    }
+}
+
+/// Row-major cells aligned in columns, one row per line.
+fn layout_text(rows: usize, cols: usize, cells: &[String]) -> String {
+    if rows == 0 || cols == 0 {
+        return format!("[] ({rows}×{cols})");
+    }
+    let widths: Vec<usize> = (0..cols)
+        .map(|j| {
+            (0..rows)
+                .map(|i| cells[i * cols + j].chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    (0..rows)
+        .map(|i| {
+            let body: Vec<String> = (0..cols)
+                .map(|j| {
+                    let c = &cells[i * cols + j];
+                    format!("{}{c}", " ".repeat(widths[j] - c.chars().count()))
+                })
+                .collect();
+            format!("[ {} ]", body.join("  "))
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Row-major cells joined with `col_sep` and `row_sep`.
+fn join_cells(rows: usize, cols: usize, cells: &[String], col_sep: &str, row_sep: &str) -> String {
+    (0..rows)
+        .map(|i| cells[i * cols..(i + 1) * cols].join(col_sep))
+        .collect::<Vec<_>>()
+        .join(row_sep)
+}
+
+fn layout_input(rows: usize, cols: usize, cells: &[String]) -> String {
+    format!("[{}]", join_cells(rows, cols, cells, ", ", "; "))
+}
+
+fn layout_latex(rows: usize, cols: usize, cells: &[String]) -> String {
+    format!(
+        "\\begin{{bmatrix}} {} \\end{{bmatrix}}",
+        join_cells(rows, cols, cells, " & ", " \\\\ ")
+    )
 }
 
 impl<T: Ring> fmt::Display for Matrix<T> {
