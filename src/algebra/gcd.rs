@@ -85,15 +85,12 @@ fn lehmer_cofactors(x: u128, y: u128) -> Option<[i128; 4]> {
         return None;
     };
     let (mut s, mut t, mut u, mut v) = (1i128, 0i128, 0i128, 1i128);
-    loop {
-        let (Some(du), Some(dv), Some(xs), Some(xt)) = (
-            y.checked_add(u),
-            y.checked_add(v),
-            x.checked_add(s),
-            x.checked_add(t),
-        ) else {
-            break;
-        };
+    while let (Some(du), Some(dv), Some(xs), Some(xt)) = (
+        y.checked_add(u),
+        y.checked_add(v),
+        x.checked_add(s),
+        x.checked_add(t),
+    ) {
         if du == 0 || dv == 0 {
             break;
         }
@@ -180,6 +177,9 @@ mod tests {
     fn fractions_are_reduced_with_a_positive_denominator() {
         let r = fraction(BigInt::from(-10), BigInt::from(-4));
         assert_eq!((r.numer().clone(), r.denom().clone()), (5.into(), 2.into()));
-        assert_eq!(fraction(BigInt::from(0), BigInt::from(-4)), Rational::zero());
+        assert_eq!(
+            fraction(BigInt::from(0), BigInt::from(-4)),
+            Rational::zero()
+        );
     }
 }

@@ -130,8 +130,10 @@ pub fn polynomial_times_vector<R: Ring>(
         return Err(a.mismatch(v, "matrix polynomial times vector"));
     }
     let as_poly = (p as &dyn std::any::Any).downcast_ref::<Poly<crate::algebra::Rational>>();
-    if let (Some(qp), Some(qa), Some(qv)) = (as_poly, super::as_rational(a), super::as_rational(v)) {
-        if let Some(r) = super::from_rational(super::rational::polynomial_times_vector(qp, qa, qv)) {
+    if let (Some(qp), Some(qa), Some(qv)) = (as_poly, super::as_rational(a), super::as_rational(v))
+    {
+        if let Some(r) = super::from_rational(super::rational::polynomial_times_vector(qp, qa, qv))
+        {
             return Ok(r);
         }
     }

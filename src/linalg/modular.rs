@@ -208,7 +208,8 @@ struct Crt {
     len: usize,
     primes: Vec<u64>,
     residues: Vec<Vec<u64>>,
-    bits: u64,
+    /// A lower bound on log2 of the modulus.
+    log2: f64,
 }
 
 impl Crt {
@@ -217,19 +218,18 @@ impl Crt {
             len,
             primes: Vec::new(),
             residues: Vec::new(),
-            bits: 0,
+            log2: 0.0,
         }
     }
     fn add(&mut self, residues: &[u64], p: u64) {
         debug_assert_eq!(residues.len(), self.len);
         self.primes.push(p);
         self.residues.push(residues.to_vec());
-        // a lower bound on log2 of the modulus: each prime is at least 2^ilog2(p)
-        self.bits += u64::from(p.ilog2());
+        self.log2 += log2_prime(p);
     }
     /// A lower bound on the bit length of the modulus.
     fn bits(&self) -> u64 {
-        self.bits
+        self.log2.max(0.0) as u64
     }
     /// The values in the symmetric range `(−M/2, M/2]`, `M` the product of the primes.
     fn signed(&self) -> Vec<BigInt> {
@@ -282,10 +282,21 @@ impl Crt {
 /// `|c_k| ≤ C(n, k) · Π (k largest row norms)` (Hadamard on each k × k principal minor).
 fn charpoly_bound_bits(a: &Matrix<BigInt>) -> u64 {
     let n = a.rows();
-    // log2 ‖row_i‖ ≤ max bits + ½ log2 n
+    // log2 ‖row_i‖: the Euclidean norm itself for word-size entries (with a margin for
+    // rounding), else max bits + ½ log2 n
     let mut norms: Vec<f64> = (0..n)
         .map(|i| {
-            let max_bits = a.row(i).iter().map(|x| x.bits()).max().unwrap_or(0) as f64;
+            let row = a.row(i);
+            let small: Option<Vec<i64>> = row.iter().map(ToPrimitive::to_i64).collect();
+            if let Some(v) = small.filter(|v| v.iter().all(|x| x.unsigned_abs() < 1 << 26)) {
+                let sq: f64 = v.iter().map(|&x| (x as f64) * (x as f64)).sum();
+                return if sq == 0.0 {
+                    0.0
+                } else {
+                    0.5 * sq.log2() + 1e-9
+                };
+            }
+            let max_bits = row.iter().map(|x| x.bits()).max().unwrap_or(0) as f64;
             if max_bits == 0.0 {
                 0.0
             } else {
@@ -309,17 +320,56 @@ fn charpoly_bound_bits(a: &Matrix<BigInt>) -> u64 {
 pub fn charpoly_integer(a: &Matrix<BigInt>) -> Vec<BigInt> {
     let n = a.rows();
     let need = charpoly_bound_bits(a) + 1;
-    let mut crt = Crt::new(n + 1);
+    // the primes whose product passes the bound, known in advance
+    let mut chosen = Vec::new();
+    let mut bits = 0f64;
     for p in primes() {
-        if crt.bits() > need {
+        if bits > need as f64 {
             break;
         }
+        chosen.push(p);
+        bits += log2_prime(p);
+    }
+    let image = |p: u64| {
         let h: Vec<Vec<u64>> = (0..n)
             .map(|i| a.row(i).iter().map(|x| int_mod(x, p)).collect())
             .collect();
-        crt.add(&charpoly_mod(h, p), p);
+        charpoly_mod(h, p)
+    };
+    let images = map_primes(&chosen, image);
+    let mut crt = Crt::new(n + 1);
+    for (p, r) in chosen.iter().zip(&images) {
+        crt.add(r, *p);
     }
     crt.signed()
+}
+
+/// A lower bound on `log2 p` (rounding of the logarithm taken off).
+fn log2_prime(p: u64) -> f64 {
+    (p as f64).log2() - 1e-9
+}
+
+/// `f(p)` for every prime, on two threads where the platform has them (the images are
+/// independent; the order of the results is the order of the primes).
+fn map_primes<T: Send>(primes: &[u64], f: impl Fn(u64) -> T + Sync) -> Vec<T> {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        let threads = std::thread::available_parallelism().map_or(1, |t| t.get().min(2));
+        if threads > 1 && primes.len() >= 4 {
+            let (first, second) = primes.split_at(primes.len() / 2);
+            let f = &f;
+            return std::thread::scope(|scope| {
+                let other = scope.spawn(move || second.iter().map(|&p| f(p)).collect::<Vec<T>>());
+                let mut out: Vec<T> = first.iter().map(|&p| f(p)).collect();
+                match other.join() {
+                    Ok(rest) => out.extend(rest),
+                    Err(_) => out.extend(second.iter().map(|&p| f(p))),
+                }
+                out
+            });
+        }
+    }
+    primes.iter().map(|&p| f(p)).collect()
 }
 
 /// An integer matrix scaled from a rational one, with entries mod p fast when they fit `i64`.

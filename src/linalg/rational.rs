@@ -72,10 +72,7 @@ pub(crate) fn mul(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Matrix<Rational
     // rows of a and columns of b, each scaled to integers
     let rows: Vec<(Vec<BigInt>, BigInt)> = (0..n).map(|i| scale(a.row(i))).collect();
     let cols: Vec<(Vec<BigInt>, BigInt)> = (0..m).map(|j| scale(&b.col(j))).collect();
-    let cols: Vec<(Scaled, BigInt)> = cols
-        .into_iter()
-        .map(|(v, d)| (Scaled::new(v), d))
-        .collect();
+    let cols: Vec<(Scaled, BigInt)> = cols.into_iter().map(|(v, d)| (Scaled::new(v), d)).collect();
     Matrix::from_fn(n, m, |i, j| {
         let (row, dr) = &rows[i];
         let (col, dc) = &cols[j];

@@ -79,6 +79,83 @@ fn bench(c: &mut Criterion) {
     }
 }
 
+/// The user path: what `owb gain --json` calls — the exact design with its full derivation
+/// (O_n, det(sI − A), q_n, K, A − KC, the exact check) rendered to JSON — on dense random
+/// integer matrices, and `owb gain --float` on the RC ladder with poles −1 … −n.
+fn bench_user_path(c: &mut Criterion) {
+    use observer_workbench::algebra::{Quadratic, Rational};
+    use observer_workbench::observer::float_check::float_check;
+    use observer_workbench::observer::{
+        design_with, Convention, DesiredPolynomial, Detail, GainMethod,
+    };
+    let max: usize = std::env::var("OWB_BENCH_MAX_N")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(80);
+    let mut g = c.benchmark_group("user_path");
+    g.sample_size(10).warm_up_time(Duration::from_millis(200));
+    for n in [10, 20, 30, 60].into_iter().filter(|&n| n <= max) {
+        let a = dense_random(n, 7);
+        let cm = first_state_output(n);
+        let desired = DesiredPolynomial::repeated(&Rational::from_i64(1), n).unwrap();
+        for method in [GainMethod::Ackermann, GainMethod::BassGura] {
+            g.bench_with_input(
+                BenchmarkId::new(format!("gain {method} + derivation json"), n),
+                &a,
+                |bch, a| {
+                    bch.iter(|| {
+                        let d = design_with(
+                            a,
+                            &cm,
+                            &desired,
+                            method,
+                            Convention::AMinusKC,
+                            Detail::Full,
+                        )
+                        .unwrap();
+                        serde_json::to_string(&d.derivation.steps).unwrap().len()
+                    })
+                },
+            );
+        }
+    }
+    for n in [20, 60].into_iter().filter(|&n| n <= max) {
+        let a = rc_ladder(n);
+        let cm = first_state_output(n);
+        let poles: Vec<Quadratic> = (1..=n as i64)
+            .map(|k| Quadratic::rational(Rational::from_i64(-k)))
+            .collect();
+        let desired = DesiredPolynomial::from_poles(&poles).unwrap();
+        g.bench_with_input(
+            BenchmarkId::new("rc ladder gain --float", n),
+            &a,
+            |bch, a| {
+                bch.iter(|| {
+                    let d = design_with(
+                        a,
+                        &cm,
+                        &desired,
+                        GainMethod::Ackermann,
+                        Convention::AMinusKC,
+                        Detail::Full,
+                    )
+                    .unwrap();
+                    let k = d.gain.matrix.clone();
+                    float_check(
+                        a,
+                        &cm,
+                        &desired.float,
+                        desired.rational().as_ref(),
+                        Some(&k),
+                        1e-6,
+                    )
+                })
+            },
+        );
+    }
+    g.finish();
+}
+
 /// A 10 s run at h = 0.01 (RK4) of Baranowski's 3-state ladder with a two-output observer and
 /// uniform output noise: the cost of one figure.
 fn bench_simulation(c: &mut Criterion) {
@@ -119,5 +196,5 @@ fn bench_simulation(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, bench, bench_simulation);
+criterion_group!(benches, bench, bench_user_path, bench_simulation);
 criterion_main!(benches);

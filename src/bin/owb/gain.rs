@@ -9,7 +9,9 @@ use crate::Outcome;
 use anyhow::{anyhow, bail, Result};
 use observer_workbench::algebra::{Quadratic, Rational};
 use observer_workbench::observer::float_check::{float_check, FloatCheck, FloatVerdict};
-use observer_workbench::observer::{design, Convention, DesiredPolynomial, GainMethod};
+use observer_workbench::observer::{
+    design_with, Convention, DesiredPolynomial, Detail, GainMethod,
+};
 use serde_json::json;
 
 /// Arguments of `owb gain`.
@@ -35,9 +37,24 @@ pub struct Args {
     /// Relative tolerance for the float check.
     #[arg(allow_hyphen_values = true, long, default_value_t = 1e-6)]
     tolerance: f64,
+    /// Record only the polynomials and the gain in the derivation, not the intermediate
+    /// matrices (O_n, q_n, M, T_o, A − KC), which run to millions of digits for large systems.
+    /// The computation and its exact check are the same.
+    #[arg(long)]
+    summary: bool,
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
+}
+
+impl Args {
+    fn detail(&self) -> Detail {
+        if self.summary {
+            Detail::Summary
+        } else {
+            Detail::Full
+        }
+    }
 }
 
 fn float_json(f: &FloatCheck) -> serde_json::Value {
@@ -110,7 +127,14 @@ pub fn run(args: Args) -> Result<Outcome> {
         return multi_output(&args, &a, &c, &desired, method, convention);
     }
     let exact = match &desired.exact {
-        Some(_) => Some(design(&a, &c, &desired, method, convention)?),
+        Some(_) => Some(design_with(
+            &a,
+            &c,
+            &desired,
+            method,
+            convention,
+            args.detail(),
+        )?),
         None => None,
     };
     let check = (args.float || exact.is_none()).then(|| {
@@ -202,7 +226,7 @@ fn multi_output(
             bail!("in --output: output {k} does not exist (C has {p} rows; outputs are numbered from 1)");
         }
         let row = c.block(k - 1, k, 0, n);
-        let d = design(a, &row, desired, method, convention)?;
+        let d = design_with(a, &row, desired, method, convention, args.detail())?;
         let gain = observer_workbench::linalg::Matrix::from_fn(n, p, |i, j| {
             if j == k - 1 {
                 d.gain.matrix.get(i, 0).clone()
