@@ -456,3 +456,33 @@ fn perfect_observer_and_a_plant_it_does_not_fit() {
     assert_eq!(code, 2);
     assert!(err.contains("2 poles given"), "{err}");
 }
+
+/// `owb verify | head -1`: the reader goes away, the program ends quietly (it panicked with
+/// "failed printing to stdout: Broken pipe").
+#[test]
+fn a_closed_output_ends_quietly() {
+    use std::io::Read;
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_owb"))
+        .arg("verify")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("owb runs");
+    let mut first = [0u8; 16];
+    child
+        .stdout
+        .take()
+        .expect("stdout")
+        .read_exact(&mut first)
+        .expect("some output");
+    // stdout is dropped here: the pipe is closed while owb still writes
+    let out = child.wait_with_output().expect("owb ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        matches!(out.status.code(), Some(141) | Some(0)),
+        "{:?}",
+        out.status
+    );
+}

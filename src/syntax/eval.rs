@@ -2,7 +2,7 @@
 //! functions.
 
 use super::parser::{Expr, ExprKind};
-use super::SyntaxError;
+use super::{SyntaxError, MAX_VALUE_BITS};
 use crate::algebra::{Field, MultiPoly, Quadratic, Rational, Ring, Zero};
 use crate::poly::{Poly, RationalFunction};
 
@@ -34,6 +34,11 @@ pub trait FromExpr: Ring {
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused>;
     /// The quadratic field the value lives in (0: rational), to refuse mixing √2 and √3.
     fn field_tag(&self) -> i64 {
+        0
+    }
+    /// The size of the value in bits (numerators and denominators), to bound what input can
+    /// build: `((2^1000)^1000)^1000` is 22 characters.
+    fn size_bits(&self) -> u64 {
         0
     }
     /// Evaluates a whole expression.
@@ -135,6 +140,10 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
         }
         ExprKind::Pow(x, k) => {
             let b = scalar::<T>(x, ctx)?;
+            let estimate = b.size_bits().saturating_mul(k.unsigned_abs());
+            if estimate > MAX_VALUE_BITS {
+                return Err(too_large(c, estimate));
+            }
             let p = power(b, k.unsigned_abs() as u32);
             if *k < 0 {
                 divide(&T::one(), &p, c, T::TARGET)?
@@ -144,7 +153,18 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
         }
     };
     ctx.note_field(v.field_tag(), c)?;
+    if v.size_bits() > MAX_VALUE_BITS {
+        return Err(too_large(c, v.size_bits()));
+    }
     Ok(v)
+}
+
+fn too_large(column: usize, bits: u64) -> SyntaxError {
+    SyntaxError::TooLarge {
+        column,
+        what: format!("a value of about {bits} bits built here"),
+        limit: MAX_VALUE_BITS as usize,
+    }
 }
 
 fn divide<T: FromExpr>(a: &T, b: &T, column: usize, target: &str) -> Result<T, SyntaxError> {
@@ -262,6 +282,9 @@ fn rf<F: Field + FromExpr>(
 }
 
 impl FromExpr for Rational {
+    fn size_bits(&self) -> u64 {
+        self.numer().bits() + self.denom().bits()
+    }
     const TARGET: &'static str = "a rational number";
     fn from_rational(r: Rational) -> Self {
         r
@@ -279,6 +302,10 @@ impl FromExpr for Rational {
 }
 
 impl FromExpr for Quadratic {
+    fn size_bits(&self) -> u64 {
+        let bits = |r: &Rational| r.numer().bits() + r.denom().bits();
+        bits(self.rational_part()) + bits(self.radical_part())
+    }
     const TARGET: &'static str = "an exact number";
     fn from_rational(r: Rational) -> Self {
         Quadratic::rational(r)
@@ -298,6 +325,11 @@ impl FromExpr for Quadratic {
 }
 
 impl FromExpr for MultiPoly {
+    fn size_bits(&self) -> u64 {
+        self.terms()
+            .map(|(m, c)| c.numer().bits() + c.denom().bits() + u64::from(m.degree()))
+            .sum()
+    }
     const TARGET: &'static str = "a polynomial with rational coefficients";
     fn from_rational(r: Rational) -> Self {
         MultiPoly::constant(r)

@@ -1,7 +1,7 @@
 //! Recursive-descent parser: expressions and matrices into [`Expr`] trees with columns.
 
 use super::lexer::{tokenize, Tok, Token};
-use super::{SyntaxError, MAX_EXPONENT};
+use super::{SyntaxError, MAX_EXPONENT, MAX_NESTING};
 use crate::algebra::Rational;
 use num_bigint::BigInt;
 
@@ -44,6 +44,8 @@ struct Parser {
     pos: usize,
     /// Inside matrix brackets (and not inside parentheses): whitespace separates entries.
     in_matrix: bool,
+    /// Current recursion depth (see [`MAX_NESTING`]).
+    depth: usize,
 }
 
 pub(crate) fn parse_expression(input: &str) -> Result<Expr, SyntaxError> {
@@ -85,6 +87,7 @@ impl Parser {
             toks: tokenize(input)?,
             pos: 0,
             in_matrix: false,
+            depth: 0,
         })
     }
     fn peek(&self) -> &Token {
@@ -277,7 +280,30 @@ impl Parser {
         Ok(lhs)
     }
 
+    /// One level deeper into the recursion (signs, parentheses, roots), refused past
+    /// [`MAX_NESTING`] so that hostile input meets an error, not a stack overflow.
+    fn nested<T>(
+        &mut self,
+        f: impl FnOnce(&mut Self) -> Result<T, SyntaxError>,
+    ) -> Result<T, SyntaxError> {
+        if self.depth >= MAX_NESTING {
+            return Err(SyntaxError::TooLarge {
+                column: self.peek().column,
+                what: "the nesting of parentheses, signs and square roots".into(),
+                limit: MAX_NESTING,
+            });
+        }
+        self.depth += 1;
+        let r = f(self);
+        self.depth -= 1;
+        r
+    }
+
     fn unary(&mut self) -> Result<Expr, SyntaxError> {
+        self.nested(Self::unary_inner)
+    }
+
+    fn unary_inner(&mut self) -> Result<Expr, SyntaxError> {
         match self.peek().tok {
             Tok::Minus => {
                 let column = self.next().column;
@@ -346,6 +372,10 @@ impl Parser {
     }
 
     fn primary(&mut self) -> Result<Expr, SyntaxError> {
+        self.nested(Self::primary_inner)
+    }
+
+    fn primary_inner(&mut self) -> Result<Expr, SyntaxError> {
         let t = self.peek().clone();
         match &t.tok {
             Tok::Number(text) => {

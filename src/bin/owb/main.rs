@@ -64,7 +64,27 @@ pub enum Outcome {
     Failed,
 }
 
+/// Whether a panic is `println!` finding its reader gone (`owb verify | head -1`).
+fn is_closed_output(info: &std::panic::PanicHookInfo<'_>) -> bool {
+    let payload = info.payload();
+    let text = payload
+        .downcast_ref::<String>()
+        .map(String::as_str)
+        .or_else(|| payload.downcast_ref::<&str>().copied())
+        .unwrap_or("");
+    text.starts_with("failed printing to std") && text.contains("Broken pipe")
+}
+
 fn main() -> ExitCode {
+    // A closed output ends the program quietly, with the status a shell gives a process
+    // stopped by SIGPIPE (128 + 13), instead of a panic message.
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if is_closed_output(info) {
+            std::process::exit(141);
+        }
+        default_hook(info);
+    }));
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Verify(a) => verify::run(a),
