@@ -12,6 +12,7 @@
 use crate::algebra::{Field, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
+use crate::observability::ObservabilityError;
 use crate::observer::{ackermann_gain, DesignError};
 use crate::poly::{Factored, Poly, RationalFunction};
 
@@ -34,9 +35,30 @@ pub enum ControlError {
         /// Outputs.
         outputs: usize,
     },
+    /// The pair `(A, B)` is not controllable (found on the dual pair `(Aᵀ, Bᵀ)`).
+    #[error("the pair (A, B) is not controllable: rank of the controllability matrix is {rank}, the order is {order}; uncontrollable left direction {direction}{}", uncontrollable_modes(.modes))]
+    Uncontrollable {
+        /// Rank of `[B, AB, …]`.
+        rank: usize,
+        /// Order `n`.
+        order: usize,
+        /// A row vector `w ≠ 0` with `w [B, AB, …] = 0`, printed.
+        direction: String,
+        /// The uncontrollable eigenvalues, when known exactly.
+        modes: Option<String>,
+    },
     /// `1 − K(s)G(s)` is identically zero.
     #[error("the loop 1 − K(s)G(s) is identically zero: the closed loop is not defined")]
     DegenerateLoop,
+}
+
+fn uncontrollable_modes(modes: &Option<String>) -> String {
+    match modes {
+        Some(m) => {
+            format!("; uncontrollable eigenvalues {m}: no state feedback can move these modes")
+        }
+        None => String::new(),
+    }
 }
 
 /// State feedback `F` (row) placing the eigenvalues of `A + BF` at the roots of `desired`
@@ -63,7 +85,21 @@ pub fn state_feedback<F: Field>(
     let at = a.transpose();
     let bt = b.transpose();
     // (A + BF)ᵀ = Aᵀ − (−Fᵀ) Bᵀ: K for the dual in A − KC, F = −Kᵀ.
-    let k = ackermann_gain(&at, &bt, desired)?;
+    let k = ackermann_gain(&at, &bt, desired).map_err(|e| match e {
+        // unobservable dual = uncontrollable plant: say it in the plant's terms
+        DesignError::Observability(ObservabilityError::Unobservable {
+            rank,
+            order,
+            direction,
+            modes,
+        }) => ControlError::Uncontrollable {
+            rank,
+            order,
+            direction: direction.replace(';', ","),
+            modes,
+        },
+        other => ControlError::Design(other),
+    })?;
     Ok(k.transpose().neg())
 }
 

@@ -16,7 +16,7 @@ pub enum ObservabilityError {
     #[error(transparent)]
     Dimension(#[from] LinalgError),
     /// The pair is not observable (for designs that need it).
-    #[error("the pair (A, C) is not observable: rank of the observability matrix is {rank}, the order is {order}; unobservable direction {direction}")]
+    #[error("the pair (A, C) is not observable: rank of the observability matrix is {rank}, the order is {order}; unobservable direction {direction}{}", modes_text(.modes))]
     Unobservable {
         /// Rank of `O_n`.
         rank: usize,
@@ -24,6 +24,9 @@ pub enum ObservabilityError {
         order: usize,
         /// One vector `x ≠ 0` with `O_n x = 0`, printed.
         direction: String,
+        /// The unobservable eigenvalues (roots of `det(λI − A|ker O_n)`), printed, when the
+        /// entries are rational: the modes no gain can move.
+        modes: Option<String>,
     },
 }
 
@@ -184,6 +187,22 @@ pub fn pbh_rank(a: &Matrix<Rational>, c: &Matrix<Rational>, lambda: &Quadratic) 
     linalg::rank(&stacked)
 }
 
+fn modes_text(modes: &Option<String>) -> String {
+    match modes {
+        Some(m) => format!(
+            "; unobservable eigenvalues {m}: no observer gain can move these modes (an observer exists only if they are stable)"
+        ),
+        None => String::new(),
+    }
+}
+
+/// The unobservable eigenvalues of a rational pair with the given basis of `ker O_n`.
+fn unobservable_modes(a: &Matrix<Rational>, basis: &[Matrix<Rational>]) -> Option<String> {
+    let restricted = restriction(a, basis).ok()?;
+    let p = linalg::characteristic_polynomial(&restricted, "s").ok()?;
+    Some(exact_roots(&p).render())
+}
+
 /// Requires observability: `Ok(O_n)` or the evidence why not.
 ///
 /// # Errors
@@ -195,14 +214,20 @@ pub fn require_observable<F: Field>(
     let o = observability_matrix(a, c)?;
     let rank = linalg::rank(&o);
     if rank < a.rows() {
-        let direction = linalg::null_space(&o)
-            .first()
-            .map(|v| v.to_input())
-            .unwrap_or_default();
+        let basis = linalg::null_space(&o);
+        let direction = basis.first().map(|v| v.to_input()).unwrap_or_default();
+        let modes = linalg::as_rational(a).and_then(|qa| {
+            let qb: Option<Vec<Matrix<Rational>>> = basis
+                .iter()
+                .map(|v| linalg::as_rational(v).cloned())
+                .collect();
+            unobservable_modes(qa, &qb?)
+        });
         return Err(ObservabilityError::Unobservable {
             rank,
             order: a.rows(),
             direction,
+            modes,
         });
     }
     Ok(o)

@@ -253,6 +253,8 @@ fn multi_output(
         }
         return Ok(Outcome::Ok);
     }
+    // An unobservable pair is reported as such (with its modes), whatever the rank of C.
+    observer_workbench::observability::require_observable(a, c)?;
     // Robust float placement (Kautsky–Nichols–Van Dooren) at the roots of the desired polynomial.
     let poles: Vec<(f64, f64)> = match desired.rational() {
         Some(p) => {

@@ -45,6 +45,9 @@ pub struct Args {
     json: bool,
 }
 
+/// The most seeded starts accepted (each is a full local optimisation).
+const MAX_STARTS: usize = 10_000;
+
 fn show(m: &DMatrix<f64>) -> String {
     crate::args::float_matrix_text(m, |x| format!("{x:.6}"))
 }
@@ -100,6 +103,19 @@ pub fn run(args: Args) -> Result<Outcome> {
         );
     }
     let n = a.rows();
+    if c.rows() < 2 {
+        bail!(
+            "nothing to optimise: with {} output the gain that places the poles is unique (owb gain computes it exactly)",
+            c.rows()
+        );
+    }
+    if args.starts == 0 || args.starts > MAX_STARTS {
+        bail!(
+            "in --starts: {} starts; give between 1 and {MAX_STARTS}",
+            args.starts
+        );
+    }
+    observer_workbench::observability::require_observable(&a, &c)?;
     let p = args.desired.parse(n)?.rational().ok_or_else(|| {
         anyhow!("the optimal designs need a desired polynomial with rational coefficients")
     })?;
@@ -112,6 +128,30 @@ pub fn run(args: Args) -> Result<Outcome> {
             "in --weight: D must be {n}×{n}, it is {}×{}",
             weight.rows(),
             weight.cols()
+        );
+    }
+    // D weighs the error in J2 = λ_max(H): it must be symmetric positive semidefinite and not
+    // zero, or the "best" J2 can be negative. A symmetric matrix has real eigenvalues, so they
+    // are all ≥ 0 exactly when the coefficients of det(λI − D) alternate in sign.
+    if weight != weight.transpose() {
+        bail!("in --weight: D must be symmetric");
+    }
+    let zero = Rational::from_integer(0.into());
+    let charpoly = characteristic_polynomial(&weight, "λ")?;
+    let semidefinite = (0..=n).all(|k| {
+        let c = charpoly.coeff(k);
+        if (n - k) % 2 == 0 {
+            c >= zero
+        } else {
+            c <= zero
+        }
+    });
+    if weight.is_zero() {
+        bail!("in --weight: D is zero, so every gain has J2 = 0");
+    }
+    if !semidefinite {
+        bail!(
+            "in --weight: D must be positive semidefinite; det(λI − D) = {charpoly} has a negative root"
         );
     }
     let mut out = json!({"desired": p.to_string(), "convention": "a-kc", "index": args.index});
