@@ -277,3 +277,39 @@ proptest! {
         }
     }
 }
+
+/// `owb grade EX DIR --csv DIR/some-submission.toml` graded that file and then replaced the
+/// student's submission with the report (exit 0): now refused, the submission intact.
+#[test]
+fn grade_never_writes_over_a_submission() {
+    let dir = std::env::temp_dir().join(format!("owb-grade-guard-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let sub = dir.join("ada.toml");
+    let text = "[answers]\nL = \"[-6; -12]\"\n";
+    std::fs::write(&sub, text).unwrap();
+    let (code, _, err) = owb(&[
+        "grade",
+        "stoustrup-pole-assignment",
+        dir.to_str().unwrap(),
+        "--csv",
+        sub.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("is a submission being graded"), "{err}");
+    assert_eq!(std::fs::read_to_string(&sub).unwrap(), text);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `--json` on an error prints a JSON error object, so a script never reads an empty stdout.
+#[test]
+fn json_errors_are_json() {
+    let (code, out, _) = owb(&[
+        "gain", "--a", "[1 2]", "--c", "[1]", "--poles", "-1", "--json",
+    ]);
+    assert_eq!(code, 2);
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON on stdout");
+    assert!(
+        v["error"].as_str().unwrap().contains("must be square"),
+        "{v}"
+    );
+}

@@ -150,6 +150,23 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
     if files.is_empty() {
         bail!("no submissions (*.toml) in {}", args.submissions.display());
     }
+    // Never write a report over a student's submission (or over the exercise itself).
+    let same = |a: &std::path::Path, b: &std::path::Path| match (a.canonicalize(), b.canonicalize())
+    {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    };
+    for out in std::iter::once(&args.csv) {
+        if let Some(f) = files.iter().find(|f| same(f, out)) {
+            bail!(
+                "in --csv: {} is a submission being graded; write the report elsewhere",
+                f.display()
+            );
+        }
+        if same(std::path::Path::new(&args.exercise), out) {
+            bail!("in --csv: {} is the exercise file", out.display());
+        }
+    }
     if let Some(dir) = &args.feedback {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }

@@ -75,6 +75,11 @@ fn is_closed_output(info: &std::panic::PanicHookInfo<'_>) -> bool {
     text.starts_with("failed printing to std") && text.contains("Broken pipe")
 }
 
+/// Whether the command line asked for `--json`.
+fn json_requested() -> bool {
+    std::env::args().skip(1).any(|a| a == "--json")
+}
+
 fn main() -> ExitCode {
     // A closed output ends the program quietly, with the status a shell gives a process
     // stopped by SIGPIPE (128 + 13), instead of a panic message.
@@ -103,6 +108,16 @@ fn main() -> ExitCode {
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
         Ok(Outcome::Failed) => ExitCode::from(1),
+        Err(e) if json_requested() => {
+            // a script asked for JSON: it gets a JSON error object (and the status)
+            let causes: Vec<String> = e.chain().skip(1).map(|c| c.to_string()).collect();
+            println!(
+                "{}",
+                serde_json::json!({"error": e.to_string(), "causes": causes, "exit_status": 2})
+            );
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
         Err(e) => {
             eprintln!("error: {e}");
             for cause in e.chain().skip(1) {
