@@ -121,3 +121,20 @@ fn deep_nesting_and_huge_values_are_refused() {
         Rational::from_i64(3)
     );
 }
+
+/// A 130 KB input was echoed whole in its error: the caret display is a window.
+#[test]
+fn long_inputs_are_not_echoed_whole() {
+    let input = format!("[{} x]", "1 ".repeat(60_000));
+    let err = parse_matrix::<Rational>(&input).unwrap_err();
+    let shown = err.show_in(&input);
+    assert!(
+        shown.chars().count() < 400,
+        "{} chars",
+        shown.chars().count()
+    );
+    let lines: Vec<&str> = shown.lines().collect();
+    // the caret is under the x
+    let caret = lines[1].chars().position(|c| c == '^').unwrap();
+    assert_eq!(lines[0].chars().nth(caret), Some('x'));
+}

@@ -104,12 +104,27 @@ impl SyntaxError {
         }
     }
 
-    /// The input with a caret under the offending column, for terminals.
+    /// The input with a caret under the offending column, for terminals. A long input is cut
+    /// to a window around the column (a 130 KB input is not echoed whole).
     pub fn show_in(&self, input: &str) -> String {
-        match self.column() {
-            Some(c) => format!("{input}\n{}^ {self}", " ".repeat(c.saturating_sub(1))),
-            None => self.to_string(),
+        const WINDOW: usize = 120;
+        let Some(c) = self.column() else {
+            return self.to_string();
+        };
+        let chars: Vec<char> = input.chars().collect();
+        if chars.len() <= WINDOW {
+            return format!("{input}\n{}^ {self}", " ".repeat(c.saturating_sub(1)));
         }
+        let at = c.saturating_sub(1).min(chars.len());
+        let start = at.saturating_sub(WINDOW / 2);
+        let end = (start + WINDOW).min(chars.len());
+        let lead = if start > 0 { "…" } else { "" };
+        let tail = if end < chars.len() { "…" } else { "" };
+        let shown: String = chars[start..end].iter().collect();
+        format!(
+            "{lead}{shown}{tail}\n{}^ {self}",
+            " ".repeat(at - start + lead.chars().count())
+        )
     }
 }
 
