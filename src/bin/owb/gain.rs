@@ -122,6 +122,12 @@ pub fn run(args: Args) -> Result<Outcome> {
             args.convention
         )
     })?;
+    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
+        bail!(
+            "in --tolerance: {} is not a positive relative tolerance",
+            args.tolerance
+        );
+    }
     let desired = args.desired.parse(a.rows())?;
     if c.rows() > 1 {
         return multi_output(&args, &a, &c, &desired, method, convention);

@@ -77,12 +77,55 @@ fn pole_text(z: &Complex<f64>) -> String {
     }
 }
 
+/// A noise intensity must be a symmetric positive semidefinite matrix (checked exactly: its
+/// eigenvalues are real, and they are ≥ 0 exactly when the coefficients of det(λI − M)
+/// alternate in sign); a negative intensity gave negative covariances.
+fn require_covariance(flag: &str, m: &Matrix<Rational>) -> Result<()> {
+    if !m.is_square() || *m != m.transpose() {
+        bail!(
+            "in {flag}: a noise intensity must be a symmetric matrix, this one is {}×{}{}",
+            m.rows(),
+            m.cols(),
+            if m.is_square() {
+                " and not symmetric"
+            } else {
+                ""
+            }
+        );
+    }
+    let n = m.rows();
+    let p = observer_workbench::linalg::characteristic_polynomial(m, "λ")?;
+    let zero = Rational::from_integer(0.into());
+    let ok = (0..=n).all(|k| {
+        let c = p.coeff(k);
+        if (n - k) % 2 == 0 {
+            c >= zero
+        } else {
+            c <= zero
+        }
+    });
+    if !ok {
+        bail!("in {flag}: a noise intensity must be positive semidefinite; det(λI − M) = {p} has a negative root");
+    }
+    Ok(())
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let (b, d) = args.inputs.parse()?;
     let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
     let cu = matrix::<Rational>("--input-noise", &args.input_noise)?;
     let cy = matrix::<Rational>("--output-noise", &args.output_noise)?;
+    for (flag, m) in [("--input-noise", &cu), ("--output-noise", &cy)] {
+        require_covariance(flag, m)?;
+    }
+    if args.grid == 0 || args.grid > 100_000 {
+        bail!("in --grid: {} points; give between 1 and 100000", args.grid);
+    }
+    if args.poles.is_none() && (args.derivative_output.is_some() || args.derivative_state.is_some())
+    {
+        bail!("--derivative-output and --derivative-state compare observers with chosen poles: give --poles too");
+    }
     let plant = Plant {
         a: to_nalgebra(&a),
         b: to_nalgebra(&b),
