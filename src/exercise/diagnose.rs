@@ -246,7 +246,16 @@ pub fn placed_polynomial(
     };
     let p = characteristic_polynomial(&obs, "s").ok()?;
     let pf = p.map(|x| x.to_complex_f64().0);
-    let roots: Vec<String> = companion_roots(&pf)
+    let zs = companion_roots(&pf);
+    let rightmost = zs.iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max);
+    let stability = if rightmost < -1e-9 {
+        "the observer is stable"
+    } else if rightmost > 1e-9 {
+        "the observer is unstable: its error grows"
+    } else {
+        "the observer is on the stability boundary: its error does not decay"
+    };
+    let roots: Vec<String> = zs
         .iter()
         .map(|z| {
             if z.im.abs() < 1e-9 {
@@ -262,7 +271,7 @@ pub fn placed_polynomial(
         })
         .collect();
     let text = format!(
-        "your gain gives the observer polynomial {p} (poles {})",
+        "your gain gives the observer polynomial {p} (poles {}); {stability}",
         roots.join(", ")
     );
     let n = a.rows();
@@ -433,6 +442,10 @@ pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagno
     let mut notes = Vec::new();
     for (mistake, value, message) in candidates(key, part) {
         if matches(key, &value, answer) {
+            // a named mistake never hides what the answer does: the poles a gain places
+            if let Some((_, text, _)) = placed_polynomial(key, part, answer) {
+                notes.push(text);
+            }
             return (Some(Diagnosis { mistake, message }), notes);
         }
     }
