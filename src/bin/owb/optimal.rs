@@ -229,7 +229,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                 "  flat directions: {}{} → the minimiser is {}\n  smallest-norm minimiser G = {}\n  rebuilt in rationals it places the polynomial exactly: {}\n",
                 r.flat_directions,
                 r.flat_vectors.iter().map(|v| format!(" ({})", v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", "))).collect::<String>(),
-                if r.flat_directions > 0 || r.spread > 1e-4 { "not unique" } else { "unique among the starts" },
+                if r.flat_directions > 0 { "not unique".to_string() } else if r.spread > 1e-4 { format!("not unique (no flat Hessian direction, but the best gains found lie {:.4} apart)", r.spread) } else { "unique among the starts".to_string() },
                 show(&g),
                 if r.places_exactly { "yes" } else { "no" }
             ));
