@@ -12,6 +12,7 @@ pub mod canonical_form;
 pub mod control;
 pub mod derivation;
 pub mod exercise;
+pub mod fuzzing;
 pub mod linalg;
 pub mod observability;
 pub mod observer;

@@ -147,6 +147,16 @@ fn toml_error(path: &Path, raw: &str, e: &toml::de::Error) -> ExerciseError {
 /// [`ExerciseError`] with file, line and field.
 pub fn load_exercise(path: &Path) -> Result<(ExerciseFile, String), ExerciseError> {
     let raw = read(path)?;
+    let ex = parse_exercise(path, &raw)?;
+    Ok((ex, raw))
+}
+
+/// Parses and checks the text of an exercise file (`path` names it in errors).
+///
+/// # Errors
+/// [`ExerciseError`] with file, line and field.
+pub fn parse_exercise(path: &Path, raw: &str) -> Result<ExerciseFile, ExerciseError> {
+    let raw = raw.to_string();
     let ex: ExerciseFile = toml::from_str(&raw).map_err(|e| toml_error(path, &raw, &e))?;
     let mut seen = std::collections::BTreeSet::new();
     for p in &ex.parts {
@@ -192,7 +202,7 @@ pub fn load_exercise(path: &Path) -> Result<(ExerciseFile, String), ExerciseErro
             ));
         }
     }
-    Ok((ex, raw))
+    Ok(ex)
 }
 
 /// Reads an answer file.
@@ -201,8 +211,16 @@ pub fn load_exercise(path: &Path) -> Result<(ExerciseFile, String), ExerciseErro
 /// [`ExerciseError`] with file, line and field.
 pub fn load_answers(path: &Path) -> Result<(AnswerFile, String), ExerciseError> {
     let raw = read(path)?;
-    let a: AnswerFile = toml::from_str(&raw).map_err(|e| toml_error(path, &raw, &e))?;
+    let a = parse_answers(path, &raw)?;
     Ok((a, raw))
+}
+
+/// Parses the text of an answer file (`path` names it in errors).
+///
+/// # Errors
+/// [`ExerciseError`] with file, line and field.
+pub fn parse_answers(path: &Path, raw: &str) -> Result<AnswerFile, ExerciseError> {
+    toml::from_str(raw).map_err(|e| toml_error(path, raw, &e))
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! functions.
 
 use super::parser::{Expr, ExprKind};
-use super::{SyntaxError, MAX_VALUE_BITS};
+use super::{SyntaxError, MAX_EXPONENT, MAX_VALUE_BITS};
 use crate::algebra::{Field, MultiPoly, Quadratic, Rational, Ring, Zero};
 use crate::poly::{Poly, RationalFunction};
 
@@ -40,6 +40,11 @@ pub trait FromExpr: Ring {
     /// build: `((2^1000)^1000)^1000` is 22 characters.
     fn size_bits(&self) -> u64 {
         0
+    }
+    /// How many terms the value has (symbolic polynomials; 1 for numbers): a product has up to
+    /// the product of the counts, a power `(t terms)^k` up to C(k + t − 1, t − 1).
+    fn term_count(&self) -> u64 {
+        1
     }
     /// Evaluates a whole expression.
     ///
@@ -110,8 +115,19 @@ fn not_allowed(column: usize, what: impl Into<String>, target: &str) -> SyntaxEr
     }
 }
 
+/// `base^k` by squaring.
 fn power<T: Ring>(base: T, k: u32) -> T {
-    (0..k).fold(T::one(), |acc, _| acc * base.clone())
+    let (mut acc, mut square, mut e) = (T::one(), base, k);
+    while e > 0 {
+        if e & 1 == 1 {
+            acc = acc * square.clone();
+        }
+        e >>= 1;
+        if e > 0 {
+            square = square.clone() * square;
+        }
+    }
+    acc
 }
 
 fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
@@ -133,7 +149,14 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
         ExprKind::Neg(x) => -scalar::<T>(x, ctx)?,
         ExprKind::Add(x, y) => scalar::<T>(x, ctx)? + scalar::<T>(y, ctx)?,
         ExprKind::Sub(x, y) => scalar::<T>(x, ctx)? - scalar::<T>(y, ctx)?,
-        ExprKind::Mul(x, y) => scalar::<T>(x, ctx)? * scalar::<T>(y, ctx)?,
+        ExprKind::Mul(x, y) => {
+            let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
+            let terms = a.term_count().saturating_mul(b.term_count());
+            if terms > MAX_TERMS {
+                return Err(too_many_terms(c, terms));
+            }
+            a * b
+        }
         ExprKind::Div(x, y) => {
             let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
             divide(&a, &b, c, T::TARGET)?
@@ -143,6 +166,10 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
             let estimate = b.size_bits().saturating_mul(k.unsigned_abs());
             if estimate > MAX_VALUE_BITS {
                 return Err(too_large(c, estimate));
+            }
+            let terms = power_terms(b.term_count(), k.unsigned_abs());
+            if terms > MAX_TERMS {
+                return Err(too_many_terms(c, terms));
             }
             let p = power(b, k.unsigned_abs() as u32);
             if *k < 0 {
@@ -157,6 +184,32 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
         return Err(too_large(c, v.size_bits()));
     }
     Ok(v)
+}
+
+/// The most terms a symbolic value read from input may have.
+const MAX_TERMS: u64 = 20_000;
+
+/// C(k + t − 1, t − 1), saturating: the terms of a `t`-term sum raised to `k`.
+fn power_terms(t: u64, k: u64) -> u64 {
+    if t <= 1 {
+        return 1;
+    }
+    let mut c: u64 = 1;
+    for i in 1..t {
+        c = c.saturating_mul(k + i) / i;
+        if c > MAX_TERMS {
+            return u64::MAX;
+        }
+    }
+    c
+}
+
+fn too_many_terms(column: usize, terms: u64) -> SyntaxError {
+    SyntaxError::TooLarge {
+        column,
+        what: format!("a symbolic expression of up to {terms} terms built here"),
+        limit: MAX_TERMS as usize,
+    }
 }
 
 fn too_large(column: usize, bits: u64) -> SyntaxError {
@@ -237,6 +290,27 @@ pub(crate) fn polynomial<F: Field + FromExpr>(e: &Expr, var: &str) -> Result<Pol
     }
 }
 
+/// The larger degree of numerator and denominator.
+fn degree<F: Field>(r: &RationalFunction<F>) -> usize {
+    r.numerator()
+        .degree()
+        .unwrap_or(0)
+        .max(r.denominator().degree().unwrap_or(0))
+}
+
+/// Polynomials read from input stay below degree [`MAX_EXPONENT`]: `s^999 s^999 …` would
+/// otherwise grow with the length of the input (found by fuzzing: 11 bytes took 0.4 s).
+fn bound_degree(column: usize, degree: usize) -> Result<(), SyntaxError> {
+    if degree > MAX_EXPONENT as usize {
+        return Err(SyntaxError::TooLarge {
+            column,
+            what: format!("a polynomial of degree {degree} built here"),
+            limit: MAX_EXPONENT as usize,
+        });
+    }
+    Ok(())
+}
+
 fn rf<F: Field + FromExpr>(
     e: &Expr,
     var: &str,
@@ -262,15 +336,33 @@ fn rf<F: Field + FromExpr>(
         ExprKind::Neg(x) => -rf(x, var, ctx)?,
         ExprKind::Add(x, y) => rf(x, var, ctx)? + rf(y, var, ctx)?,
         ExprKind::Sub(x, y) => rf(x, var, ctx)? - rf(y, var, ctx)?,
-        ExprKind::Mul(x, y) => rf(x, var, ctx)? * rf(y, var, ctx)?,
+        ExprKind::Mul(x, y) => {
+            let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);
+            bound_degree(c, degree(&a) + degree(&b))?;
+            a * b
+        }
         ExprKind::Div(x, y) => {
             let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);
+            bound_degree(c, degree(&a) + degree(&b))?;
             a.checked_div(&b)
                 .ok_or(SyntaxError::DivisionByZero { column: c })?
         }
         ExprKind::Pow(x, k) => {
             let b = rf::<F>(x, var, ctx)?;
-            let p = (0..k.unsigned_abs()).fold(constant(F::one()), |acc, _| acc * b.clone());
+            bound_degree(c, degree(&b).saturating_mul(k.unsigned_abs() as usize))?;
+            // by squaring: log k products, each reduced once
+            let mut p = constant(F::one());
+            let mut square = b;
+            let mut e = k.unsigned_abs();
+            while e > 0 {
+                if e & 1 == 1 {
+                    p = p * square.clone();
+                }
+                e >>= 1;
+                if e > 0 {
+                    square = square.clone() * square;
+                }
+            }
             if *k < 0 {
                 p.inverse()
                     .ok_or(SyntaxError::DivisionByZero { column: c })?
@@ -325,6 +417,9 @@ impl FromExpr for Quadratic {
 }
 
 impl FromExpr for MultiPoly {
+    fn term_count(&self) -> u64 {
+        self.terms().count() as u64
+    }
     fn size_bits(&self) -> u64 {
         self.terms()
             .map(|(m, c)| c.numer().bits() + c.denom().bits() + u64::from(m.degree()))

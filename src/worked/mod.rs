@@ -26,6 +26,6 @@ pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
 pub use value::{compare, Agreement, Value};
 pub(crate) use verify::locate;
 pub use verify::{
-    load_example, load_folder, verify_example, ClaimReport, ExampleReport, Summary, Verdict,
-    WorkedError,
+    load_example, load_folder, parse_example, verify_example, ClaimReport, ExampleReport, Summary,
+    Verdict, WorkedError,
 };

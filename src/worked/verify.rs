@@ -147,6 +147,17 @@ pub fn load_example(path: &Path) -> Result<(ExampleFile, String), WorkedError> {
         field: "file".into(),
         message: e.to_string(),
     })?;
+    let ex = parse_example(&file, &raw)?;
+    Ok((ex, raw))
+}
+
+/// Parses and checks the text of a worked-example file (`file` names it in errors).
+///
+/// # Errors
+/// [`WorkedError`] with file, line and field.
+pub fn parse_example(file: &str, raw: &str) -> Result<ExampleFile, WorkedError> {
+    let file = file.to_string();
+    let raw = raw.to_string();
     let ex: ExampleFile = toml::from_str(&raw).map_err(|e| {
         let line = e.span().map_or(0, |s| {
             raw[..s.start.min(raw.len())].matches('\n').count() + 1
@@ -189,7 +200,7 @@ pub fn load_example(path: &Path) -> Result<(ExampleFile, String), WorkedError> {
             });
         }
     }
-    Ok((ex, raw))
+    Ok(ex)
 }
 
 /// Every `*.toml` in a folder (not recursive), sorted by file name.

@@ -1,0 +1,60 @@
+//! Every input a fuzzing campaign ever flagged (crash or timeout), replayed on stable through the
+//! same entry points the fuzz targets call (`observer_workbench::fuzzing`). The campaigns run by
+//! hand (README, "Fuzzing"); their findings live in `fuzz/regressions/<target>/`.
+
+use std::path::Path;
+
+fn replay(target: &str, run: fn(&[u8])) -> usize {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fuzz/regressions")
+        .join(target);
+    let mut count = 0;
+    for entry in std::fs::read_dir(&dir).expect("regression folder") {
+        let path = entry.expect("entry").path();
+        if path
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+        {
+            continue;
+        }
+        run(&std::fs::read(&path).expect("readable"));
+        count += 1;
+    }
+    count
+}
+
+#[test]
+fn syntax_findings_are_refused_quickly() {
+    // `s^4 s^499` took 0.4 s (a product of powers grew without bound): now a degree limit
+    assert!(replay("syntax", observer_workbench::fuzzing::syntax) >= 1);
+}
+
+#[test]
+fn answer_file_findings_are_checked() {
+    assert!(replay("answers", observer_workbench::fuzzing::answers) >= 1);
+}
+
+#[test]
+fn exercise_and_example_findings_are_read() {
+    replay("exercise", observer_workbench::fuzzing::exercise);
+    replay(
+        "worked_example",
+        observer_workbench::fuzzing::worked_example,
+    );
+}
+
+/// Garbage never panics, for every entry point (a property, beside the campaign's corpus).
+mod garbage {
+    use proptest::prelude::*;
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+        #[test]
+        fn never_panics(data in proptest::collection::vec(any::<u8>(), 0..200), text in "[-+*/^()\\[\\];, 0-9sk√.ie]{0,60}") {
+            observer_workbench::fuzzing::syntax(&data);
+            observer_workbench::fuzzing::syntax(text.as_bytes());
+            observer_workbench::fuzzing::answers(format!("[answers]\nL = \"{text}\"\ndesired = \"{text}\"\n").as_bytes());
+            observer_workbench::fuzzing::worked_example(&data);
+            observer_workbench::fuzzing::exercise(&data);
+        }
+    }
+}
