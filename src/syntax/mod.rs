@@ -27,7 +27,7 @@ pub const MAX_INPUT_LENGTH: usize = 1 << 20;
 /// The largest exponent accepted in `x^k` and in `1e±k`.
 pub const MAX_EXPONENT: u32 = 1000;
 /// The largest value (in bits of numerators and denominators) that reading input may build.
-pub const MAX_VALUE_BITS: u64 = 1 << 16;
+pub const MAX_VALUE_BITS: u64 = 1 << 14;
 /// The deepest nesting of parentheses, signs and square roots accepted (each parenthesis
 /// counts twice: the sign and the term inside it).
 pub const MAX_NESTING: usize = 100;
