@@ -290,6 +290,18 @@ pub(crate) fn polynomial<F: Field + FromExpr>(e: &Expr, var: &str) -> Result<Pol
     }
 }
 
+/// Whether the expression contains the variable.
+fn mentions(e: &Expr, var: &str) -> bool {
+    match &e.kind {
+        ExprKind::Symbol(name) => name == var,
+        ExprKind::Number(_) | ExprKind::ImaginaryUnit => false,
+        ExprKind::Sqrt(x) | ExprKind::Neg(x) | ExprKind::Pow(x, _) => mentions(x, var),
+        ExprKind::Add(x, y) | ExprKind::Sub(x, y) | ExprKind::Mul(x, y) | ExprKind::Div(x, y) => {
+            mentions(x, var) || mentions(y, var)
+        }
+    }
+}
+
 /// The larger degree of numerator and denominator.
 fn degree<F: Field>(r: &RationalFunction<F>) -> usize {
     r.numerator()
@@ -318,6 +330,10 @@ fn rf<F: Field + FromExpr>(
 ) -> Result<RationalFunction<F>, SyntaxError> {
     let c = e.column;
     let constant = |v: F| RationalFunction::from_poly(Poly::constant(v, var));
+    // a part without the variable is a number: evaluated with the number limits
+    if !mentions(e, var) && !matches!(e.kind, ExprKind::Symbol(_)) {
+        return Ok(constant(scalar::<F>(e, ctx)?));
+    }
     Ok(match &e.kind {
         ExprKind::Symbol(name) if name == var => RationalFunction::from_poly(Poly::x(var)),
         ExprKind::Symbol(name) if ctx.env.is_some_and(|e| e.contains_key(name)) => {
