@@ -2,7 +2,7 @@
 //! functions.
 
 use super::parser::{Expr, ExprKind};
-use super::{SyntaxError, MAX_EXPONENT, MAX_VALUE_BITS};
+use super::{SyntaxError, MAX_VALUE_BITS};
 use crate::algebra::{Field, MultiPoly, Quadratic, Rational, Ring, Zero};
 use crate::poly::{Poly, RationalFunction};
 
@@ -302,6 +302,10 @@ fn mentions(e: &Expr, var: &str) -> bool {
     }
 }
 
+fn deg<F: Field>(p: &Poly<F>) -> usize {
+    p.degree().unwrap_or(0)
+}
+
 /// The larger degree of numerator and denominator.
 fn degree<F: Field>(r: &RationalFunction<F>) -> usize {
     r.numerator()
@@ -310,14 +314,17 @@ fn degree<F: Field>(r: &RationalFunction<F>) -> usize {
         .max(r.denominator().degree().unwrap_or(0))
 }
 
-/// Polynomials read from input stay below degree [`MAX_EXPONENT`]: `s^999 s^999 …` would
-/// otherwise grow with the length of the input (found by fuzzing: 11 bytes took 0.4 s).
+/// Polynomials and rational functions read from input stay within degree
+/// [`MAX_EXACT_ORDER`](crate::linalg::MAX_EXACT_ORDER), the largest system the exact algorithms
+/// accept: `s^999 s^999 …` would otherwise grow with the length of the input, and sums over
+/// high-degree denominators cost polynomial gcds of that degree (found by fuzzing).
 fn bound_degree(column: usize, degree: usize) -> Result<(), SyntaxError> {
-    if degree > MAX_EXPONENT as usize {
+    let limit = crate::linalg::MAX_EXACT_ORDER;
+    if degree > limit {
         return Err(SyntaxError::TooLarge {
             column,
             what: format!("a polynomial of degree {degree} built here"),
-            limit: MAX_EXPONENT as usize,
+            limit,
         });
     }
     Ok(())
@@ -350,8 +357,18 @@ fn rf<F: Field + FromExpr>(
             constant(scalar::<F>(e, ctx)?)
         }
         ExprKind::Neg(x) => -rf(x, var, ctx)?,
-        ExprKind::Add(x, y) => rf(x, var, ctx)? + rf(y, var, ctx)?,
-        ExprKind::Sub(x, y) => rf(x, var, ctx)? - rf(y, var, ctx)?,
+        ExprKind::Add(x, y) | ExprKind::Sub(x, y) => {
+            let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);
+            // a sum over the product of the denominators
+            let (na, da) = (deg(a.numerator()), deg(a.denominator()));
+            let (nb, db) = (deg(b.numerator()), deg(b.denominator()));
+            bound_degree(c, (na + db).max(nb + da).max(da + db))?;
+            if matches!(e.kind, ExprKind::Add(..)) {
+                a + b
+            } else {
+                a - b
+            }
+        }
         ExprKind::Mul(x, y) => {
             let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);
             bound_degree(c, degree(&a) + degree(&b))?;
