@@ -6,6 +6,7 @@ use crate::Outcome;
 use anyhow::{anyhow, bail, Result};
 use nalgebra::{Complex, DMatrix};
 use observer_workbench::algebra::{Rational, Zero};
+use observer_workbench::linalg::definiteness::{definiteness, Definiteness};
 use observer_workbench::linalg::float::{eigenvalues, to_nalgebra};
 use observer_workbench::linalg::Matrix;
 use observer_workbench::observer::kalman::{
@@ -77,37 +78,153 @@ fn pole_text(z: &Complex<f64>) -> String {
     }
 }
 
-/// A noise intensity must be a symmetric positive semidefinite matrix (checked exactly: its
-/// eigenvalues are real, and they are ≥ 0 exactly when the coefficients of det(λI − M)
-/// alternate in sign); a negative intensity gave negative covariances.
+/// A noise intensity must be a symmetric positive semidefinite matrix (a negative intensity
+/// gave negative covariances).
 fn require_covariance(flag: &str, m: &Matrix<Rational>) -> Result<()> {
-    if !m.is_square() || *m != m.transpose() {
-        bail!(
+    match definiteness(m)? {
+        Definiteness::PositiveSemidefinite => Ok(()),
+        Definiteness::NotSymmetric => bail!(
             "in {flag}: a noise intensity must be a symmetric matrix, this one is {}×{}{}",
             m.rows(),
             m.cols(),
-            if m.is_square() {
-                " and not symmetric"
-            } else {
-                ""
-            }
-        );
+            if m.is_square() { " and not symmetric" } else { "" }
+        ),
+        Definiteness::Indefinite(p) => bail!(
+            "in {flag}: a noise intensity must be positive semidefinite; det(λI − M) = {p} has a negative root"
+        ),
     }
-    let n = m.rows();
-    let p = observer_workbench::linalg::characteristic_polynomial(m, "λ")?;
-    let zero = Rational::from_integer(0.into());
-    let ok = (0..=n).all(|k| {
-        let c = p.coeff(k);
-        if (n - k) % 2 == 0 {
-            c >= zero
-        } else {
-            c <= zero
+}
+
+/// The exact plant and noise intensities, as read.
+struct Exact<'a> {
+    a: &'a Matrix<Rational>,
+    b: &'a Matrix<Rational>,
+    c: &'a Matrix<Rational>,
+    d: &'a Matrix<Rational>,
+    cu: &'a Matrix<Rational>,
+    cy: &'a Matrix<Rational>,
+}
+
+/// The observers with the chosen poles compared with the Kalman filter: robust (KNV), diagonal
+/// observer matrices when C is square, and the weighted-derivative observer.
+fn pole_rows(
+    args: &Args,
+    ptext: &str,
+    exact: &Exact<'_>,
+    plant: &Plant,
+    table: &mut Vec<Row>,
+) -> Result<()> {
+    let Exact { a, b, c, d, cu, cy } = *exact;
+    let poles =
+        parse_list::<Rational>(ptext).map_err(|e| anyhow!("in --poles: {}", e.show_in(ptext)))?;
+    if poles.len() != a.rows() {
+        bail!("in --poles: {} poles for order {}", poles.len(), a.rows());
+    }
+    let float_poles: Vec<(f64, f64)> = poles
+        .iter()
+        .map(|p| (observer_workbench::algebra::rational_to_f64(p), 0.0))
+        .collect();
+    match robust_observer_gain(&plant.a, &plant.c, &float_poles) {
+        Ok(r) => table.push(Row {
+            method: "robust".into(),
+            gain: DMatrix::from_fn(r.gain.len(), c.rows(), |i, j| r.gain[i][j]),
+            note: format!("KNV, eigenvector condition {:.3}", r.eigenvector_condition),
+        }),
+        Err(e) => eprintln!("robust placement not available: {e}"),
+    }
+    if c.rows() == a.rows() {
+        let n = a.rows();
+        for (label, order) in [
+            ("diagonal", poles.clone()),
+            (
+                "diagonal-reversed",
+                poles.iter().rev().cloned().collect::<Vec<_>>(),
+            ),
+        ] {
+            let m = Matrix::from_fn(n, n, |i, j| {
+                if i == j {
+                    order[i].clone()
+                } else {
+                    Rational::zero()
+                }
+            });
+            if let Ok(l) = gain_for_observer_matrix(&a, &c, &m) {
+                table.push(Row {
+                    method: label.into(),
+                    gain: to_nalgebra(&l),
+                    note: format!(
+                        "A − LC = diag({}), exact",
+                        order
+                            .iter()
+                            .map(ToString::to_string)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                });
+            }
         }
-    });
-    if !ok {
-        bail!("in {flag}: a noise intensity must be positive semidefinite; det(λI − M) = {p} has a negative root");
+    }
+    if let (Some(o), Some(s)) = (args.derivative_output, args.derivative_state) {
+        if o == 0 || s == 0 {
+            bail!("in --derivative-output/--derivative-state: indices are 1-based");
+        }
+        let desired = Poly::from_roots(&poles, "s");
+        let w = weighted_design(&a, &b, &c, &d, &desired, &cu, &cy, o - 1, s - 1, args.grid)?;
+        table.push(Row {
+            method: "weighted".into(),
+            gain: DMatrix::from_fn(w.gain.len(), c.rows(), |i, j| w.gain[i][j]),
+            note: format!(
+                "w = {} ≈ {:.6} (grid of {} + golden section); trace Σ at w = 0: {:.4e}, at w = 1: {:.4e}",
+                w.weight, w.weight_f64, w.grid_points, w.variance_at_ends.0, w.variance_at_ends.1
+            ),
+        });
     }
     Ok(())
+}
+
+/// One line per compared observer: poles, natural frequency and error covariance, in `text`;
+/// the same as JSON rows.
+fn tabulate(
+    table: &[Row],
+    plant: &Plant,
+    noise: &NoiseIntensities,
+    text: &mut String,
+) -> Result<Vec<serde_json::Value>> {
+    let mut json_rows = Vec::new();
+    text.push_str("method               poles                          ω_n (rad/s)   diag Σ                        trace Σ       √trace Σ\n");
+    for row in table {
+        let f = &plant.a - &row.gain * &plant.c;
+        let ev = eigenvalues(&f);
+        let wn = natural_frequency(&ev);
+        let (sigma, residual) = error_covariance(plant, noise, &row.gain)?;
+        let diag: Vec<String> = (0..sigma.nrows())
+            .map(|i| format!("{:.4e}", sigma[(i, i)]))
+            .collect();
+        text.push_str(&format!(
+            "{:<20} {:<30} {:>11.3}   {:<29} {:<13.4e} {:.4e}\n    L = {}  ({}; Lyapunov residual {:.1e})\n",
+            row.method,
+            ev.iter().map(pole_text).collect::<Vec<_>>().join(", "),
+            wn,
+            diag.join(", "),
+            sigma.trace(),
+            sigma.trace().sqrt(),
+            show(&row.gain),
+            row.note,
+            residual
+        ));
+        json_rows.push(json!({
+            "method": row.method,
+            "gain": rows(&row.gain),
+            "poles": ev.iter().map(|z| (z.re, z.im)).collect::<Vec<_>>(),
+            "natural_frequency": wn,
+            "covariance": rows(&sigma),
+            "trace": sigma.trace(),
+            "rms": sigma.trace().sqrt(),
+            "note": row.note,
+        }));
+    }
+    text.push_str("ω_n = (Π|λ_i|)^(1/n); Σ: steady-state estimation-error covariance with C_U, C_Y read as white-noise intensities.\n");
+    Ok(json_rows)
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
@@ -156,72 +273,16 @@ pub fn run(args: Args) -> Result<Outcome> {
         });
     }
     if let Some(ptext) = &args.poles {
-        let poles = parse_list::<Rational>(ptext)
-            .map_err(|e| anyhow!("in --poles: {}", e.show_in(ptext)))?;
-        if poles.len() != a.rows() {
-            bail!("in --poles: {} poles for order {}", poles.len(), a.rows());
-        }
-        let float_poles: Vec<(f64, f64)> = poles
-            .iter()
-            .map(|p| (observer_workbench::algebra::rational_to_f64(p), 0.0))
-            .collect();
-        match robust_observer_gain(&plant.a, &plant.c, &float_poles) {
-            Ok(r) => table.push(Row {
-                method: "robust".into(),
-                gain: DMatrix::from_fn(r.gain.len(), c.rows(), |i, j| r.gain[i][j]),
-                note: format!("KNV, eigenvector condition {:.3}", r.eigenvector_condition),
-            }),
-            Err(e) => eprintln!("robust placement not available: {e}"),
-        }
-        if c.rows() == a.rows() {
-            let n = a.rows();
-            for (label, order) in [
-                ("diagonal", poles.clone()),
-                (
-                    "diagonal-reversed",
-                    poles.iter().rev().cloned().collect::<Vec<_>>(),
-                ),
-            ] {
-                let m = Matrix::from_fn(n, n, |i, j| {
-                    if i == j {
-                        order[i].clone()
-                    } else {
-                        Rational::zero()
-                    }
-                });
-                if let Ok(l) = gain_for_observer_matrix(&a, &c, &m) {
-                    table.push(Row {
-                        method: label.into(),
-                        gain: to_nalgebra(&l),
-                        note: format!(
-                            "A − LC = diag({}), exact",
-                            order
-                                .iter()
-                                .map(ToString::to_string)
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        ),
-                    });
-                }
-            }
-        }
-        if let (Some(o), Some(s)) = (args.derivative_output, args.derivative_state) {
-            if o == 0 || s == 0 {
-                bail!("in --derivative-output/--derivative-state: indices are 1-based");
-            }
-            let desired = Poly::from_roots(&poles, "s");
-            let w = weighted_design(&a, &b, &c, &d, &desired, &cu, &cy, o - 1, s - 1, args.grid)?;
-            table.push(Row {
-                method: "weighted".into(),
-                gain: DMatrix::from_fn(w.gain.len(), c.rows(), |i, j| w.gain[i][j]),
-                note: format!(
-                    "w = {} ≈ {:.6} (grid of {} + golden section); trace Σ at w = 0: {:.4e}, at w = 1: {:.4e}",
-                    w.weight, w.weight_f64, w.grid_points, w.variance_at_ends.0, w.variance_at_ends.1
-                ),
-            });
-        }
+        let exact = Exact {
+            a: &a,
+            b: &b,
+            c: &c,
+            d: &d,
+            cu: &cu,
+            cy: &cy,
+        };
+        pole_rows(&args, ptext, &exact, &plant, &mut table)?;
     }
-    let mut json_rows = Vec::new();
     let mut text = String::new();
     let (q, r, s) = plant.intensities(&noise);
     text.push_str(&format!(
@@ -233,39 +294,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         show(&DMatrix::from_fn(k.covariance.len(), k.covariance.len(), |i, j| k.covariance[i][j])),
         k.sign_iterations, k.newton_steps, k.residual
     ));
-    text.push_str("method               poles                          ω_n (rad/s)   diag Σ                        trace Σ       √trace Σ\n");
-    for row in &table {
-        let f = &plant.a - &row.gain * &plant.c;
-        let ev = eigenvalues(&f);
-        let wn = natural_frequency(&ev);
-        let (sigma, residual) = error_covariance(&plant, &noise, &row.gain)?;
-        let diag: Vec<String> = (0..sigma.nrows())
-            .map(|i| format!("{:.4e}", sigma[(i, i)]))
-            .collect();
-        text.push_str(&format!(
-            "{:<20} {:<30} {:>11.3}   {:<29} {:<13.4e} {:.4e}\n    L = {}  ({}; Lyapunov residual {:.1e})\n",
-            row.method,
-            ev.iter().map(pole_text).collect::<Vec<_>>().join(", "),
-            wn,
-            diag.join(", "),
-            sigma.trace(),
-            sigma.trace().sqrt(),
-            show(&row.gain),
-            row.note,
-            residual
-        ));
-        json_rows.push(json!({
-            "method": row.method,
-            "gain": rows(&row.gain),
-            "poles": ev.iter().map(|z| (z.re, z.im)).collect::<Vec<_>>(),
-            "natural_frequency": wn,
-            "covariance": rows(&sigma),
-            "trace": sigma.trace(),
-            "rms": sigma.trace().sqrt(),
-            "note": row.note,
-        }));
-    }
-    text.push_str("ω_n = (Π|λ_i|)^(1/n); Σ: steady-state estimation-error covariance with C_U, C_Y read as white-noise intensities.\n");
+    let json_rows = tabulate(&table, &plant, &noise, &mut text)?;
     if args.poles.is_some() {
         let (n, p) = (a.rows(), c.rows());
         text.push_str(&format!(

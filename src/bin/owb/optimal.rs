@@ -6,6 +6,7 @@ use crate::Outcome;
 use anyhow::{anyhow, bail, Result};
 use nalgebra::DMatrix;
 use observer_workbench::algebra::{Rational, ToF64};
+use observer_workbench::linalg::definiteness::{definiteness, Definiteness};
 use observer_workbench::linalg::float::{eigenvalues, to_nalgebra};
 use observer_workbench::linalg::{characteristic_polynomial, Matrix};
 use observer_workbench::observer::dynamical_error::{
@@ -91,7 +92,17 @@ fn scatter(
         .collect()
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// A validated `owb optimal` request.
+struct Request {
+    a: Matrix<Rational>,
+    c: Matrix<Rational>,
+    /// The desired polynomial.
+    p: Poly<Rational>,
+    /// D, the weight of J2.
+    weight: Matrix<Rational>,
+}
+
+fn request(args: &Args) -> Result<Request> {
     let (a, c) = args.system.parse()?;
     if !a.is_square() || c.cols() != a.rows() {
         bail!(
@@ -130,190 +141,207 @@ pub fn run(args: Args) -> Result<Outcome> {
             weight.cols()
         );
     }
-    // D weighs the error in J2 = λ_max(H): it must be symmetric positive semidefinite and not
-    // zero, or the "best" J2 can be negative. A symmetric matrix has real eigenvalues, so they
-    // are all ≥ 0 exactly when the coefficients of det(λI − D) alternate in sign.
-    if weight != weight.transpose() {
+    require_weight(&weight)?;
+    Ok(Request { a, c, p, weight })
+}
+
+/// D weighs the error in J2 = λ_max(H): it must be symmetric positive semidefinite and not zero,
+/// or the "best" J2 can be negative.
+fn require_weight(weight: &Matrix<Rational>) -> Result<()> {
+    let found = definiteness(weight)?;
+    if found == Definiteness::NotSymmetric {
         bail!("in --weight: D must be symmetric");
     }
-    let zero = Rational::from_integer(0.into());
-    let charpoly = characteristic_polynomial(&weight, "λ")?;
-    let semidefinite = (0..=n).all(|k| {
-        let c = charpoly.coeff(k);
-        if (n - k) % 2 == 0 {
-            c >= zero
-        } else {
-            c <= zero
-        }
-    });
     if weight.is_zero() {
         bail!("in --weight: D is zero, so every gain has J2 = 0");
     }
-    if !semidefinite {
+    if let Definiteness::Indefinite(charpoly) = found {
         bail!(
             "in --weight: D must be positive semidefinite; det(λI − D) = {charpoly} has a negative root"
         );
     }
-    let mut out = json!({"desired": p.to_string(), "convention": "a-kc", "index": args.index});
-    let mut text = String::new();
-    match args.index.as_str() {
-        "j1" => {
-            let cons = pole_placement_constraints(&a, &c, &p)?;
-            let r = minimum_norm_gain(&cons, args.starts, args.seed);
-            text.push_str(&format!(
-                "Minimum-norm gain: minimise J1 = Σ k_i² subject to det(sI − (A − GC)) = {p}\n  constraints (G = [k1 k{}…] column by column):\n",
-                n + 1
-            ));
-            for e in &cons.equations {
-                text.push_str(&format!("    {e} = 0\n"));
-            }
-            text.push_str(&format!(
-                "  {} seeded starts (seed {}), {} converged to a local minimum (Newton on the KKT system, second-order check)\n",
-                r.starts, args.seed, r.converged
-            ));
-            for (i, m) in r.minima.iter().enumerate() {
-                let g = DMatrix::from_fn(n, c.rows(), |row, col| m.gain[col * n + row]);
-                text.push_str(&format!(
-                    "  {} J1 = {:.6}, reached by {} start(s): G = {}\n",
-                    if i < r.best_count { "best" } else { "    " },
-                    m.cost,
-                    m.starts,
-                    show(&g)
-                ));
-            }
-            text.push_str(&format!(
-                "  the best value is attained by {} gain(s): {}\n",
-                r.best_count,
-                if r.best_count > 1 {
-                    "the minimiser is not unique"
-                } else {
-                    "unique among the minima found"
-                }
-            ));
-            out["report"] = serde_json::to_value(&r)?;
-        }
-        "j2" => {
-            if args.placed_output == 0 || args.placed_output > c.rows() {
-                bail!(
-                    "in --placed-output: {} is not an output (1…{})",
-                    args.placed_output,
-                    c.rows()
-                );
-            }
-            let r = minimal_dynamical_error(
-                &a,
-                &c,
-                &p,
-                &weight,
-                args.placed_output - 1,
-                args.starts,
-                args.seed,
-            )?;
-            let g = DMatrix::from_row_slice(r.rows, r.cols, &r.best.gain);
-            text.push_str(&format!(
-                "Minimal dynamical error: minimise J2 = λ_max(H), Fᵀ H + H F = −D, F = A − GC, over the gains with det(sI − F) = {p}\n  D = {}\n  column {} of G placed exactly (dual Ackermann) from the others; Nelder–Mead over the other {} entries\n",
-                weight.to_input(),
-                args.placed_output,
-                n * (c.rows() - 1)
-            ));
-            text.push_str(&format!(
-                "  {} seeded starts (seed {}): {} reached the best J2 = {:.8}\n  their gains lie up to {:.4} apart (max-norm); Hessian eigenvalues at the smallest: [{}]\n",
-                r.starts,
-                args.seed,
-                r.reached_best,
-                r.best.cost,
-                r.spread,
-                r.hessian_eigenvalues.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>().join(", ")
-            ));
-            text.push_str(&format!(
-                "  flat directions: {}{} → the minimiser is {}\n  smallest-norm minimiser G = {}\n  rebuilt in rationals it places the polynomial exactly: {}\n",
-                r.flat_directions,
-                r.flat_vectors.iter().map(|v| format!(" ({})", v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", "))).collect::<String>(),
-                if r.flat_directions > 0 { "not unique".to_string() } else if r.spread > 1e-4 { format!("not unique (no flat Hessian direction, but the best gains found lie {:.4} apart)", r.spread) } else { "unique among the starts".to_string() },
-                show(&g),
-                if r.places_exactly { "yes" } else { "no" }
-            ));
-            out["report"] = serde_json::to_value(&r)?;
-        }
-        other => bail!("in --index: unknown index '{other}' (j1 or j2)"),
-    }
-    if let Some(gtext) = &args.check_gain {
-        let g = matrix::<Rational>("--check-gain", gtext)?;
-        if g.rows() != n || g.cols() != c.rows() {
-            bail!(
-                "in --check-gain: G must be {n}×{}, it is {}×{}",
-                c.rows(),
-                g.rows(),
-                g.cols()
-            );
-        }
-        let f = a.sub(&g.mul(&c)?)?;
-        let achieved = characteristic_polynomial(&f, "s")?;
-        let poles: Vec<(f64, f64)> = eigenvalues(&to_nalgebra(&f))
-            .iter()
-            .map(|z| (z.re, z.im))
-            .collect();
-        let j1: f64 = (0..n)
-            .flat_map(|i| (0..c.rows()).map(move |j| (i, j)))
-            .map(|(i, j)| g.get(i, j).to_f64().powi(2))
-            .sum();
-        let j2 = dynamical_error_cost(
-            &to_nalgebra(&a),
-            &to_nalgebra(&c),
-            &to_nalgebra(&g),
-            &to_nalgebra(&weight),
-        )
-        .ok()
-        .map(|(j, _)| j);
-        let moves = scatter(&p, &achieved, &poles);
-        text.push_str(&format!(
-            "Given gain G = {}\n  det(sI − (A − GC)) = {achieved} ({})\n  poles: {}\n",
-            gtext.trim(),
-            if achieved == p {
-                "places the desired polynomial exactly"
-            } else {
-                "not the desired polynomial"
-            },
-            poles
-                .iter()
-                .map(|(re, im)| if im.abs() > 0.0 {
-                    format!(
-                        "{re:.6} {} {:.6}i",
-                        if *im < 0.0 { "−" } else { "+" },
-                        im.abs()
-                    )
-                } else {
-                    format!("{re:.6}")
-                })
-                .collect::<Vec<_>>()
-                .join(", ")
+    Ok(())
+}
+
+/// The minimum-norm gain (J1), told in `text`; its report as JSON.
+fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value> {
+    let Request { a, c, p, .. } = req;
+    let n = a.rows();
+    let cons = pole_placement_constraints(&a, &c, &p)?;
+    let r = minimum_norm_gain(&cons, args.starts, args.seed);
+    text.push_str(&format!(
+            "Minimum-norm gain: minimise J1 = Σ k_i² subject to det(sI − (A − GC)) = {p}\n  constraints (G = [k1 k{}…] column by column):\n",
+            n + 1
         ));
-        for m in &moves {
-            text.push_str(&format!(
-                "  root {} (multiplicity {}): the poles moved by up to {:.4}; predicted (|δ(λ0)|/Π|λ0 − λj|)^(1/m) = {:.4} — an m-fold root moves like the m-th root of the coefficient error\n",
-                m["root"].as_str().unwrap_or(""),
-                m["multiplicity"],
-                m["largest_move"].as_f64().unwrap_or(f64::NAN),
-                m["predicted"].as_f64().unwrap_or(f64::NAN)
-            ));
+    for e in &cons.equations {
+        text.push_str(&format!("    {e} = 0\n"));
+    }
+    text.push_str(&format!(
+            "  {} seeded starts (seed {}), {} converged to a local minimum (Newton on the KKT system, second-order check)\n",
+            r.starts, args.seed, r.converged
+        ));
+    for (i, m) in r.minima.iter().enumerate() {
+        let g = DMatrix::from_fn(n, c.rows(), |row, col| m.gain[col * n + row]);
+        text.push_str(&format!(
+            "  {} J1 = {:.6}, reached by {} start(s): G = {}\n",
+            if i < r.best_count { "best" } else { "    " },
+            m.cost,
+            m.starts,
+            show(&g)
+        ));
+    }
+    text.push_str(&format!(
+        "  the best value is attained by {} gain(s): {}\n",
+        r.best_count,
+        if r.best_count > 1 {
+            "the minimiser is not unique"
+        } else {
+            "unique among the minima found"
         }
-        text.push_str(&format!("  J1 = {j1:.6}\n"));
-        match j2 {
-            Some(j) => text.push_str(&format!(
-                "  J2 = λ_max(H) = {j:.8} (D = {})\n",
-                weight.to_input()
-            )),
-            None => text.push_str("  J2 undefined: A − GC is not stable\n"),
-        }
-        out["check"] = json!({
-            "gain": crate::args::json_matrix(&g),
-            "observer_polynomial": achieved.to_input(),
-            "places_exactly": achieved == p,
-            "poles": poles,
-            "root_moves": moves,
-            "j1": j1,
-            "j2": j2,
-        });
+    ));
+    Ok(serde_json::to_value(&r)?)
+}
+
+/// The minimal-dynamical-error gain (J2), told in `text`; its report as JSON.
+fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value> {
+    let Request { a, c, p, weight } = req;
+    let n = a.rows();
+    if args.placed_output == 0 || args.placed_output > c.rows() {
+        bail!(
+            "in --placed-output: {} is not an output (1…{})",
+            args.placed_output,
+            c.rows()
+        );
+    }
+    let r = minimal_dynamical_error(
+        &a,
+        &c,
+        &p,
+        &weight,
+        args.placed_output - 1,
+        args.starts,
+        args.seed,
+    )?;
+    let g = DMatrix::from_row_slice(r.rows, r.cols, &r.best.gain);
+    text.push_str(&format!(
+            "Minimal dynamical error: minimise J2 = λ_max(H), Fᵀ H + H F = −D, F = A − GC, over the gains with det(sI − F) = {p}\n  D = {}\n  column {} of G placed exactly (dual Ackermann) from the others; Nelder–Mead over the other {} entries\n",
+            weight.to_input(),
+            args.placed_output,
+            n * (c.rows() - 1)
+        ));
+    text.push_str(&format!(
+            "  {} seeded starts (seed {}): {} reached the best J2 = {:.8}\n  their gains lie up to {:.4} apart (max-norm); Hessian eigenvalues at the smallest: [{}]\n",
+            r.starts,
+            args.seed,
+            r.reached_best,
+            r.best.cost,
+            r.spread,
+            r.hessian_eigenvalues.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>().join(", ")
+        ));
+    text.push_str(&format!(
+            "  flat directions: {}{} → the minimiser is {}\n  smallest-norm minimiser G = {}\n  rebuilt in rationals it places the polynomial exactly: {}\n",
+            r.flat_directions,
+            r.flat_vectors.iter().map(|v| format!(" ({})", v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", "))).collect::<String>(),
+            if r.flat_directions > 0 { "not unique".to_string() } else if r.spread > 1e-4 { format!("not unique (no flat Hessian direction, but the best gains found lie {:.4} apart)", r.spread) } else { "unique among the starts".to_string() },
+            show(&g),
+            if r.places_exactly { "yes" } else { "no" }
+        ));
+    Ok(serde_json::to_value(&r)?)
+}
+
+/// A given gain checked: exact polynomial, poles and how far they moved, J1, J2.
+fn check_gain(gtext: &str, req: &Request, text: &mut String) -> Result<serde_json::Value> {
+    let Request { a, c, p, weight } = req;
+    let n = a.rows();
+    let g = matrix::<Rational>("--check-gain", gtext)?;
+    if g.rows() != n || g.cols() != c.rows() {
+        bail!(
+            "in --check-gain: G must be {n}×{}, it is {}×{}",
+            c.rows(),
+            g.rows(),
+            g.cols()
+        );
+    }
+    let f = a.sub(&g.mul(&c)?)?;
+    let achieved = characteristic_polynomial(&f, "s")?;
+    let poles: Vec<(f64, f64)> = eigenvalues(&to_nalgebra(&f))
+        .iter()
+        .map(|z| (z.re, z.im))
+        .collect();
+    let j1: f64 = (0..n)
+        .flat_map(|i| (0..c.rows()).map(move |j| (i, j)))
+        .map(|(i, j)| g.get(i, j).to_f64().powi(2))
+        .sum();
+    let j2 = dynamical_error_cost(
+        &to_nalgebra(&a),
+        &to_nalgebra(&c),
+        &to_nalgebra(&g),
+        &to_nalgebra(&weight),
+    )
+    .ok()
+    .map(|(j, _)| j);
+    let moves = scatter(&p, &achieved, &poles);
+    text.push_str(&format!(
+        "Given gain G = {}\n  det(sI − (A − GC)) = {achieved} ({})\n  poles: {}\n",
+        gtext.trim(),
+        if achieved == *p {
+            "places the desired polynomial exactly"
+        } else {
+            "not the desired polynomial"
+        },
+        poles
+            .iter()
+            .map(|(re, im)| if im.abs() > 0.0 {
+                format!(
+                    "{re:.6} {} {:.6}i",
+                    if *im < 0.0 { "−" } else { "+" },
+                    im.abs()
+                )
+            } else {
+                format!("{re:.6}")
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    for m in &moves {
+        text.push_str(&format!(
+            "  root {} (multiplicity {}): the poles moved by up to {:.4}; predicted (|δ(λ0)|/Π|λ0 − λj|)^(1/m) = {:.4} — an m-fold root moves like the m-th root of the coefficient error\n",
+            m["root"].as_str().unwrap_or(""),
+            m["multiplicity"],
+            m["largest_move"].as_f64().unwrap_or(f64::NAN),
+            m["predicted"].as_f64().unwrap_or(f64::NAN)
+        ));
+    }
+    text.push_str(&format!("  J1 = {j1:.6}\n"));
+    match j2 {
+        Some(j) => text.push_str(&format!(
+            "  J2 = λ_max(H) = {j:.8} (D = {})\n",
+            weight.to_input()
+        )),
+        None => text.push_str("  J2 undefined: A − GC is not stable\n"),
+    }
+    Ok(json!({
+        "gain": crate::args::json_matrix(&g),
+        "observer_polynomial": achieved.to_input(),
+        "places_exactly": achieved == *p,
+        "poles": poles,
+        "root_moves": moves,
+        "j1": j1,
+        "j2": j2,
+    }))
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let r = request(&args)?;
+    let mut out = json!({"desired": r.p.to_string(), "convention": "a-kc", "index": args.index});
+    let mut text = String::new();
+    out["report"] = match args.index.as_str() {
+        "j1" => j1(&args, &r, &mut text)?,
+        "j2" => j2(&args, &r, &mut text)?,
+        other => bail!("in --index: unknown index '{other}' (j1 or j2)"),
+    };
+    if let Some(gtext) = &args.check_gain {
+        out["check"] = check_gain(gtext, &r, &mut text)?;
     }
     if args.json {
         print_json(&out);
