@@ -50,15 +50,22 @@ impl Ring for BigRational {
         }
     }
     fn to_latex(&self) -> String {
-        if self.is_integer() {
-            self.numer().to_string()
-        } else {
-            let sign = if self.is_negative() { "-" } else { "" };
-            format!("{sign}\\frac{{{}}}{{{}}}", self.numer().abs(), self.denom())
-        }
+        latex_of_parts(&self.numer().to_string(), &self.denom().to_string())
     }
     fn to_input(&self) -> String {
         self.to_string()
+    }
+}
+
+/// LaTeX of the rational `numer/denom` from the decimal digits of its reduced parts: `numer` for
+/// an integer, `-\\frac{3}{2}` otherwise (so digits produced once can serve several renderings).
+pub(crate) fn latex_of_parts(numer: &str, denom: &str) -> String {
+    if denom == "1" {
+        return numer.to_string();
+    }
+    match numer.strip_prefix('-') {
+        Some(digits) => format!("-\\frac{{{digits}}}{{{denom}}}"),
+        None => format!("\\frac{{{numer}}}{{{denom}}}"),
     }
 }
 

@@ -316,18 +316,13 @@ impl<T: Ring> Matrix<T> {
             let mut latex = Vec::with_capacity(self.data.len());
             for x in q.entries() {
                 let numer = x.numer().to_string();
-                if x.is_integer() {
-                    latex.push(numer.clone());
-                    text.push(numer);
+                let denom = x.denom().to_string();
+                latex.push(crate::algebra::latex_of_parts(&numer, &denom));
+                text.push(if x.is_integer() {
+                    numer
                 } else {
-                    let denom = x.denom().to_string();
-                    let (sign, digits) = match numer.strip_prefix('-') {
-                        Some(d) => ("-", d),
-                        None => ("", numer.as_str()),
-                    };
-                    latex.push(format!("{sign}\\frac{{{digits}}}{{{denom}}}"));
-                    text.push(format!("{numer}/{denom}"));
-                }
+                    format!("{numer}/{denom}")
+                });
             }
             return (
                 layout_text(self.rows, self.cols, &text),

@@ -278,32 +278,32 @@ impl Crt {
     }
 }
 
+/// An upper bound on `log2 ‖row‖` (0 for a zero row): the Euclidean norm itself for word-size
+/// entries (with a margin for rounding), else `max bits + ½ log2 len` — the row factor of every
+/// Hadamard bound here.
+fn row_log2_norm(row: &[BigInt]) -> f64 {
+    let small: Option<Vec<i64>> = row.iter().map(ToPrimitive::to_i64).collect();
+    if let Some(v) = small.filter(|v| v.iter().all(|x| x.unsigned_abs() < 1 << 26)) {
+        let sq: f64 = v.iter().map(|&x| (x as f64) * (x as f64)).sum();
+        return if sq == 0.0 {
+            0.0
+        } else {
+            0.5 * sq.log2() + 1e-9
+        };
+    }
+    let max_bits = row.iter().map(|x| x.bits()).max().unwrap_or(0) as f64;
+    if max_bits == 0.0 {
+        0.0
+    } else {
+        max_bits + 0.5 * (row.len() as f64).log2()
+    }
+}
+
 /// Bits of a bound on the coefficients of the characteristic polynomial of an integer matrix:
 /// `|c_k| ≤ C(n, k) · Π (k largest row norms)` (Hadamard on each k × k principal minor).
 fn charpoly_bound_bits(a: &Matrix<BigInt>) -> u64 {
     let n = a.rows();
-    // log2 ‖row_i‖: the Euclidean norm itself for word-size entries (with a margin for
-    // rounding), else max bits + ½ log2 n
-    let mut norms: Vec<f64> = (0..n)
-        .map(|i| {
-            let row = a.row(i);
-            let small: Option<Vec<i64>> = row.iter().map(ToPrimitive::to_i64).collect();
-            if let Some(v) = small.filter(|v| v.iter().all(|x| x.unsigned_abs() < 1 << 26)) {
-                let sq: f64 = v.iter().map(|&x| (x as f64) * (x as f64)).sum();
-                return if sq == 0.0 {
-                    0.0
-                } else {
-                    0.5 * sq.log2() + 1e-9
-                };
-            }
-            let max_bits = row.iter().map(|x| x.bits()).max().unwrap_or(0) as f64;
-            if max_bits == 0.0 {
-                0.0
-            } else {
-                max_bits + 0.5 * (n as f64).log2()
-            }
-        })
-        .collect();
+    let mut norms: Vec<f64> = (0..n).map(|i| row_log2_norm(a.row(i))).collect();
     norms.sort_by(|x, y| y.total_cmp(x));
     let mut best = 0f64;
     let mut acc = 0f64;
@@ -404,14 +404,17 @@ impl IntMatrix {
     }
 }
 
-/// `a`'s rows scaled to integers: row i times the lcm of its denominators.
-fn scaled_rows(a: &Matrix<Rational>) -> IntMatrix {
+/// `a`'s rows scaled to integers (row i times the lcm of its denominators), and the product of
+/// the scales.
+fn scaled_rows(a: &Matrix<Rational>) -> (IntMatrix, BigInt) {
     let mut big = Vec::with_capacity(a.rows() * a.cols());
+    let mut scale = BigInt::one();
     for i in 0..a.rows() {
         let d = Rational::common_denominator(a.row(i));
         big.extend(a.row(i).iter().map(|x| x.scale_to_integer(&d)));
+        scale *= d;
     }
-    IntMatrix::new(a.rows(), a.cols(), big)
+    (IntMatrix::new(a.rows(), a.cols(), big), scale)
 }
 
 /// `u64` dot product mod p with one reduction per 4 terms (products of residues < 2⁶²).
@@ -552,7 +555,7 @@ fn rank_mod(mut m: Vec<u64>, rows: usize, cols: usize, p: u64) -> usize {
 pub fn has_full_rank(a: &Matrix<Rational>) -> bool {
     let (rows, cols) = (a.rows(), a.cols());
     let full = rows.min(cols);
-    let scaled = scaled_rows(a);
+    let (scaled, _) = scaled_rows(a);
     primes()
         .take(3)
         .any(|p| rank_mod(scaled.residues(p), rows, cols, p) == full)
@@ -566,20 +569,9 @@ pub fn determinant_rational(a: &Matrix<Rational>) -> Rational {
     if n == 0 || a.cols() != n {
         return Rational::one();
     }
-    let mut scale = BigInt::one();
-    for i in 0..n {
-        scale *= Rational::common_denominator(a.row(i));
-    }
-    let ints = scaled_rows(a);
+    let (ints, scale) = scaled_rows(a);
     let bits: f64 = (0..n)
-        .map(|i| {
-            let m = ints.big[i * n..(i + 1) * n]
-                .iter()
-                .map(|x| x.bits())
-                .max()
-                .unwrap_or(0) as f64;
-            m + 0.5 * (n as f64).log2()
-        })
+        .map(|i| row_log2_norm(&ints.big[i * n..(i + 1) * n]).max(0.0))
         .sum();
     let mut crt = Crt::new(1);
     for p in primes() {
@@ -601,7 +593,7 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
         return None;
     }
     // Scale each row of [A | B] to integers (the solution does not change).
-    let aug = scaled_rows(&a.hstack(b).ok()?);
+    let (aug, _) = scaled_rows(&a.hstack(b).ok()?);
     let ai = IntMatrix::new(
         n,
         n,
@@ -618,14 +610,7 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
     );
     // |det A| ≤ Π ‖a_i‖; |adj(A) B| ≤ Π (n−1 largest ‖a_i‖) · √n · max |b|.
     let mut row_bits: Vec<f64> = (0..n)
-        .map(|i| {
-            let m = ai.big[i * n..(i + 1) * n]
-                .iter()
-                .map(|x| x.bits())
-                .max()
-                .unwrap_or(0) as f64;
-            m + 0.5 * (n as f64).log2()
-        })
+        .map(|i| row_log2_norm(&ai.big[i * n..(i + 1) * n]))
         .collect();
     row_bits.sort_by(|x, y| y.total_cmp(x));
     let det_bits: f64 = row_bits.iter().sum();

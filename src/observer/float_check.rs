@@ -236,8 +236,14 @@ fn exact_polynomial_error(
     let kq = Matrix::from_fn(k.len(), 1, |i, _| {
         Rational::from_f64(k[i]).unwrap_or_default()
     });
-    let obs = a.sub(&kq.mul(c).ok()?).ok()?;
-    let p = linalg::characteristic_polynomial(&obs, "s").ok()?;
+    let p = if c.rows() == 1 {
+        let o = observability_matrix(a, c).ok()?;
+        let open_loop = linalg::characteristic_polynomial(a, "s").ok()?;
+        super::gain::observer_polynomial(&o, &open_loop, &kq).ok()?
+    } else {
+        let obs = a.sub(&kq.mul(c).ok()?).ok()?;
+        linalg::characteristic_polynomial(&obs, "s").ok()?
+    };
     let n = desired.degree()?;
     Some(
         (0..n)

@@ -98,6 +98,18 @@ pub enum DesignError {
     NotExact(String),
 }
 
+/// These methods design for one output row.
+fn single_output<F: Field>(c: &Matrix<F>, method: GainMethod) -> Result<(), DesignError> {
+    if c.rows() == 1 {
+        Ok(())
+    } else {
+        Err(DesignError::MultiOutput {
+            method,
+            outputs: c.rows(),
+        })
+    }
+}
+
 fn check_desired<F: Field>(a: &Matrix<F>, desired: &Poly<F>) -> Result<usize, DesignError> {
     let n = a.rows();
     if desired.degree() != Some(n) || !desired.is_monic() {
@@ -131,12 +143,7 @@ impl<F: Field> Shared<F> {
         method: GainMethod,
     ) -> Result<Self, DesignError> {
         let n = check_desired(a, desired)?;
-        if c.rows() != 1 {
-            return Err(DesignError::MultiOutput {
-                method,
-                outputs: c.rows(),
-            });
-        }
+        single_output(c, method)?;
         let o = require_observable(a, c)?;
         let open_loop = linalg::characteristic_polynomial(a, "s")?;
         Ok(Shared { n, o, open_loop })
@@ -169,26 +176,39 @@ impl<F: Field> Shared<F> {
         // K̃_o O_n = C P(A)  ⇔  O_nᵀ K̃_oᵀ = (C P(A))ᵀ
         Ok(linalg::solve(&self.o.transpose(), &cp)?.transpose())
     }
-    /// `det(sI − (A − KC))` for this single-output pair, by the rank-one update
-    /// `det(sI − A + KC) = det(sI − A) + C adj(sI − A) K` with
-    /// `adj(sI − A) = Σ_j A^j Σ_(i>j) a_i s^(i−j−1)`: only the numbers `C A^j K = (O_n K)_j` enter,
-    /// so the check costs one matrix–vector product, whatever the size of `K`.
     fn observer_polynomial(&self, k: &Matrix<F>) -> Result<Poly<F>, DesignError> {
-        let m = self.o.mul(k)?;
-        let a = self.open_loop.coeffs();
-        let mut coeffs = a.to_vec();
-        for j in 0..self.n {
-            let mj = m.get(j, 0);
-            if mj.is_zero() {
-                continue;
-            }
-            for i in j + 1..=self.n {
-                let e = i - j - 1;
-                coeffs[e] = coeffs[e].clone() + mj.clone() * a[i].clone();
-            }
-        }
-        Ok(Poly::new(coeffs, "s"))
+        Ok(observer_polynomial(&self.o, &self.open_loop, k)?)
     }
+}
+
+/// `det(sI − (A − KC))` for a single-output pair with observability matrix `o` and open-loop
+/// polynomial `det(sI − A)`, by the rank-one update `det(sI − A + KC) = det(sI − A) +
+/// C adj(sI − A) K` with `adj(sI − A) = Σ_j A^j Σ_(i>j) a_i s^(i−j−1)`: only the numbers
+/// `C A^j K = (O_n K)_j` enter, so the check costs one matrix–vector product, whatever the size
+/// of `K`.
+///
+/// # Errors
+/// [`LinalgError::DimensionMismatch`] when `k` does not fit `o`.
+pub(crate) fn observer_polynomial<F: Field>(
+    o: &Matrix<F>,
+    open_loop: &Poly<F>,
+    k: &Matrix<F>,
+) -> Result<Poly<F>, LinalgError> {
+    let m = o.mul(k)?;
+    let a = open_loop.coeffs();
+    let n = a.len().saturating_sub(1);
+    let mut coeffs = a.to_vec();
+    for j in 0..n.min(m.rows()) {
+        let mj = m.get(j, 0);
+        if mj.is_zero() {
+            continue;
+        }
+        for i in j + 1..=n {
+            let e = i - j - 1;
+            coeffs[e] = coeffs[e].clone() + mj.clone() * a[i].clone();
+        }
+    }
+    Ok(Poly::new(coeffs, "s"))
 }
 
 /// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC), for one output row `c`.
@@ -222,12 +242,7 @@ pub fn ackermann_gain<F: Field>(
     desired: &Poly<F>,
 ) -> Result<Matrix<F>, DesignError> {
     let n = check_desired(a, desired)?;
-    if c.rows() != 1 {
-        return Err(DesignError::MultiOutput {
-            method: GainMethod::Ackermann,
-            outputs: c.rows(),
-        });
-    }
+    single_output(c, GainMethod::Ackermann)?;
     if n >= linalg::MODULAR_FROM_ORDER {
         if let (Some(qa), Some(qc), Some(qp)) = (
             linalg::as_rational(a),
@@ -385,12 +400,7 @@ pub fn design_with(
     convention: Convention,
     detail: Detail,
 ) -> Result<ObserverDesign, DesignError> {
-    if c.rows() != 1 {
-        return Err(DesignError::MultiOutput {
-            method,
-            outputs: c.rows(),
-        });
-    }
+    single_output(c, method)?;
     let (k, derivation, achieved) = match desired.rational() {
         Some(p) => {
             let (k, d, ach) = design_in(a, c, &p, method, detail)?;

@@ -115,9 +115,9 @@ fn not_allowed(column: usize, what: impl Into<String>, target: &str) -> SyntaxEr
     }
 }
 
-/// `base^k` by squaring.
-fn power<T: Ring>(base: T, k: u32) -> T {
-    let (mut acc, mut square, mut e) = (T::one(), base, k);
+/// `base^k` by squaring (`one` is the unit: rational functions carry their variable).
+fn power<T: Clone + std::ops::Mul<Output = T>>(one: T, base: T, k: u64) -> T {
+    let (mut acc, mut square, mut e) = (one, base, k);
     while e > 0 {
         if e & 1 == 1 {
             acc = acc * square.clone();
@@ -171,7 +171,7 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
             if terms > MAX_TERMS {
                 return Err(too_many_terms(c, terms));
             }
-            let p = power(b, k.unsigned_abs() as u32);
+            let p = power(T::one(), b, k.unsigned_abs());
             if *k < 0 {
                 divide(&T::one(), &p, c, T::TARGET)?
             } else {
@@ -383,19 +383,7 @@ fn rf<F: Field + FromExpr>(
         ExprKind::Pow(x, k) => {
             let b = rf::<F>(x, var, ctx)?;
             bound_degree(c, degree(&b).saturating_mul(k.unsigned_abs() as usize))?;
-            // by squaring: log k products, each reduced once
-            let mut p = constant(F::one());
-            let mut square = b;
-            let mut e = k.unsigned_abs();
-            while e > 0 {
-                if e & 1 == 1 {
-                    p = p * square.clone();
-                }
-                e >>= 1;
-                if e > 0 {
-                    square = square.clone() * square;
-                }
-            }
+            let p = power(constant(F::one()), b, k.unsigned_abs());
             if *k < 0 {
                 p.inverse()
                     .ok_or(SyntaxError::DivisionByZero { column: c })?
