@@ -148,7 +148,7 @@ fn pole_rows(
                     Rational::zero()
                 }
             });
-            if let Ok(l) = gain_for_observer_matrix(&a, &c, &m) {
+            if let Ok(l) = gain_for_observer_matrix(a, c, &m) {
                 table.push(Row {
                     method: label.into(),
                     gain: to_nalgebra(&l),
@@ -169,7 +169,7 @@ fn pole_rows(
             bail!("in --derivative-output/--derivative-state: indices are 1-based");
         }
         let desired = Poly::from_roots(&poles, "s");
-        let w = weighted_design(&a, &b, &c, &d, &desired, &cu, &cy, o - 1, s - 1, args.grid)?;
+        let w = weighted_design(a, b, c, d, &desired, cu, cy, o - 1, s - 1, args.grid)?;
         table.push(Row {
             method: "weighted".into(),
             gain: DMatrix::from_fn(w.gain.len(), c.rows(), |i, j| w.gain[i][j]),
