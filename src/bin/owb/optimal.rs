@@ -167,7 +167,7 @@ fn require_weight(weight: &Matrix<Rational>) -> Result<()> {
 fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value> {
     let Request { a, c, p, .. } = req;
     let n = a.rows();
-    let cons = pole_placement_constraints(&a, &c, &p)?;
+    let cons = pole_placement_constraints(a, c, p)?;
     let r = minimum_norm_gain(&cons, args.starts, args.seed);
     text.push_str(&format!(
             "Minimum-norm gain: minimise J1 = Σ k_i² subject to det(sI − (A − GC)) = {p}\n  constraints (G = [k1 k{}…] column by column):\n",
@@ -214,10 +214,10 @@ fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
         );
     }
     let r = minimal_dynamical_error(
-        &a,
-        &c,
-        &p,
-        &weight,
+        a,
+        c,
+        p,
+        weight,
         args.placed_output - 1,
         args.starts,
         args.seed,
@@ -262,7 +262,7 @@ fn check_gain(gtext: &str, req: &Request, text: &mut String) -> Result<serde_jso
             g.cols()
         );
     }
-    let f = a.sub(&g.mul(&c)?)?;
+    let f = a.sub(&g.mul(c)?)?;
     let achieved = characteristic_polynomial(&f, "s")?;
     let poles: Vec<(f64, f64)> = eigenvalues(&to_nalgebra(&f))
         .iter()
@@ -273,14 +273,14 @@ fn check_gain(gtext: &str, req: &Request, text: &mut String) -> Result<serde_jso
         .map(|(i, j)| g.get(i, j).to_f64().powi(2))
         .sum();
     let j2 = dynamical_error_cost(
-        &to_nalgebra(&a),
-        &to_nalgebra(&c),
+        &to_nalgebra(a),
+        &to_nalgebra(c),
         &to_nalgebra(&g),
-        &to_nalgebra(&weight),
+        &to_nalgebra(weight),
     )
     .ok()
     .map(|(j, _)| j);
-    let moves = scatter(&p, &achieved, &poles);
+    let moves = scatter(p, &achieved, &poles);
     text.push_str(&format!(
         "Given gain G = {}\n  det(sI − (A − GC)) = {achieved} ({})\n  poles: {}\n",
         gtext.trim(),
