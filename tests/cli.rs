@@ -493,165 +493,35 @@ fn a_closed_output_ends_quietly() {
 fn nonsense_requests_are_refused_with_the_flag_named() {
     let ladder = "[-2 1 0; 1 -2 1; 0 1 -2]";
     let two = "[1 0 0; 0 0 1]";
+    let with = |base: &[&'static str], extra: &[&'static str]| -> Vec<&'static str> {
+        base.iter().chain(extra).copied().collect()
+    };
+    let scalar_gain = ["gain", "--a", "[1]", "--c", "[1]", "--poles", "-1"];
+    let optimal = [
+        "optimal",
+        "--a",
+        ladder,
+        "--c",
+        two,
+        "--poles",
+        "-4, -4, -4",
+    ];
+    let kalman = ["kalman", "--a", "[-1]", "--b", "[1]", "--c", "[1]"];
+    let diagonal = "[1 0 0; 0 2 0; 0 0 3]";
+    let first_state_twice = "[1 0 0; 1 0 0]";
+    #[rustfmt::skip]
     let cases: Vec<(Vec<&str>, &str)> = vec![
-        (
-            vec![
-                "gain",
-                "--a",
-                "[1]",
-                "--c",
-                "[1]",
-                "--poles",
-                "-1",
-                "--tolerance",
-                "NaN",
-            ],
-            "--tolerance",
-        ),
-        (
-            vec![
-                "gain",
-                "--a",
-                "[1]",
-                "--c",
-                "[1]",
-                "--poles",
-                "-1",
-                "--tolerance",
-                "-1",
-            ],
-            "--tolerance",
-        ),
-        (
-            vec![
-                "optimal",
-                "--a",
-                "[-2 1; 1 -2]",
-                "--c",
-                "[1 0]",
-                "--poles",
-                "-4, -4",
-            ],
-            "nothing to optimise",
-        ),
-        (
-            vec![
-                "optimal",
-                "--a",
-                ladder,
-                "--c",
-                two,
-                "--poles",
-                "-4, -4, -4",
-                "--starts",
-                "0",
-            ],
-            "--starts",
-        ),
-        (
-            vec![
-                "optimal",
-                "--a",
-                ladder,
-                "--c",
-                two,
-                "--poles",
-                "-4, -4, -4",
-                "--starts",
-                "100000000",
-            ],
-            "--starts",
-        ),
-        (
-            vec![
-                "optimal",
-                "--a",
-                ladder,
-                "--c",
-                two,
-                "--poles",
-                "-4, -4, -4",
-                "--index",
-                "j2",
-                "--weight",
-                "[-1 0 0; 0 1 0; 0 0 1]",
-            ],
-            "--weight",
-        ),
-        (
-            vec![
-                "optimal",
-                "--a",
-                "[1 0 0; 0 2 0; 0 0 3]",
-                "--c",
-                "[1 0 0; 1 0 0]",
-                "--poles",
-                "-4, -4, -4",
-            ],
-            "not observable",
-        ),
-        (
-            vec![
-                "gain",
-                "--a",
-                "[1 0 0; 0 2 0; 0 0 3]",
-                "--c",
-                "[1 0 0; 1 0 0]",
-                "--poles",
-                "-1, -2, -3",
-            ],
-            "unobservable eigenvalues 3, 2",
-        ),
-        (
-            vec![
-                "kalman",
-                "--a",
-                "[-1]",
-                "--b",
-                "[1]",
-                "--c",
-                "[1]",
-                "--input-noise",
-                "[-1]",
-                "--output-noise",
-                "[1]",
-            ],
-            "--input-noise",
-        ),
-        (
-            vec![
-                "kalman",
-                "--a",
-                "[-1]",
-                "--b",
-                "[1]",
-                "--c",
-                "[1]",
-                "--input-noise",
-                "[1]",
-                "--output-noise",
-                "[1]",
-                "--derivative-output",
-                "1",
-            ],
-            "give --poles",
-        ),
-        (
-            vec![
-                "control",
-                "--a",
-                "[1 0; 0 2]",
-                "--c",
-                "[1 1]",
-                "--b",
-                "[1; 0]",
-                "--l",
-                "[-5; -6]",
-                "--feedback-poly",
-                "s^2 + 3s + 2",
-            ],
-            "(A, B) is not controllable",
-        ),
+        (with(&scalar_gain, &["--tolerance", "NaN"]), "--tolerance"),
+        (with(&scalar_gain, &["--tolerance", "-1"]), "--tolerance"),
+        (vec!["optimal", "--a", "[-2 1; 1 -2]", "--c", "[1 0]", "--poles", "-4, -4"], "nothing to optimise"),
+        (with(&optimal, &["--starts", "0"]), "--starts"),
+        (with(&optimal, &["--starts", "100000000"]), "--starts"),
+        (with(&optimal, &["--index", "j2", "--weight", "[-1 0 0; 0 1 0; 0 0 1]"]), "--weight"),
+        (vec!["optimal", "--a", diagonal, "--c", first_state_twice, "--poles", "-4, -4, -4"], "not observable"),
+        (vec!["gain", "--a", diagonal, "--c", first_state_twice, "--poles", "-1, -2, -3"], "unobservable eigenvalues 3, 2"),
+        (with(&kalman, &["--input-noise", "[-1]", "--output-noise", "[1]"]), "--input-noise"),
+        (with(&kalman, &["--input-noise", "[1]", "--output-noise", "[1]", "--derivative-output", "1"]), "give --poles"),
+        (vec!["control", "--a", "[1 0; 0 2]", "--c", "[1 1]", "--b", "[1; 0]", "--l", "[-5; -6]", "--feedback-poly", "s^2 + 3s + 2"], "(A, B) is not controllable"),
     ];
     for (args, needle) in cases {
         let (code, out, err) = owb(&args);

@@ -92,6 +92,10 @@ fn bench_user_path(c: &mut Criterion) {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(80);
+    let exact =
+        |a: &Matrix<Rational>, cm: &Matrix<Rational>, desired: &DesiredPolynomial, method| {
+            design_with(a, cm, desired, method, Convention::AMinusKC, Detail::Full).unwrap()
+        };
     let mut g = c.benchmark_group("user_path");
     g.sample_size(10).warm_up_time(Duration::from_millis(200));
     for n in [10, 20, 30, 60].into_iter().filter(|&n| n <= max) {
@@ -99,24 +103,13 @@ fn bench_user_path(c: &mut Criterion) {
         let cm = first_state_output(n);
         let desired = DesiredPolynomial::repeated(&Rational::from_i64(1), n).unwrap();
         for method in [GainMethod::Ackermann, GainMethod::BassGura] {
-            g.bench_with_input(
-                BenchmarkId::new(format!("gain {method} + derivation json"), n),
-                &a,
-                |bch, a| {
-                    bch.iter(|| {
-                        let d = design_with(
-                            a,
-                            &cm,
-                            &desired,
-                            method,
-                            Convention::AMinusKC,
-                            Detail::Full,
-                        )
-                        .unwrap();
-                        serde_json::to_string(&d.derivation.steps).unwrap().len()
-                    })
-                },
-            );
+            let id = BenchmarkId::new(format!("gain {method} + derivation json"), n);
+            g.bench_with_input(id, &a, |bch, a| {
+                bch.iter(|| {
+                    let d = exact(a, &cm, &desired, method);
+                    serde_json::to_string(&d.derivation.steps).unwrap().len()
+                })
+            });
         }
     }
     for n in [20, 60].into_iter().filter(|&n| n <= max) {
@@ -126,32 +119,14 @@ fn bench_user_path(c: &mut Criterion) {
             .map(|k| Quadratic::rational(Rational::from_i64(-k)))
             .collect();
         let desired = DesiredPolynomial::from_poles(&poles).unwrap();
-        g.bench_with_input(
-            BenchmarkId::new("rc ladder gain --float", n),
-            &a,
-            |bch, a| {
-                bch.iter(|| {
-                    let d = design_with(
-                        a,
-                        &cm,
-                        &desired,
-                        GainMethod::Ackermann,
-                        Convention::AMinusKC,
-                        Detail::Full,
-                    )
-                    .unwrap();
-                    let k = d.gain.matrix.clone();
-                    float_check(
-                        a,
-                        &cm,
-                        &desired.float,
-                        desired.rational().as_ref(),
-                        Some(&k),
-                        1e-6,
-                    )
-                })
-            },
-        );
+        let id = BenchmarkId::new("rc ladder gain --float", n);
+        g.bench_with_input(id, &a, |bch, a| {
+            bch.iter(|| {
+                let k = exact(a, &cm, &desired, GainMethod::Ackermann).gain.matrix;
+                let p = desired.rational();
+                float_check(a, &cm, &desired.float, p.as_ref(), Some(&k), 1e-6)
+            })
+        });
     }
     g.finish();
 }
