@@ -1,7 +1,7 @@
 //! Verdicts: holds, documented erratum (checked), or mismatch.
 
 use super::compute::{compute, ComputeError, Inputs};
-use super::format::{ClaimSpec, ExampleFile, PrintedRecord};
+use super::format::{ClaimSpec, ErratumSpec, ExampleFile, PrintedRecord};
 use super::value::{compare, Agreement};
 use crate::algebra::Rational;
 use crate::derivation::Derivation;
@@ -413,6 +413,162 @@ fn how(a: &Agreement, sampled: &[String]) -> String {
     }
 }
 
+/// Where a claim's input error is reported: the claim's own field, or the `[system]` matrix
+/// it did not override.
+fn input_error(
+    file: &str,
+    raw: &str,
+    claim: &ClaimSpec,
+    field: &str,
+    message: String,
+) -> WorkedError {
+    let key = field.split('.').next().unwrap_or(field);
+    // A matrix the claim does not override comes from [system].
+    let in_claim = match key {
+        "A" => claim.a.is_some(),
+        "B" => claim.b.is_some(),
+        "C" => claim.c.is_some(),
+        "D" => false,
+        _ => true,
+    };
+    if in_claim {
+        WorkedError {
+            file: file.into(),
+            line: locate(raw, Some(("id", &claim.id)), key),
+            field: format!("claims.{}.{field}", claim.id),
+            message,
+        }
+    } else {
+        WorkedError {
+            file: file.into(),
+            line: locate(raw, None, key),
+            field: format!("system.{field} (used by claim {})", claim.id),
+            message,
+        }
+    }
+}
+
+/// One claim of an example, with what it is checked against.
+struct ClaimContext<'a> {
+    ex: &'a ExampleFile,
+    claim: &'a ClaimSpec,
+    /// What the document asserts (`"true"` for an identity).
+    asserted: &'a str,
+    env: &'a Environment,
+    file: &'a str,
+    raw: &'a str,
+}
+
+/// The checks of a documented erratum: the print reproduced with the erratum's parameters, the
+/// corrected value holding. `(all confirmed, what each check found)`.
+fn erratum_checks(
+    cx: &ClaimContext<'_>,
+    err: &ErratumSpec,
+) -> Result<(bool, Vec<String>), WorkedError> {
+    let ClaimContext {
+        ex,
+        claim,
+        asserted,
+        env,
+        ..
+    } = *cx;
+    let mut checks = Vec::new();
+    let mut ok = true;
+    if !err.parameters.is_empty() {
+        let mut env2 = env.clone();
+        env2.extend(parameter_env(&err.parameters));
+        let list: Vec<String> = err
+            .parameters
+            .iter()
+            .map(|(k, v)| format!("{k} = {v}"))
+            .collect();
+        match check(ex, claim, asserted, &env2) {
+            Ok(c) if c.agreement.holds() => checks.push(format!(
+                "checked: with {} the print is reproduced {}",
+                list.join(", "),
+                how(&c.agreement, &c.sampled)
+            )),
+            Ok(c) => {
+                ok = false;
+                checks.push(format!(
+                    "NOT confirmed: with {} the print is still not reproduced ({})",
+                    list.join(", "),
+                    how(&c.agreement, &c.sampled)
+                ));
+            }
+            Err(e) => {
+                ok = false;
+                checks.push(format!("NOT confirmed: {e}"));
+            }
+        }
+    }
+    if let Some(corrected) = &err.corrected {
+        match check(ex, claim, corrected, env) {
+            Ok(c) if c.agreement.holds() => checks.push(format!(
+                "checked: the corrected value {corrected} holds {}",
+                how(&c.agreement, &c.sampled)
+            )),
+            Ok(c) => {
+                ok = false;
+                checks.push(format!(
+                    "NOT confirmed: the corrected value {corrected} does not hold either ({})",
+                    how(&c.agreement, &c.sampled)
+                ));
+            }
+            Err(ComputeError::Input { message, .. }) => {
+                return Err(input_error(
+                    cx.file,
+                    cx.raw,
+                    claim,
+                    "erratum.corrected",
+                    message,
+                ))
+            }
+            Err(e) => {
+                ok = false;
+                checks.push(format!("NOT confirmed: {e}"));
+            }
+        }
+    }
+    if checks.is_empty() {
+        ok = false;
+        checks.push("the erratum gives nothing to check (parameters or corrected)".into());
+    }
+    Ok((ok, checks))
+}
+
+/// The verdict on one claim and its explanation, from the recomputation.
+fn verdict(cx: &ClaimContext<'_>, primary: &Check) -> Result<(Verdict, String), WorkedError> {
+    Ok(match (&primary.agreement, &cx.claim.erratum) {
+        (a, None) if a.holds() => (Verdict::Holds, how(a, &primary.sampled)),
+        (a, Some(_)) if a.holds() => (
+            Verdict::Mismatch,
+            format!(
+                "an erratum is documented, but the print holds ({})",
+                how(a, &primary.sampled)
+            ),
+        ),
+        (Agreement::Differs(d), None) => (Verdict::Mismatch, d.clone()),
+        (Agreement::Differs(d), Some(err)) => {
+            let (ok, checks) = erratum_checks(cx, err)?;
+            let text = format!(
+                "{} Printed vs recomputed: {d}. {}",
+                err.explanation.trim(),
+                checks.join("; ")
+            );
+            (
+                if ok {
+                    Verdict::Erratum
+                } else {
+                    Verdict::Mismatch
+                },
+                text,
+            )
+        }
+        (Agreement::Exact | Agreement::Rounded { .. }, _) => unreachable!("handled above"),
+    })
+}
+
 /// Recomputes every claim of an example.
 ///
 /// # Errors
@@ -424,32 +580,6 @@ pub fn verify_example(
 ) -> Result<ExampleReport, WorkedError> {
     let env = parameter_env(&ex.parameters);
     let file = path.display().to_string();
-    let input_error = |claim: &ClaimSpec, field: &str, message: String| {
-        let key = field.split('.').next().unwrap_or(field);
-        // A matrix the claim does not override comes from [system].
-        let in_claim = match key {
-            "A" => claim.a.is_some(),
-            "B" => claim.b.is_some(),
-            "C" => claim.c.is_some(),
-            "D" => false,
-            _ => true,
-        };
-        if in_claim {
-            WorkedError {
-                file: file.clone(),
-                line: locate(raw, Some(("id", &claim.id)), key),
-                field: format!("claims.{}.{field}", claim.id),
-                message,
-            }
-        } else {
-            WorkedError {
-                file: file.clone(),
-                line: locate(raw, None, key),
-                field: format!("system.{field} (used by claim {})", claim.id),
-                message,
-            }
-        }
-    };
     let mut claims = Vec::new();
     for claim in &ex.claims {
         let mut env = env.clone();
@@ -462,10 +592,18 @@ pub fn verify_example(
         } else {
             claim.printed.as_str()
         };
+        let cx = ClaimContext {
+            ex,
+            claim,
+            asserted,
+            env: &env,
+            file: &file,
+            raw,
+        };
         let primary = match check(ex, claim, asserted, &env) {
             Ok(c) => c,
             Err(ComputeError::Input { field, message }) => {
-                return Err(input_error(claim, &field, message))
+                return Err(input_error(&file, raw, claim, &field, message))
             }
             Err(e) => Check {
                 agreement: Agreement::Differs(format!("could not recompute: {e}")),
@@ -474,88 +612,7 @@ pub fn verify_example(
                 sampled: Vec::new(),
             },
         };
-        let (verdict, explanation) = match (&primary.agreement, &claim.erratum) {
-            (a, None) if a.holds() => (Verdict::Holds, how(a, &primary.sampled)),
-            (a, Some(_)) if a.holds() => (
-                Verdict::Mismatch,
-                format!(
-                    "an erratum is documented, but the print holds ({})",
-                    how(a, &primary.sampled)
-                ),
-            ),
-            (Agreement::Differs(d), None) => (Verdict::Mismatch, d.clone()),
-            (Agreement::Differs(d), Some(err)) => {
-                let mut checks = Vec::new();
-                let mut ok = true;
-                if !err.parameters.is_empty() {
-                    let mut env2 = env.clone();
-                    env2.extend(parameter_env(&err.parameters));
-                    let list: Vec<String> = err
-                        .parameters
-                        .iter()
-                        .map(|(k, v)| format!("{k} = {v}"))
-                        .collect();
-                    match check(ex, claim, asserted, &env2) {
-                        Ok(c) if c.agreement.holds() => checks.push(format!(
-                            "checked: with {} the print is reproduced {}",
-                            list.join(", "),
-                            how(&c.agreement, &c.sampled)
-                        )),
-                        Ok(c) => {
-                            ok = false;
-                            checks.push(format!(
-                                "NOT confirmed: with {} the print is still not reproduced ({})",
-                                list.join(", "),
-                                how(&c.agreement, &c.sampled)
-                            ));
-                        }
-                        Err(e) => {
-                            ok = false;
-                            checks.push(format!("NOT confirmed: {e}"));
-                        }
-                    }
-                }
-                if let Some(corrected) = &err.corrected {
-                    match check(ex, claim, corrected, &env) {
-                        Ok(c) if c.agreement.holds() => checks.push(format!(
-                            "checked: the corrected value {corrected} holds {}",
-                            how(&c.agreement, &c.sampled)
-                        )),
-                        Ok(c) => {
-                            ok = false;
-                            checks.push(format!("NOT confirmed: the corrected value {corrected} does not hold either ({})", how(&c.agreement, &c.sampled)));
-                        }
-                        Err(ComputeError::Input { message, .. }) => {
-                            return Err(input_error(claim, "erratum.corrected", message))
-                        }
-                        Err(e) => {
-                            ok = false;
-                            checks.push(format!("NOT confirmed: {e}"));
-                        }
-                    }
-                }
-                if checks.is_empty() {
-                    ok = false;
-                    checks.push(
-                        "the erratum gives nothing to check (parameters or corrected)".into(),
-                    );
-                }
-                let text = format!(
-                    "{} Printed vs recomputed: {d}. {}",
-                    err.explanation.trim(),
-                    checks.join("; ")
-                );
-                (
-                    if ok {
-                        Verdict::Erratum
-                    } else {
-                        Verdict::Mismatch
-                    },
-                    text,
-                )
-            }
-            (Agreement::Exact | Agreement::Rounded { .. }, _) => unreachable!("handled above"),
-        };
+        let (verdict, explanation) = verdict(&cx, &primary)?;
         claims.push(ClaimReport {
             id: claim.id.clone(),
             source: claim.source.clone(),
