@@ -33,13 +33,14 @@ pub struct BookError {
     pub message: String,
 }
 
-/// Where the workbench's data and the `owb` binary are.
+/// Where the workbench's data are.
 #[derive(Clone, Debug)]
 pub struct BookContext {
     /// The crate root (holds `worked_examples/`).
     pub root: PathBuf,
-    /// The `owb` binary for `run` directives.
-    pub owb: Option<PathBuf>,
+    /// Whether `run` directives may run `owb` commands (off when expanding untrusted text:
+    /// a command can read and write files).
+    pub run_commands: bool,
 }
 
 /// Splits directive arguments on whitespace; double quotes group words.
@@ -254,22 +255,14 @@ impl BookContext {
     }
 
     fn run(&self, args: &[String]) -> Result<String, String> {
-        let owb = self
-            .owb
-            .as_ref()
-            .ok_or("no owb binary found beside the preprocessor")?;
-        let out = std::process::Command::new(owb)
-            .args(args)
-            .current_dir(&self.root)
-            .output()
-            .map_err(|e| format!("running {}: {e}", owb.display()))?;
-        if !out.status.success() {
-            return Err(format!(
-                "owb {} exited with {}: {}",
-                args.join(" "),
-                out.status,
-                String::from_utf8_lossy(&out.stderr)
-            ));
+        // the library runs the command (no subprocess): the same code as the `owb` binary
+        let (outcome, report) = crate::cli::run_captured(args);
+        match outcome {
+            Ok(crate::cli::Outcome::Ok) => {}
+            Ok(crate::cli::Outcome::Failed) => {
+                return Err(format!("owb {} reported a failure", args.join(" ")))
+            }
+            Err(e) => return Err(format!("owb {}: {e:#}", args.join(" "))),
         }
         Ok(format!(
             "```text\n$ owb {}\n{}```\n",
@@ -281,7 +274,7 @@ impl BookContext {
                 })
                 .collect::<Vec<_>>()
                 .join(" "),
-            String::from_utf8_lossy(&out.stdout)
+            report
         ))
     }
 
@@ -308,6 +301,7 @@ impl BookContext {
             "figure" => want(2).and_then(|()| self.figure(&rest[0], &rest[1])),
             "exercise" => want(1).and_then(|()| self.exercise(&rest[0])),
             "errata" => want(0).and_then(|()| self.errata()),
+            "run" if !self.run_commands => Err("run directives are off here".into()),
             "run" => self.run(rest),
             other => Err(format!(
                 "unknown directive '{other}' (verify-table, derivation, figure, exercise, errata, run)"
@@ -357,6 +351,88 @@ pub fn chapters(src: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// Expands the `{{#owb …}}` directives of every chapter in a book, walking mdBook's book JSON.
+fn walk(v: &mut serde_json::Value, ctx: &BookContext) -> Result<(), String> {
+    match v {
+        serde_json::Value::Object(map) => {
+            if let Some(serde_json::Value::Object(ch)) = map.get_mut("Chapter") {
+                let name = ch
+                    .get("source_path")
+                    .and_then(serde_json::Value::as_str)
+                    .or_else(|| ch.get("name").and_then(serde_json::Value::as_str))
+                    .unwrap_or("chapter")
+                    .to_string();
+                if let Some(serde_json::Value::String(content)) = ch.get_mut("content") {
+                    *content = ctx.expand(&name, content).map_err(|e| e.to_string())?;
+                }
+                if let Some(sub) = ch.get_mut("sub_items") {
+                    walk(sub, ctx)?;
+                }
+                return Ok(());
+            }
+            for value in map.values_mut() {
+                walk(value, ctx)?;
+            }
+        }
+        serde_json::Value::Array(items) => {
+            for item in items {
+                walk(item, ctx)?;
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// The preprocessor's whole job: mdBook's `[context, book]` JSON in, the book JSON with every
+/// directive expanded out. The crate root is `root` if given, else the parent of the context's
+/// book root.
+///
+/// # Errors
+///
+/// Input that is not `[context, book]` JSON, or the first directive that fails (its chapter and
+/// reason).
+pub fn preprocess(input: &str, root: Option<&Path>) -> Result<String, String> {
+    preprocess_with(input, root, true)
+}
+
+/// [`preprocess`], with `run` directives allowed or not.
+///
+/// # Errors
+///
+/// As [`preprocess`]; a `run` directive when `run_commands` is false.
+pub fn preprocess_with(
+    input: &str,
+    root: Option<&Path>,
+    run_commands: bool,
+) -> Result<String, String> {
+    use serde_json::Value;
+    let parsed: Value = serde_json::from_str(input)
+        .map_err(|e| format!("the input is not mdBook's [context, book] JSON: {e}"))?;
+    let Some(Value::Object(context)) = parsed.get(0) else {
+        return Err("expected [context, book]: no context object".into());
+    };
+    let Some(book) = parsed.get(1) else {
+        return Err("expected [context, book]: no book".into());
+    };
+    let root = match root {
+        Some(r) => r.to_path_buf(),
+        None => {
+            let book_root = context
+                .get("root")
+                .and_then(Value::as_str)
+                .map_or_else(|| PathBuf::from("book"), PathBuf::from);
+            // the book lives in <crate>/book
+            book_root
+                .parent()
+                .map_or_else(|| PathBuf::from("."), PathBuf::from)
+        }
+    };
+    let mut book = book.clone();
+    walk(&mut book, &BookContext { root, run_commands })?;
+    serde_json::to_string(&book).map_err(|e| e.to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -374,7 +450,7 @@ mod tests {
     fn unknown_directives_fail_with_the_chapter() {
         let ctx = BookContext {
             root: PathBuf::from(env!("CARGO_MANIFEST_DIR")),
-            owb: None,
+            run_commands: false,
         };
         let e = ctx
             .expand("intro.md", "text {{#owb nonsense 1}} more")

@@ -69,3 +69,104 @@ pub fn worked_example(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
     let _ = crate::worked::parse_example("example.toml", &text);
 }
+
+/// The subcommands whose argument sets the `cli` target explores: every subcommand that computes
+/// from its flags. Those that read and write files (`verify`, `simulate`, `check`, `grade`) take
+/// their hostile input through the file targets above; here they would touch the disk.
+#[cfg(feature = "cli")]
+pub const CLI_SUBCOMMANDS: [&str; 8] = [
+    "observe",
+    "canonical",
+    "gain",
+    "control",
+    "optimal",
+    "kalman",
+    "perfect",
+    "exercise",
+];
+
+/// The most work a campaign input may ask for by its counts: seeded starts of `optimal`
+/// (40 by default, each a full local optimisation, ≈ 25 ms on a third-order system) and grid
+/// points of `kalman`'s weighted design. The campaign explores what the arguments *say*; how
+/// much work a user may ask for is bounded by the CLI's own limits (`--starts` ≤ 10 000,
+/// `--grid` ≤ 100 000), which tests check separately.
+#[cfg(feature = "cli")]
+fn bound_requested_work(args: &mut Vec<String>) {
+    const COUNTS: [(&str, &str, usize); 2] = [("--starts", "4", 4), ("--grid", "50", 50)];
+    for (flag, default, most) in COUNTS {
+        let mut given = false;
+        let joined = format!("{flag}=");
+        for arg in args.iter_mut() {
+            if let Some(v) = arg.strip_prefix(&joined) {
+                given = true;
+                if v.trim().parse::<usize>().is_ok_and(|n| n > most) {
+                    *arg = format!("{joined}{most}");
+                }
+            }
+        }
+        for k in 0..args.len() {
+            if args[k] == flag {
+                given = true;
+                if let Some(v) = args.get_mut(k + 1) {
+                    if v.trim().parse::<usize>().is_ok_and(|n| n > most) {
+                        *v = most.to_string();
+                    }
+                }
+            }
+        }
+        let applies = match flag {
+            "--starts" => args[0] == "optimal",
+            _ => args[0] == "kalman",
+        };
+        if applies && !given {
+            args.push(flag.to_string());
+            args.push(default.to_string());
+        }
+    }
+}
+
+/// Builds what the answer target checks against once, before the campaign's clock runs.
+pub fn warm_up() {
+    let _ = stoustrup_key();
+}
+
+/// A command line: the first byte picks one of [`CLI_SUBCOMMANDS`], the rest are its arguments,
+/// one per line. Arguments that would name a file (a path separator, `--out`) are dropped, so
+/// the campaign never writes to the disk. Runs the same code as the `owb` binary, its report
+/// captured.
+#[cfg(feature = "cli")]
+pub fn cli(data: &[u8]) {
+    let Some((&first, rest)) = data.split_first() else {
+        return;
+    };
+    let sub = CLI_SUBCOMMANDS[usize::from(first) % CLI_SUBCOMMANDS.len()];
+    let text = String::from_utf8_lossy(rest);
+    let mut args = vec![sub.to_string()];
+    let mut skip_value = false;
+    for arg in text.split('\n') {
+        if std::mem::take(&mut skip_value) {
+            continue;
+        }
+        if arg.starts_with("--out") {
+            // `--out FILE` or `--out=FILE`: not on a campaign's disk
+            skip_value = !arg.contains('=');
+            continue;
+        }
+        if arg.contains(['/', '\\']) {
+            continue;
+        }
+        args.push(arg.to_string());
+    }
+    bound_requested_work(&mut args);
+    let _ = crate::cli::run_captured(&args);
+}
+
+/// The book preprocessor's input: mdBook's `[context, book]` JSON with `{{#owb …}}` directives
+/// in its chapters. The crate root given is empty, so directives that read worked examples or
+/// exercises fail quickly, and `run` directives are off (the `cli` target covers commands).
+#[cfg(feature = "cli")]
+pub fn book(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let root = std::env::temp_dir().join("owb-fuzz-empty-root");
+    let _ = crate::book::preprocess_with(&text, Some(&root), false);
+}

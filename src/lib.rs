@@ -7,8 +7,11 @@
 #![warn(missing_docs)]
 
 pub mod algebra;
+#[cfg(feature = "cli")]
 pub mod book;
 pub mod canonical_form;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod control;
 pub mod derivation;
 pub mod exercise;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 fn ctx() -> BookContext {
     BookContext {
         root: PathBuf::from(env!("CARGO_MANIFEST_DIR")),
-        owb: Some(PathBuf::from(env!("CARGO_BIN_EXE_owb"))),
+        run_commands: true,
     }
 }
 

@@ -412,14 +412,36 @@ impl Sub for MultiPoly {
 
 impl Mul for MultiPoly {
     type Output = MultiPoly;
+    /// Fraction-free: both factors are scaled to integer coefficients (by the lcm of their
+    /// denominators), the products summed in integers, and each result coefficient reduced
+    /// once — no gcd per product term.
     fn mul(self, rhs: Self) -> Self {
-        let mut out = MultiPoly::zero();
-        for (m1, c1) in &self.terms {
-            for (m2, c2) in &rhs.terms {
-                out.add_term(m1.mul(m2), c1 * c2);
+        use num_bigint::BigInt;
+        fn integer(p: &MultiPoly) -> (Vec<(&Monomial, BigInt)>, BigInt) {
+            let coefficients: Vec<Rational> = p.terms.values().cloned().collect();
+            let d = crate::algebra::gcd::lcm_of_denominators(&coefficients);
+            let scaled = p
+                .terms
+                .iter()
+                .map(|(m, c)| (m, c.numer() * (&d / c.denom())))
+                .collect();
+            (scaled, d)
+        }
+        let (left, d1) = integer(&self);
+        let (right, d2) = integer(&rhs);
+        let mut sums: BTreeMap<Monomial, BigInt> = BTreeMap::new();
+        for (m1, n1) in &left {
+            for (m2, n2) in &right {
+                *sums.entry(m1.mul(m2)).or_default() += n1 * n2;
             }
         }
-        out
+        let d = d1 * d2;
+        let terms = sums
+            .into_iter()
+            .filter(|(_, n)| !num_traits::Zero::is_zero(n))
+            .map(|(m, n)| (m, crate::algebra::gcd::fraction(n, d.clone())))
+            .collect();
+        MultiPoly { terms }
     }
 }
 

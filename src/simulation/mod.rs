@@ -16,6 +16,7 @@ pub mod csv;
 pub mod integrate;
 pub mod metrics;
 pub mod noise;
+#[cfg(feature = "plot")]
 pub mod plot;
 pub mod run;
 pub mod signal;

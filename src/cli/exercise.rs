@@ -1,13 +1,13 @@
 //! `owb check`, `owb grade` and `owb exercise new`: students check their answers, teachers grade
 //! a class and generate fresh exercises.
 
-use crate::args::{examples_folder, print_json, write_atomically};
-use crate::Outcome;
-use anyhow::{anyhow, bail, Context, Result};
-use observer_workbench::exercise::generate::{pole_placement, Settings};
-use observer_workbench::exercise::{
+use super::args::{examples_folder, print_json, write_atomically};
+use super::Outcome;
+use crate::exercise::generate::{pole_placement, Settings};
+use crate::exercise::{
     answer_key, check_answers, load_answers, load_exercise, AnswerKey, ExerciseFile, PartVerdict,
 };
+use anyhow::{anyhow, bail, Context, Result};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `owb check`.
@@ -122,7 +122,7 @@ pub fn check(args: CheckArgs) -> Result<Outcome> {
     if args.json {
         print_json(&serde_json::to_value(&report)?);
     } else {
-        print!("{}", report.text());
+        out!("{}", report.text());
     }
     Ok(if report.all_correct() {
         Outcome::Ok
@@ -230,7 +230,7 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
         }
     }
     write_atomically(&args.csv, &csv)?;
-    println!(
+    outln!(
         "{students} submissions graded for {}: {perfect} fully correct, {invalid} invalid (reported in {}); report written to {}",
         ex.id,
         args.csv.display(),
@@ -268,12 +268,12 @@ pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
             let key = answer_key("generated", &ex)?;
             match &a.out {
                 Some(p) => write_atomically(p, &text)?,
-                None => print!("{text}"),
+                None => out!("{text}"),
             }
             if a.key {
-                println!("# answer key (computed)");
+                outln!("# answer key (computed)");
                 for p in &key.parts {
-                    println!("# {} = \"{}\"", p.spec.id, p.value.input());
+                    outln!("# {} = \"{}\"", p.spec.id, p.value.input());
                 }
             }
             Ok(Outcome::Ok)

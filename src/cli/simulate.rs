@@ -1,11 +1,11 @@
 //! `owb simulate`: run a worked example's scenarios (the document's figures), write SVG and
 //! CSV, and check the figures' statements by numbers.
 
-use crate::args::{examples_folder, find_example, print_json, write_atomically};
-use crate::Outcome;
+use super::args::{examples_folder, find_example, print_json, write_atomically};
+use super::Outcome;
+use crate::simulation::{csv::to_csv, plot::svg};
+use crate::worked::{load_example, load_folder, run_scenarios, ScenarioRun};
 use anyhow::{bail, Result};
-use observer_workbench::simulation::{csv::to_csv, plot::svg};
-use observer_workbench::worked::{load_example, load_folder, run_scenarios, ScenarioRun};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -123,12 +123,12 @@ pub fn run(args: Args) -> Result<Outcome> {
         }));
     } else {
         for r in &chosen {
-            print!("{}", describe(r));
+            out!("{}", describe(r));
         }
         if !shown_checks.is_empty() {
-            println!("Figure statements checked:");
+            outln!("Figure statements checked:");
             for c in &shown_checks {
-                println!(
+                outln!(
                     "  [{}] {} — {}: {} → {}",
                     c.scenario,
                     c.source,

@@ -4,13 +4,13 @@
 //! `{"examples": [{"id", "document", "claims": [{"id", "source", "printed", "recomputed",
 //! "verdict", "explanation"}]}], "summary": {"holds", "erratum", "mismatch"}}`.
 
-use crate::args::print_json;
-use crate::Outcome;
-use anyhow::{bail, Context, Result};
-use observer_workbench::worked::{
+use super::args::print_json;
+use super::Outcome;
+use crate::worked::{
     errata_markdown, load_example, load_folder, render_derivations, render_table, report_json,
     verify_example, Summary,
 };
+use anyhow::{bail, Context, Result};
 use std::path::PathBuf;
 
 /// Arguments of `owb verify`.
@@ -33,14 +33,14 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let dir = crate::args::examples_folder(&args.dir);
+    let dir = super::args::examples_folder(&args.dir);
     let all = load_folder(&dir)?;
     let selected: Vec<PathBuf> = if args.examples.is_empty() {
         all
     } else {
         args.examples
             .iter()
-            .map(|e| crate::args::find_example(&dir, &all, e))
+            .map(|e| super::args::find_example(&dir, &all, e))
             .collect::<Result<Vec<_>>>()?
     };
     if selected.is_empty() {
@@ -53,19 +53,19 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     let summary = Summary::of(&reports);
     if let Some(path) = &args.errata {
-        crate::args::write_atomically(path, &errata_markdown(&reports))
+        super::args::write_atomically(path, &errata_markdown(&reports))
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
         print_json(&report_json(&reports));
     } else {
         for r in &reports {
-            println!("{}", render_table(r));
+            outln!("{}", render_table(r));
             if args.derivations {
-                println!("{}", render_derivations(r));
+                outln!("{}", render_derivations(r));
             }
         }
-        println!(
+        outln!(
             "{} examples: {} claims hold, {} documented errata (each explanation checked), {} mismatches",
             reports.len(),
             summary.holds,

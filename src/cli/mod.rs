@@ -1,6 +1,19 @@
-//! `owb`, the observer workbench's command line. One file per subcommand; the library never
-//! depends on clap. Exit codes: 0 success, 1 a verification found a mismatch (or a check found a
-//! wrong answer), 2 bad input (malformed numbers, mismatched dimensions, an unobservable pair…).
+//! `owb`, the observer workbench's command line (feature `cli`, on by default). One file per
+//! subcommand: parse the flags, call the library, render. The binary `src/bin/owb.rs` calls
+//! [`main`]; the book preprocessor and the CLI fuzz target call [`run_captured`], which runs the
+//! same code with the report captured in a string. Exit codes: 0 success, 1 a verification found
+//! a mismatch (or a check found a wrong answer), 2 bad input (malformed numbers, mismatched
+//! dimensions, an unobservable pair…).
+//!
+//! ```
+//! use observer_workbench::cli::{run_captured, Outcome};
+//! let (outcome, report) = run_captured(&["observe", "--a", "[0 1; -2 -3]", "--c", "[1 0]"]);
+//! assert!(matches!(outcome, Ok(Outcome::Ok)));
+//! assert!(report.contains("observable"));
+//! ```
+
+#[macro_use]
+mod output;
 
 mod args;
 mod canonical;
@@ -17,19 +30,22 @@ mod verify;
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+/// The command line: one subcommand.
 #[derive(Parser)]
 #[command(
     name = "owb",
     version,
     about = "Exact design and verification of state observers"
 )]
-struct Cli {
+pub struct Cli {
+    /// What to do.
     #[command(subcommand)]
-    command: Command,
+    pub command: Command,
 }
 
+/// The subcommands of `owb`.
 #[derive(Subcommand)]
-enum Command {
+pub enum Command {
     /// Recompute the worked examples of the source documents and compare with what they printed.
     Verify(verify::Args),
     /// Observability report: O_n, rank, unobservable subspace and eigenvalues.
@@ -57,6 +73,7 @@ enum Command {
 }
 
 /// What a subcommand reports back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Outcome {
     /// All good.
     Ok,
@@ -80,18 +97,13 @@ fn json_requested() -> bool {
     std::env::args().skip(1).any(|a| a == "--json")
 }
 
-fn main() -> ExitCode {
-    // A closed output ends the program quietly, with the status a shell gives a process
-    // stopped by SIGPIPE (128 + 13), instead of a panic message.
-    let default_hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        if is_closed_output(info) {
-            std::process::exit(141);
-        }
-        default_hook(info);
-    }));
-    let cli = Cli::parse();
-    let result = match cli.command {
+/// Runs a parsed command line, its report going to the current output.
+///
+/// # Errors
+///
+/// Whatever the subcommand refuses: bad input, an impossible design, an unreadable file.
+pub fn dispatch(command: Command) -> anyhow::Result<Outcome> {
+    match command {
         Command::Verify(a) => verify::run(a),
         Command::Observe(a) => observe::run(a),
         Command::Canonical(a) => canonical::run(a),
@@ -104,14 +116,39 @@ fn main() -> ExitCode {
         Command::Check(a) => exercise::check(a),
         Command::Grade(a) => exercise::grade(a),
         Command::Exercise(a) => exercise::exercise(a),
-    };
+    }
+}
+
+/// Runs `owb` with these arguments (without the program name) and returns the outcome with
+/// the report it printed. A command line clap refuses is an error whose text is clap's message.
+pub fn run_captured<S: AsRef<str>>(args: &[S]) -> (anyhow::Result<Outcome>, String) {
+    let argv = std::iter::once("owb").chain(args.iter().map(AsRef::as_ref));
+    match Cli::try_parse_from(argv) {
+        Ok(cli) => output::capture(|| dispatch(cli.command)),
+        Err(e) => (Err(anyhow::anyhow!("{}", e.render())), String::new()),
+    }
+}
+
+/// The program `owb`: parses the process's arguments, runs, prints errors, returns the status.
+pub fn main() -> ExitCode {
+    // A closed output ends the program quietly, with the status a shell gives a process
+    // stopped by SIGPIPE (128 + 13), instead of a panic message.
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if is_closed_output(info) {
+            std::process::exit(141);
+        }
+        default_hook(info);
+    }));
+    let cli = Cli::parse();
+    let result = dispatch(cli.command);
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
         Ok(Outcome::Failed) => ExitCode::from(1),
         Err(e) if json_requested() => {
             // a script asked for JSON: it gets a JSON error object (and the status)
             let causes: Vec<String> = e.chain().skip(1).map(|c| c.to_string()).collect();
-            println!(
+            outln!(
                 "{}",
                 serde_json::json!({"error": e.to_string(), "causes": causes, "exit_status": 2})
             );

@@ -1,28 +1,26 @@
 //! `owb optimal`: multi-output gains chosen by optimality (Baranowski): minimum norm `J1` or
 //! minimal dynamical error `J2 = λ_max(H)`, and the check of a given (printed) gain.
 
-use crate::args::{matrix, print_json};
-use crate::Outcome;
+use super::args::{matrix, print_json};
+use super::Outcome;
+use crate::algebra::{Rational, ToF64};
+use crate::linalg::definiteness::{definiteness, Definiteness};
+use crate::linalg::float::{eigenvalues, to_nalgebra};
+use crate::linalg::{characteristic_polynomial, Matrix};
+use crate::observer::dynamical_error::{dynamical_error_cost, minimal_dynamical_error};
+use crate::observer::optimal::{minimum_norm_gain, pole_placement_constraints};
+use crate::poly::{exact_roots, Poly};
 use anyhow::{anyhow, bail, Result};
 use nalgebra::DMatrix;
-use observer_workbench::algebra::{Rational, ToF64};
-use observer_workbench::linalg::definiteness::{definiteness, Definiteness};
-use observer_workbench::linalg::float::{eigenvalues, to_nalgebra};
-use observer_workbench::linalg::{characteristic_polynomial, Matrix};
-use observer_workbench::observer::dynamical_error::{
-    dynamical_error_cost, minimal_dynamical_error,
-};
-use observer_workbench::observer::optimal::{minimum_norm_gain, pole_placement_constraints};
-use observer_workbench::poly::{exact_roots, Poly};
 use serde_json::json;
 
 /// Arguments of `owb optimal`.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    system: crate::args::SystemPair,
+    system: super::args::SystemPair,
     #[command(flatten)]
-    desired: crate::args::DesiredArgs,
+    desired: super::args::DesiredArgs,
     /// j1 (minimum norm Σ k_i², default) or j2 (minimal dynamical error λ_max(H)).
     #[arg(allow_hyphen_values = true, long, default_value = "j1")]
     index: String,
@@ -50,7 +48,7 @@ pub struct Args {
 const MAX_STARTS: usize = 10_000;
 
 fn show(m: &DMatrix<f64>) -> String {
-    crate::args::float_matrix_text(m, |x| format!("{x:.6}"))
+    super::args::float_matrix_text(m, |x| format!("{x:.6}"))
 }
 
 fn scatter(
@@ -126,7 +124,7 @@ fn request(args: &Args) -> Result<Request> {
             args.starts
         );
     }
-    observer_workbench::observability::require_observable(&a, &c)?;
+    crate::observability::require_observable(&a, &c)?;
     let p = args.desired.parse(n)?.rational().ok_or_else(|| {
         anyhow!("the optimal designs need a desired polynomial with rational coefficients")
     })?;
@@ -321,7 +319,7 @@ fn check_gain(gtext: &str, req: &Request, text: &mut String) -> Result<serde_jso
         None => text.push_str("  J2 undefined: A − GC is not stable\n"),
     }
     Ok(json!({
-        "gain": crate::args::json_matrix(&g),
+        "gain": super::args::json_matrix(&g),
         "observer_polynomial": achieved.to_input(),
         "places_exactly": achieved == *p,
         "poles": poles,
@@ -346,7 +344,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     if args.json {
         print_json(&out);
     } else {
-        print!("{text}");
+        out!("{text}");
     }
     Ok(Outcome::Ok)
 }

@@ -2,23 +2,23 @@
 //! reconstruction of x̂ from y, u and their derivatives, and the exact conditions under which
 //! the same observer stays perfect for a changed plant.
 
-use crate::args::{json_matrix, matrix, print_json};
-use crate::Outcome;
-use anyhow::Result;
-use observer_workbench::algebra::{Rational, Ring};
-use observer_workbench::derivation::Show;
-use observer_workbench::observer::perfect::{
+use super::args::{json_matrix, matrix, print_json};
+use super::Outcome;
+use crate::algebra::{Rational, Ring};
+use crate::derivation::Show;
+use crate::observer::perfect::{
     perfect_observer, robustness_conditions, robustness_residuals, Reconstruction,
 };
+use anyhow::Result;
 use serde_json::json;
 
 /// Arguments of `owb perfect`.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    system: crate::args::SystemPair,
+    system: super::args::SystemPair,
     #[command(flatten)]
-    inputs: crate::args::InputMatrices,
+    inputs: super::args::InputMatrices,
     /// A changed plant to test the observer on: its A (default: unchanged).
     #[arg(allow_hyphen_values = true, long)]
     changed_a: Option<String>,
@@ -78,18 +78,18 @@ pub fn run(args: Args) -> Result<Outcome> {
             "steps": serde_json::to_value(&p.derivation.steps)?,
         }));
     } else {
-        print!("{}", p.derivation.render());
-        println!("The observer stays perfect for a changed plant (A', B', C', D') exactly when:");
+        out!("{}", p.derivation.render());
+        outln!("The observer stays perfect for a changed plant (A', B', C', D') exactly when:");
         for cond in &conditions {
-            println!("  {cond} = 0");
+            outln!("  {cond} = 0");
         }
         if let Some((ra, rb)) = &fit {
-            println!(
+            outln!(
                 "Changed plant: E A' − F − G_y C' =\n{}\n  E B' − G_u − G_y D' =\n{}",
                 ra.render(),
                 rb.render()
             );
-            println!(
+            outln!(
                 "  {}",
                 if fits == Some(true) {
                     "the observer reconstructs the changed plant's state exactly (error zero for t > 0)"

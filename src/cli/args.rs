@@ -1,12 +1,12 @@
 //! Turning raw command-line strings into validated values, naming the flag on error.
 
+use crate::algebra::Quadratic;
+use crate::algebra::Rational;
+use crate::linalg::Matrix;
+use crate::observer::DesiredPolynomial;
+use crate::syntax::{parse_list, parse_polynomial};
+use crate::syntax::{parse_matrix, parse_scalar, FromExpr};
 use anyhow::{anyhow, bail, Context, Result};
-use observer_workbench::algebra::Quadratic;
-use observer_workbench::algebra::Rational;
-use observer_workbench::linalg::Matrix;
-use observer_workbench::observer::DesiredPolynomial;
-use observer_workbench::syntax::{parse_list, parse_polynomial};
-use observer_workbench::syntax::{parse_matrix, parse_scalar, FromExpr};
 
 /// Parses a matrix flag, e.g. `--a "[2 -3; 4 -5]"`.
 pub fn matrix<T: FromExpr>(flag: &str, text: &str) -> Result<Matrix<T>> {
@@ -24,14 +24,14 @@ pub fn rational(flag: &str, text: &str) -> Result<Rational> {
 
 /// Prints a JSON value, pretty.
 pub fn print_json(v: &serde_json::Value) {
-    println!(
+    outln!(
         "{}",
         serde_json::to_string_pretty(v).unwrap_or_else(|_| "{}".into())
     );
 }
 
 /// A matrix as a JSON list of rows of strings in input syntax.
-pub fn json_matrix<T: observer_workbench::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value {
+pub fn json_matrix<T: crate::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value {
     serde_json::Value::Array(
         (0..m.rows())
             .map(|i| {

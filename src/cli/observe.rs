@@ -1,16 +1,16 @@
 //! `owb observe`: the observability report.
 
-use crate::args::{json_matrix, print_json};
-use crate::Outcome;
+use super::args::{json_matrix, print_json};
+use super::Outcome;
+use crate::observability::observability_report;
 use anyhow::Result;
-use observer_workbench::observability::observability_report;
 use serde_json::json;
 
 /// Arguments of `owb observe`.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    system: crate::args::SystemPair,
+    system: super::args::SystemPair,
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
@@ -28,36 +28,36 @@ pub fn run(args: Args) -> Result<Outcome> {
             "determinant": r.determinant.as_ref().map(|d| d.to_string()),
             "unobservable_subspace": r.unobservable_subspace.iter().map(json_matrix).collect::<Vec<_>>(),
             "unobservable_polynomial": r.unobservable_polynomial.to_input(),
-            "unobservable_eigenvalues": r.unobservable_eigenvalues.roots.iter().map(|(x, m)| json!({"value": observer_workbench::algebra::Ring::to_input(x), "multiplicity": m})).collect::<Vec<_>>(),
+            "unobservable_eigenvalues": r.unobservable_eigenvalues.roots.iter().map(|(x, m)| json!({"value": crate::algebra::Ring::to_input(x), "multiplicity": m})).collect::<Vec<_>>(),
             "pbh_confirmed": r.pbh_confirmed,
         }));
     } else {
-        println!("Observability of (A, C)");
-        println!("  O_n = [C; CA; …; CA^(n−1)]:");
+        outln!("Observability of (A, C)");
+        outln!("  O_n = [C; CA; …; CA^(n−1)]:");
         for line in r.matrix.render().lines() {
-            println!("      {line}");
+            outln!("      {line}");
         }
         if let Some(d) = &r.determinant {
-            println!("  det O_n = {d}");
+            outln!("  det O_n = {d}");
         }
-        println!("  rank O_n = {} (order n = {})", r.rank, r.order);
+        outln!("  rank O_n = {} (order n = {})", r.rank, r.order);
         if r.observable() {
-            println!("  observable");
+            outln!("  observable");
         } else {
-            println!("  NOT observable");
-            println!("  unobservable subspace ker O_n, basis:");
+            outln!("  NOT observable");
+            outln!("  unobservable subspace ker O_n, basis:");
             for v in &r.unobservable_subspace {
-                println!("      {}", v.to_input());
+                outln!("      {}", v.to_input());
             }
-            println!(
+            outln!(
                 "  unobservable modes: det(sI − A|ker O_n) = {}",
                 r.unobservable_polynomial
             );
-            println!(
+            outln!(
                 "  unobservable eigenvalues: {}",
                 r.unobservable_eigenvalues.render()
             );
-            println!(
+            outln!(
                 "  PBH test rank [λI − A; C] < n at each: {}",
                 if r.pbh_confirmed {
                     "confirmed"

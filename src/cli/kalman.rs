@@ -1,32 +1,32 @@
 //! `owb kalman`: the steady-state Kalman filter of a plant with noisy input and outputs, and
 //! the noise let through by observers with chosen poles (Furlan et al.'s comparison).
 
-use crate::args::{matrix, print_json};
-use crate::Outcome;
-use anyhow::{anyhow, bail, Result};
-use nalgebra::{Complex, DMatrix};
-use observer_workbench::algebra::{Rational, Zero};
-use observer_workbench::linalg::definiteness::{definiteness, Definiteness};
-use observer_workbench::linalg::float::{eigenvalues, to_nalgebra};
-use observer_workbench::linalg::Matrix;
-use observer_workbench::observer::kalman::{
+use super::args::{matrix, print_json};
+use super::Outcome;
+use crate::algebra::{Rational, Zero};
+use crate::linalg::definiteness::{definiteness, Definiteness};
+use crate::linalg::float::{eigenvalues, to_nalgebra};
+use crate::linalg::Matrix;
+use crate::observer::kalman::{
     error_covariance, kalman_filter, kalman_filter_ignoring_correlation, natural_frequency,
     NoiseIntensities, Plant,
 };
-use observer_workbench::observer::partial::gain_for_observer_matrix;
-use observer_workbench::observer::robust::robust_observer_gain;
-use observer_workbench::observer::weighted::weighted_design;
-use observer_workbench::poly::Poly;
-use observer_workbench::syntax::parse_list;
+use crate::observer::partial::gain_for_observer_matrix;
+use crate::observer::robust::robust_observer_gain;
+use crate::observer::weighted::weighted_design;
+use crate::poly::Poly;
+use crate::syntax::parse_list;
+use anyhow::{anyhow, bail, Result};
+use nalgebra::{Complex, DMatrix};
 use serde_json::json;
 
 /// Arguments of `owb kalman`.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    system: crate::args::SystemPair,
+    system: super::args::SystemPair,
     #[command(flatten)]
-    inputs: crate::args::InputMatrices,
+    inputs: super::args::InputMatrices,
     /// White-noise intensity C_U of the measured input (m×m), e.g. "[4.47e-8]".
     #[arg(allow_hyphen_values = true, long)]
     input_noise: String,
@@ -58,11 +58,11 @@ struct Row {
 }
 
 fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
-    crate::args::float_rows(m)
+    super::args::float_rows(m)
 }
 
 fn show(m: &DMatrix<f64>) -> String {
-    crate::args::float_matrix_text(m, |x| format!("{x:.6e}"))
+    super::args::float_matrix_text(m, |x| format!("{x:.6e}"))
 }
 
 fn pole_text(z: &Complex<f64>) -> String {
@@ -122,7 +122,7 @@ fn pole_rows(
     }
     let float_poles: Vec<(f64, f64)> = poles
         .iter()
-        .map(|p| (observer_workbench::algebra::rational_to_f64(p), 0.0))
+        .map(|p| (crate::algebra::rational_to_f64(p), 0.0))
         .collect();
     match robust_observer_gain(&plant.a, &plant.c, &float_poles) {
         Ok(r) => table.push(Row {
@@ -310,7 +310,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             "comparison": json_rows,
         }));
     } else {
-        print!("{text}");
+        out!("{text}");
     }
     Ok(Outcome::Ok)
 }

@@ -4,23 +4,21 @@
 //! `owb gain --a M --c M (--poles L | --poly P | --repeated T | --butterworth T) [--method M]
 //! [--convention a-kc|a+lc] [--float] [--json]`.
 
-use crate::args::{json_matrix, print_json};
-use crate::Outcome;
+use super::args::{json_matrix, print_json};
+use super::Outcome;
+use crate::algebra::{Quadratic, Rational};
+use crate::observer::float_check::{float_check, FloatCheck, FloatVerdict};
+use crate::observer::{design_with, Convention, DesiredPolynomial, Detail, GainMethod};
 use anyhow::{anyhow, bail, Result};
-use observer_workbench::algebra::{Quadratic, Rational};
-use observer_workbench::observer::float_check::{float_check, FloatCheck, FloatVerdict};
-use observer_workbench::observer::{
-    design_with, Convention, DesiredPolynomial, Detail, GainMethod,
-};
 use serde_json::json;
 
 /// Arguments of `owb gain`.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    system: crate::args::SystemPair,
+    system: super::args::SystemPair,
     #[command(flatten)]
-    desired: crate::args::DesiredArgs,
+    desired: super::args::DesiredArgs,
     /// ackermann (default), bass-gura, canonical or lemma-3.1.
     #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
     method: String,
@@ -62,46 +60,47 @@ fn float_json(f: &FloatCheck) -> serde_json::Value {
 }
 
 fn print_float(f: &FloatCheck) {
-    println!("Float path (f64, same Ackermann algorithm, nalgebra LU and eigenvalues):");
-    println!(
+    outln!("Float path (f64, same Ackermann algorithm, nalgebra LU and eigenvalues):");
+    outln!(
         "  cond₂(O_n)                         = {:.3e}",
         f.condition_number
     );
     if let Some(g) = &f.float_gain {
         let list: Vec<String> = g.iter().map(|x| format!("{x:.10e}")).collect();
-        println!(
+        outln!(
             "  float gain (A − KC)                = [{}]",
             list.join("; ")
         );
     }
     if f.compared_with_exact {
-        println!(
+        outln!(
             "  relative gain error vs exact       = {:.3e} (a-priori bound n·cond·ε = {:.3e})",
-            f.gain_relative_error, f.gain_error_bound
+            f.gain_relative_error,
+            f.gain_error_bound
         );
     } else {
-        println!("  no exact gain to compare with (desired polynomial known in f64 only)");
+        outln!("  no exact gain to compare with (desired polynomial known in f64 only)");
     }
-    println!(
+    outln!(
         "  largest pole distance              = {:.3e}",
         f.max_pole_distance
     );
-    println!("  multiplicity of the repeated root  = {}", f.multiplicity);
-    println!(
+    outln!("  multiplicity of the repeated root  = {}", f.multiplicity);
+    outln!(
         "  predicted scatter (ε‖A−KC‖)^(1/m)  = {:.3e}",
         f.predicted_scatter
     );
-    println!(
+    outln!(
         "  predicted with the gain error      = {:.3e}",
         f.predicted_scatter_with_gain_error
     );
     if let Some(p) = f.polynomial_relative_error {
-        println!("  exact det(sI − (A − K_float C)) vs desired, largest relative coefficient error = {p:.3e}");
+        outln!("  exact det(sI − (A − K_float C)) vs desired, largest relative coefficient error = {p:.3e}");
     }
     if !f.compared_with_exact && f.verdict == FloatVerdict::Reliable {
-        println!("  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
+        outln!("  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
     } else {
-        println!("  verdict: {}", f.verdict.explain());
+        outln!("  verdict: {}", f.verdict.explain());
     }
 }
 
@@ -195,19 +194,19 @@ pub fn run(args: Args) -> Result<Outcome> {
     } else {
         match &exact {
             Some(d) => {
-                print!("{}", d.derivation.render());
+                out!("{}", d.derivation.render());
                 let letter = convention.letter();
-                println!("Result ({convention} convention, {method} method):");
-                println!("  {letter} = {}", d.gain.matrix.to_input());
+                outln!("Result ({convention} convention, {method} method):");
+                outln!("  {letter} = {}", d.gain.matrix.to_input());
                 let shown = d
                     .achieved_factored()
                     .map_or_else(|| d.achieved.to_string(), |f| f.to_string());
-                println!("  observer polynomial = {shown}");
-                println!("  {}", d.verdict().0);
+                outln!("  observer polynomial = {shown}");
+                outln!("  {}", d.verdict().0);
             }
             None => {
-                println!("Desired polynomial ({}): {}", desired.family, desired.float);
-                println!("  {}", desired.inexact_reason.clone().unwrap_or_default());
+                outln!("Desired polynomial ({}): {}", desired.family, desired.float);
+                outln!("  {}", desired.inexact_reason.clone().unwrap_or_default());
             }
         }
         if let Some(f) = &check {
@@ -220,8 +219,8 @@ pub fn run(args: Args) -> Result<Outcome> {
 /// Several outputs: exact from one chosen output, or the robust float method.
 fn multi_output(
     args: &Args,
-    a: &observer_workbench::linalg::Matrix<Rational>,
-    c: &observer_workbench::linalg::Matrix<Rational>,
+    a: &crate::linalg::Matrix<Rational>,
+    c: &crate::linalg::Matrix<Rational>,
     desired: &DesiredPolynomial,
     method: GainMethod,
     convention: Convention,
@@ -233,7 +232,7 @@ fn multi_output(
         }
         let row = c.block(k - 1, k, 0, n);
         let d = design_with(a, &row, desired, method, convention, args.detail())?;
-        let gain = observer_workbench::linalg::Matrix::from_fn(n, p, |i, j| {
+        let gain = crate::linalg::Matrix::from_fn(n, p, |i, j| {
             if j == k - 1 {
                 d.gain.matrix.get(i, 0).clone()
             } else {
@@ -252,19 +251,19 @@ fn multi_output(
                 "steps": serde_json::to_value(&d.derivation.steps)?,
             }));
         } else {
-            print!("{}", d.derivation.render());
-            println!("Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");
-            println!("  {} = {}", convention.letter(), gain.to_input());
-            println!("  {}", d.verdict().0);
+            out!("{}", d.derivation.render());
+            outln!("Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");
+            outln!("  {} = {}", convention.letter(), gain.to_input());
+            outln!("  {}", d.verdict().0);
         }
         return Ok(Outcome::Ok);
     }
     // An unobservable pair is reported as such (with its modes), whatever the rank of C.
-    observer_workbench::observability::require_observable(a, c)?;
+    crate::observability::require_observable(a, c)?;
     // Robust float placement (Kautsky–Nichols–Van Dooren) at the roots of the desired polynomial.
     let poles: Vec<(f64, f64)> = match desired.rational() {
         Some(p) => {
-            let roots = observer_workbench::poly::exact_roots(&p);
+            let roots = crate::poly::exact_roots(&p);
             if roots.complete() {
                 roots
                     .roots
@@ -277,9 +276,9 @@ fn multi_output(
         }
         None => companion(&desired.float),
     };
-    let af = observer_workbench::linalg::float::to_nalgebra(a);
-    let cf = observer_workbench::linalg::float::to_nalgebra(c);
-    let r = observer_workbench::observer::robust::robust_observer_gain(&af, &cf, &poles)?;
+    let af = crate::linalg::float::to_nalgebra(a);
+    let cf = crate::linalg::float::to_nalgebra(c);
+    let r = crate::observer::robust::robust_observer_gain(&af, &cf, &poles)?;
     let sign = if convention == Convention::APlusLC {
         -1.0
     } else {
@@ -300,29 +299,30 @@ fn multi_output(
             "robust": serde_json::to_value(&r)?,
         }));
     } else {
-        println!("Robust pole placement (Kautsky–Nichols–Van Dooren, f64) for {p} outputs, {convention} convention:");
+        outln!("Robust pole placement (Kautsky–Nichols–Van Dooren, f64) for {p} outputs, {convention} convention:");
         for row in &gain {
-            println!("  [ {} ]", row.join("  "));
+            outln!("  [ {} ]", row.join("  "));
         }
-        println!(
+        outln!(
             "  largest distance of the computed poles from the requested ones = {:.3e}",
             r.residual
         );
-        println!(
+        outln!(
             "  relative residual ‖(A − KC) − XΛX⁻¹‖/‖A‖ = {:.3e}",
             r.relative_residual
         );
-        println!(
+        outln!(
             "  condition number of the eigenvectors = {:.3e} ({} sweeps)",
-            r.eigenvector_condition, r.sweeps
+            r.eigenvector_condition,
+            r.sweeps
         );
-        println!("  (float result; for an exact gain fix the free parameters, e.g. --output k)");
+        outln!("  (float result; for an exact gain fix the free parameters, e.g. --output k)");
     }
     Ok(Outcome::Ok)
 }
 
-fn companion(p: &observer_workbench::poly::Poly<f64>) -> Vec<(f64, f64)> {
-    observer_workbench::observer::float_check::companion_roots(p)
+fn companion(p: &crate::poly::Poly<f64>) -> Vec<(f64, f64)> {
+    crate::observer::float_check::companion_roots(p)
         .iter()
         .map(|z| (z.re, z.im))
         .collect()

@@ -1,19 +1,19 @@
 //! `owb control`: observer-based control of a SISO plant.
 
-use crate::args::{matrix, print_json};
-use crate::Outcome;
+use super::args::{matrix, print_json};
+use super::Outcome;
+use crate::algebra::Rational;
+use crate::control::{observer_based_control, state_feedback};
+use crate::observer::Convention;
+use crate::syntax::parse_polynomial;
 use anyhow::{anyhow, bail, Result};
-use observer_workbench::algebra::Rational;
-use observer_workbench::control::{observer_based_control, state_feedback};
-use observer_workbench::observer::Convention;
-use observer_workbench::syntax::parse_polynomial;
 use serde_json::json;
 
 /// Arguments of `owb control`.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    system: crate::args::SystemPair,
+    system: super::args::SystemPair,
     /// The input matrix B (one column).
     #[arg(allow_hyphen_values = true, long = "b")]
     b: String,
@@ -66,13 +66,13 @@ pub fn run(args: Args) -> Result<Outcome> {
             "steps": serde_json::to_value(&r.derivation.steps)?,
         }));
     } else {
-        println!(
+        outln!(
             "F = {} (u = F x̂), L = {} (A + LC)",
             f.to_input(),
             l.to_input()
         );
-        print!("{}", r.derivation.render());
-        println!(
+        out!("{}", r.derivation.render());
+        outln!(
             "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC))",
             if r.separation_holds { "=" } else { "≠" }
         );

@@ -1,20 +1,18 @@
 //! `owb canonical`: observer canonical form by both textbook procedures.
 
-use crate::args::{json_matrix, matrix, print_json};
-use crate::Outcome;
+use super::args::{json_matrix, matrix, print_json};
+use super::Outcome;
+use crate::algebra::Rational;
+use crate::canonical_form::{observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm};
+use crate::derivation::Derivation;
 use anyhow::Result;
-use observer_workbench::algebra::Rational;
-use observer_workbench::canonical_form::{
-    observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm,
-};
-use observer_workbench::derivation::Derivation;
 use serde_json::json;
 
 /// Arguments of `owb canonical`.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    system: crate::args::SystemPair,
+    system: super::args::SystemPair,
     /// The input matrix B (optional).
     #[arg(allow_hyphen_values = true, long = "b")]
     b: Option<String>,
@@ -61,11 +59,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             &json!({"di_ruscio": one(&di), "stoustrup": one(&st), "same_transformation": same}),
         );
     } else {
-        print!(
+        out!(
             "{}",
             derivation("Di Ruscio ss2ocf: T_o = (Mᵀ O_n)⁻¹", "(Mᵀ O_n)⁻¹", &di).render()
         );
-        print!(
+        out!(
             "{}",
             derivation(
                 "Stoustrup: t_n = O⁻¹ e_n, t_(k−1) = A t_k",
@@ -74,7 +72,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             )
             .render()
         );
-        println!(
+        outln!(
             "Both procedures give {} transformation; A_o has −a_i (Di Ruscio's a_i) = Stoustrup's a_i in its first column.",
             if same { "the same" } else { "different" }
         );

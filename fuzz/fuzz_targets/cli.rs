@@ -1,0 +1,5 @@
+#![no_main]
+//! Fuzz target: see `observer_workbench::fuzzing::cli`.
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| observer_workbench::fuzzing::cli(data));
