@@ -92,7 +92,7 @@ pub const CLI_SUBCOMMANDS: [&str; 8] = [
 /// `--grid` ≤ 100 000), which tests check separately.
 #[cfg(feature = "cli")]
 fn bound_requested_work(args: &mut Vec<String>) {
-    const COUNTS: [(&str, &str, usize); 2] = [("--starts", "4", 4), ("--grid", "50", 50)];
+    const COUNTS: [(&str, &str, usize); 2] = [("--starts", "2", 2), ("--grid", "50", 50)];
     for (flag, default, most) in COUNTS {
         let mut given = false;
         let joined = format!("{flag}=");

@@ -133,7 +133,64 @@ pub fn lyapunov_f64(f: &DMatrix<f64>, w: &DMatrix<f64>) -> Result<LyapunovSoluti
         });
     }
     let (q, t) = nalgebra::linalg::Schur::new(f.clone()).unpack();
-    let c = -(q.transpose() * w * &q);
+    lyapunov_from_schur(f, w, &q, &t)
+}
+
+/// The largest real part of the eigenvalues of a real Schur form `T` (1×1 and 2×2 diagonal
+/// blocks): the stability margin of `F = Q T Qᵀ`, read off the factorisation
+/// [`lyapunov_f64_with_abscissa`] computes anyway.
+fn spectral_abscissa(t: &DMatrix<f64>) -> f64 {
+    let n = t.nrows();
+    let small = f64::EPSILON * t.norm().max(f64::MIN_POSITIVE);
+    let mut worst = f64::NEG_INFINITY;
+    let mut j = 0;
+    while j < n {
+        if j + 1 < n && t[(j + 1, j)].abs() > small {
+            // a complex pair: real part of both eigenvalues is the block's half trace
+            worst = worst.max(0.5 * (t[(j, j)] + t[(j + 1, j + 1)]));
+            j += 2;
+        } else {
+            worst = worst.max(t[(j, j)]);
+            j += 1;
+        }
+    }
+    worst
+}
+
+/// [`lyapunov_f64`] and the spectral abscissa of `F` (largest real part of its eigenvalues)
+/// from the same real Schur factorisation, for callers that need both (a stability test and
+/// the solution: the J2 cost of a multi-output design, evaluated thousands of times).
+/// Returns `None` when the Schur iteration does not converge within `30·max(n, 10)` sweeps.
+///
+/// # Errors
+/// As [`lyapunov_f64`].
+pub fn lyapunov_f64_with_abscissa(
+    f: &DMatrix<f64>,
+    w: &DMatrix<f64>,
+) -> Result<Option<(LyapunovSolution, f64)>, LyapunovError> {
+    check_shapes(f.nrows(), f.ncols(), w.nrows(), w.ncols())?;
+    if f.iter().chain(w.iter()).any(|x| !x.is_finite()) {
+        return Err(LyapunovError::NotFinite);
+    }
+    let n = f.nrows();
+    let Some(schur) = nalgebra::linalg::Schur::try_new(f.clone(), f64::EPSILON, 30 * n.max(10))
+    else {
+        return Ok(None);
+    };
+    let (q, t) = schur.unpack();
+    let abscissa = spectral_abscissa(&t);
+    Ok(Some((lyapunov_from_schur(f, w, &q, &t)?, abscissa)))
+}
+
+/// Bartels–Stewart's second half: `F = Q T Qᵀ` given.
+fn lyapunov_from_schur(
+    f: &DMatrix<f64>,
+    w: &DMatrix<f64>,
+    q: &DMatrix<f64>,
+    t: &DMatrix<f64>,
+) -> Result<LyapunovSolution, LyapunovError> {
+    let n = f.nrows();
+    let c = -(q.transpose() * w * q);
     let mut y = DMatrix::<f64>::zeros(n, n);
     let small = f64::EPSILON * t.norm().max(f64::MIN_POSITIVE);
     let singular = || LyapunovError::NotUnique("T Y + Y Tᵀ block system is singular".into());
@@ -178,7 +235,7 @@ pub fn lyapunov_f64(f: &DMatrix<f64>, w: &DMatrix<f64>) -> Result<LyapunovSoluti
         }
         j = first;
     }
-    let mut x = &q * y * q.transpose();
+    let mut x = q * y * q.transpose();
     if (w - w.transpose()).norm() <= f64::EPSILON * w.norm() {
         x = (&x + x.transpose()) * 0.5;
     }

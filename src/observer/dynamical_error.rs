@@ -15,7 +15,7 @@ use super::partial::place_free_column;
 use super::search::nelder_mead;
 use crate::algebra::{Rational, ToF64};
 use crate::linalg::float::{eigenvalues, to_nalgebra};
-use crate::linalg::lyapunov::{lyapunov_f64, LyapunovError};
+use crate::linalg::lyapunov::{lyapunov_f64, lyapunov_f64_with_abscissa, LyapunovError};
 use crate::linalg::Matrix;
 use crate::poly::Poly;
 use nalgebra::DMatrix;
@@ -78,14 +78,23 @@ pub fn dynamical_error_cost(
         });
     }
     let f = a - g * c;
-    let worst = eigenvalues(&f)
-        .iter()
-        .map(|z| z.re)
-        .fold(f64::NEG_INFINITY, f64::max);
-    if worst >= 0.0 {
-        return Err(DynamicalErrorError::Unstable(worst));
-    }
-    let h = lyapunov_f64(&f.transpose(), weight)?.x;
+    // one real Schur factorisation of Fᵀ gives both the stability test and H
+    let ft = f.transpose();
+    let h = match lyapunov_f64_with_abscissa(&ft, weight)? {
+        Some((_, worst)) if worst >= 0.0 => return Err(DynamicalErrorError::Unstable(worst)),
+        Some((solution, _)) => solution.x,
+        None => {
+            // the bounded Schur iteration stalled: the eigenvalue path decides (with balancing)
+            let worst = eigenvalues(&f)
+                .iter()
+                .map(|z| z.re)
+                .fold(f64::NEG_INFINITY, f64::max);
+            if worst >= 0.0 {
+                return Err(DynamicalErrorError::Unstable(worst));
+            }
+            lyapunov_f64(&ft, weight)?.x
+        }
+    };
     let top = h.clone().symmetric_eigenvalues().max();
     Ok((top, h))
 }
