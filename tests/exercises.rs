@@ -313,3 +313,74 @@ fn json_errors_are_json() {
         "{v}"
     );
 }
+
+/// Output handling (issue 17): a folder given as `--out` is refused and leaves no temporary
+/// behind; `--svg f --csv f` is refused before anything is written; a class with an oversized
+/// submission is graded, the oversized file an `invalid` row, and no report cell echoes more
+/// than the cell limit.
+#[test]
+fn outputs_are_refused_or_written_whole() {
+    let dir = std::env::temp_dir().join(format!("owb-outputs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (code, _, err) = owb(&[
+        "exercise",
+        "new",
+        "--seed",
+        "3",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("is a folder"), "{err}");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.parent().unwrap())
+        .unwrap()
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp-owb"))
+        .filter(|e| e.file_name().to_string_lossy().contains("owb-outputs"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+
+    let same = dir.join("figure.out");
+    let (code, _, err) = owb(&[
+        "simulate",
+        "diruscio-example-7-1",
+        "--svg",
+        same.to_str().unwrap(),
+        "--csv",
+        same.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--svg and --csv both name"), "{err}");
+    assert!(!same.exists());
+
+    let subs = dir.join("subs");
+    std::fs::create_dir_all(&subs).unwrap();
+    std::fs::write(subs.join("ada.toml"), "[answers]\nL = \"[-6; -12]\"\n").unwrap();
+    let huge = format!("[answers]\nL = \"[{}]\"\n", "1 ".repeat(600_000));
+    std::fs::write(subs.join("huge.toml"), huge).unwrap();
+    let long = format!("[answers]\nL = \"[{}]\"\n", "((".repeat(3000));
+    std::fs::write(subs.join("long.toml"), long).unwrap();
+    let csv = dir.join("report.csv");
+    let (code, out, err) = owb(&[
+        "grade",
+        "stoustrup-pole-assignment",
+        subs.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    let report = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        report
+            .lines()
+            .any(|l| l.starts_with("huge,") && l.contains(",invalid,") && l.contains("1 MiB")),
+        "{report}"
+    );
+    assert!(report.lines().any(|l| l.starts_with("long,")), "{report}");
+    assert!(
+        report.lines().all(|l| l.chars().count() < 2400),
+        "a cell echoes too much"
+    );
+    assert!(!dir.join("report.csv.tmp-owb").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -100,9 +100,55 @@ pub fn find_example(
 
 /// Writes through a temporary file and a rename, so a reader never sees half a file.
 pub fn write_atomically(path: &std::path::Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension("tmp-owb");
-    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))?;
+    write_atomically_with(path, |w| w.write_all(text.as_bytes()))
+}
+
+/// Writes a file through a temporary beside it (`NAME.tmp-owb`), renamed over `path` only when
+/// complete: a failure leaves the old file intact and no temporary behind. A folder is refused.
+pub fn write_atomically_with(
+    path: &std::path::Path,
+    fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<()> {
+    use std::io::Write;
+    if path.is_dir() {
+        bail!("{} is a folder; give a file name", path.display());
+    }
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".tmp-owb");
+    let tmp = path.with_file_name(name);
+    let written = (|| -> Result<()> {
+        let file =
+            std::fs::File::create(&tmp).with_context(|| format!("writing {}", tmp.display()))?;
+        let mut out = std::io::BufWriter::new(file);
+        fill(&mut out)
+            .and_then(|()| out.flush())
+            .with_context(|| format!("writing {}", tmp.display()))?;
+        std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
+}
+
+/// Refuses two output flags naming the same file (`--svg f --csv f` would keep only one).
+pub fn distinct_outputs(outputs: &[(&str, Option<&std::path::Path>)]) -> Result<()> {
+    let named: Vec<(&str, &std::path::Path)> = outputs
+        .iter()
+        .filter_map(|(f, p)| Some((*f, (*p)?)))
+        .collect();
+    for (k, (flag, path)) in named.iter().enumerate() {
+        for (other, path2) in &named[k + 1..] {
+            let same = path == path2
+                || matches!((path.canonicalize(), path2.canonicalize()), (Ok(x), Ok(y)) if x == y);
+            if same {
+                bail!(
+                    "{flag} and {other} both name {}: one would overwrite the other",
+                    path.display()
+                );
+            }
+        }
+    }
     Ok(())
 }
 

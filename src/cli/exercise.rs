@@ -1,7 +1,7 @@
 //! `owb check`, `owb grade` and `owb exercise new`: students check their answers, teachers grade
 //! a class and generate fresh exercises.
 
-use super::args::{examples_folder, print_json, write_atomically};
+use super::args::{examples_folder, print_json, write_atomically, write_atomically_with};
 use super::Outcome;
 use crate::exercise::generate::{pole_placement, Settings};
 use crate::exercise::{
@@ -131,11 +131,103 @@ pub fn check(args: CheckArgs) -> Result<Outcome> {
     })
 }
 
+/// The longest text a report cell holds: feedback quoting a huge answer is cut, said so.
+const MAX_CELL_CHARS: usize = 2000;
+
 fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
+    let cut;
+    let s = match s.char_indices().nth(MAX_CELL_CHARS) {
+        Some((end, _)) => {
+            cut = format!(
+                "{}… ({} more characters)",
+                &s[..end],
+                s[end..].chars().count()
+            );
+            cut.as_str()
+        }
+        None => s,
+    };
+    if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {
         s.to_string()
+    }
+}
+
+/// Counts over the class.
+#[derive(Default)]
+struct Tally {
+    students: usize,
+    invalid: usize,
+    perfect: usize,
+}
+
+/// One submission's report rows and feedback text.
+struct Graded {
+    lines: Vec<String>,
+    feedback: Option<String>,
+}
+
+/// Grades one submission: a file that cannot be read, or answers another exercise, is an
+/// `invalid` row (never skipped); otherwise one row per part.
+fn grade_one(exercise: &str, key: &AnswerKey, file: &Path, tally: &mut Tally) -> Graded {
+    tally.students += 1;
+    let total: f64 = key.parts.iter().map(|p| p.spec.points).sum();
+    let invalid = |student: &str, why: &str| {
+        format!(
+            "{},{},,invalid,,0,{},{}\n",
+            csv_field(student),
+            csv_field(&file.display().to_string()),
+            total,
+            csv_field(why)
+        )
+    };
+    let answers = match load_answers(file) {
+        Err(e) => {
+            tally.invalid += 1;
+            return Graded {
+                lines: vec![invalid(&student_name(file, None), &e.to_string())],
+                feedback: None,
+            };
+        }
+        Ok((answers, _)) => answers,
+    };
+    let student = student_name(file, answers.student.as_deref());
+    if let Some(id) = answers.exercise.as_ref().filter(|id| **id != exercise) {
+        tally.invalid += 1;
+        let why = format!("answers for exercise '{id}', not '{exercise}'");
+        return Graded {
+            lines: vec![invalid(&student, &why)],
+            feedback: None,
+        };
+    }
+    let report = check_answers(key, &answers, &student);
+    tally.perfect += usize::from(report.all_correct());
+    let lines = report
+        .parts
+        .iter()
+        .map(|p| {
+            format!(
+                "{},{},{},{},{},{},{},{}\n",
+                csv_field(&student),
+                csv_field(&file.display().to_string()),
+                csv_field(&p.id),
+                match p.verdict {
+                    PartVerdict::Correct => "correct",
+                    PartVerdict::Wrong => "wrong",
+                    PartVerdict::Missing => "missing",
+                    PartVerdict::Unreadable => "unreadable",
+                },
+                p.mistake.as_deref().unwrap_or(""),
+                p.score,
+                p.points,
+                csv_field(&p.feedback)
+            )
+        })
+        .collect();
+    Graded {
+        lines,
+        feedback: Some(report.text()),
     }
 }
 
@@ -170,66 +262,44 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
     if let Some(dir) = &args.feedback {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let mut csv = String::from("student,file,part,verdict,mistake,score,points,feedback\n");
-    let (mut students, mut invalid, mut perfect) = (0, 0, 0);
-    for file in &files {
-        students += 1;
-        let name = student_name(file, None);
-        match load_answers(file) {
-            Err(e) => {
-                invalid += 1;
-                csv.push_str(&format!(
-                    "{},{},,invalid,,0,{},{}\n",
-                    csv_field(&name),
-                    csv_field(&file.display().to_string()),
-                    key.parts.iter().map(|p| p.spec.points).sum::<f64>(),
-                    csv_field(&e.to_string())
-                ));
+    // One submission at a time, each row streamed to the report: memory stays that of one
+    // submission, whatever the class size. A progress bar on a terminal only (not in CI logs).
+    let progress = indicatif::ProgressBar::new(files.len() as u64);
+    progress.set_style(
+        indicatif::ProgressStyle::with_template("grading {pos}/{len} {wide_bar} {eta}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut tally = Tally::default();
+    let mut feedback_error = None;
+    write_atomically_with(&args.csv, |out| {
+        out.write_all(b"student,file,part,verdict,mistake,score,points,feedback\n")?;
+        for file in &files {
+            let rows = grade_one(&ex.id, &key, file, &mut tally);
+            for row in &rows.lines {
+                out.write_all(row.as_bytes())?;
             }
-            Ok((answers, _)) => {
-                let student = student_name(file, answers.student.as_deref());
-                let wrong_exercise = answers.exercise.as_ref().filter(|id| **id != ex.id);
-                if let Some(id) = wrong_exercise {
-                    invalid += 1;
-                    csv.push_str(&format!(
-                        "{},{},,invalid,,0,{},{}\n",
-                        csv_field(&student),
-                        csv_field(&file.display().to_string()),
-                        key.parts.iter().map(|p| p.spec.points).sum::<f64>(),
-                        csv_field(&format!("answers for exercise '{id}', not '{}'", ex.id))
-                    ));
-                    continue;
-                }
-                let report = check_answers(&key, &answers, &student);
-                perfect += usize::from(report.all_correct());
-                for p in &report.parts {
-                    csv.push_str(&format!(
-                        "{},{},{},{},{},{},{},{}\n",
-                        csv_field(&student),
-                        csv_field(&file.display().to_string()),
-                        csv_field(&p.id),
-                        match p.verdict {
-                            PartVerdict::Correct => "correct",
-                            PartVerdict::Wrong => "wrong",
-                            PartVerdict::Missing => "missing",
-                            PartVerdict::Unreadable => "unreadable",
-                        },
-                        p.mistake.as_deref().unwrap_or(""),
-                        p.score,
-                        p.points,
-                        csv_field(&p.feedback)
+            if let (Some(dir), Some(text)) = (&args.feedback, rows.feedback) {
+                let name = file
+                    .file_stem()
+                    .map_or_else(|| "student".into(), |s| s.to_string_lossy().into_owned());
+                if let Err(e) = write_atomically(&dir.join(format!("{name}.txt")), &text) {
+                    feedback_error = Some(e);
+                    return Err(std::io::Error::other(
+                        "a feedback file could not be written",
                     ));
                 }
-                if let Some(dir) = &args.feedback {
-                    let name = file
-                        .file_stem()
-                        .map_or_else(|| "student".into(), |s| s.to_string_lossy().into_owned());
-                    write_atomically(&dir.join(format!("{name}.txt")), &report.text())?;
-                }
             }
+            progress.inc(1);
         }
-    }
-    write_atomically(&args.csv, &csv)?;
+        Ok(())
+    })
+    .map_err(|e| feedback_error.take().unwrap_or(e))?;
+    progress.finish_and_clear();
+    let Tally {
+        students,
+        invalid,
+        perfect,
+    } = tally;
     outln!(
         "{students} submissions graded for {}: {perfect} fully correct, {invalid} invalid (reported in {}); report written to {}",
         ex.id,

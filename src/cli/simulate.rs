@@ -65,6 +65,10 @@ fn describe(run: &ScenarioRun) -> String {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
+    super::args::distinct_outputs(&[
+        ("--svg", args.svg.as_deref()),
+        ("--csv", args.csv.as_deref()),
+    ])?;
     let dir = examples_folder(&args.dir);
     let all = load_folder(&dir)?;
     let path = find_example(&dir, &all, &args.example)?;

@@ -121,13 +121,26 @@ pub struct AnswerFile {
     pub answers: BTreeMap<String, String>,
 }
 
+/// The largest exercise or answer file read (a class's answers are a few hundred bytes each;
+/// a 10 MB "answer" is refused before it is read, and never echoed).
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
 fn read(path: &Path) -> Result<String, ExerciseError> {
-    std::fs::read_to_string(path).map_err(|e| ExerciseError {
+    let error = |message: String| ExerciseError {
         file: path.display().to_string(),
         line: 0,
         field: "file".into(),
-        message: e.to_string(),
-    })
+        message,
+    };
+    let size = std::fs::metadata(path)
+        .map_err(|e| error(e.to_string()))?
+        .len();
+    if size > MAX_FILE_BYTES {
+        return Err(error(format!(
+            "the file has {size} bytes; the most accepted is {MAX_FILE_BYTES} (1 MiB)"
+        )));
+    }
+    std::fs::read_to_string(path).map_err(|e| error(e.to_string()))
 }
 
 fn toml_error(path: &Path, raw: &str, e: &toml::de::Error) -> ExerciseError {
