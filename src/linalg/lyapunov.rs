@@ -210,8 +210,8 @@ fn lyapunov_from_schur(
         if two {
             let (r0, r1) = (rhs_col(first, &y), rhs_col(last, &y));
             let mut m = DMatrix::<f64>::zeros(2 * n, 2 * n);
-            m.view_mut((0, 0), (n, n)).copy_from(&t);
-            m.view_mut((n, n), (n, n)).copy_from(&t);
+            m.view_mut((0, 0), (n, n)).copy_from(t);
+            m.view_mut((n, n), (n, n)).copy_from(t);
             for i in 0..n {
                 m[(i, i)] += t[(first, first)];
                 m[(i, n + i)] += t[(first, last)];
