@@ -13,7 +13,7 @@
 //!
 //! Exactness is a property of the type ([`Ring::EXACT`]); tolerances never appear in exact code.
 
-mod gcd;
+pub(crate) mod gcd;
 mod multivariate;
 mod quadratic;
 mod scalars;

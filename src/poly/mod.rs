@@ -7,6 +7,7 @@
 //! [`RationalFunction`] keeps a transfer function in lowest terms with a monic denominator.
 
 mod factor;
+mod integer_gcd;
 mod rational_function;
 mod univariate;
 

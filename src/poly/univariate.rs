@@ -1,6 +1,6 @@
 //! Dense univariate polynomials `c0 + c1 x + … + cn x^n` over a ring.
 
-use crate::algebra::{Field, Ring};
+use crate::algebra::{Field, Rational, Ring};
 use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
 
@@ -239,7 +239,7 @@ pub(crate) fn join_coefficient(coef: &str, power: &str, how: Render) -> String {
     }
 }
 
-impl<F: Field> Poly<F> {
+impl<F: Field + 'static> Poly<F> {
     /// Euclidean division: `(q, r)` with `self = q·divisor + r`, `deg r < deg divisor`; `None`
     /// for a zero divisor.
     pub fn div_rem(&self, divisor: &Self) -> Option<(Self, Self)> {
@@ -263,6 +263,40 @@ impl<F: Field> Poly<F> {
         rem.truncate(dd);
         Some((Poly::new(q, &self.var), Poly::new(rem, &self.var)))
     }
+    /// Runs `f` on the coefficients when both polynomials are rational — over `Q`, or over
+    /// `Q(√d)` with every coefficient rational — and brings the result back: `None` when the
+    /// coefficients are not rational (the generic algorithm runs), `Some(None)` when `f` says
+    /// there is no result.
+    fn through_rationals(
+        &self,
+        other: &Self,
+        f: impl FnOnce(&[Rational], &[Rational]) -> Option<Vec<Rational>>,
+    ) -> Option<Option<Self>> {
+        use crate::algebra::Quadratic;
+        use std::any::Any;
+        let rationals = |p: &Self| -> Option<Vec<Rational>> {
+            let any = p as &dyn Any;
+            if let Some(q) = any.downcast_ref::<Poly<Rational>>() {
+                return Some(q.coeffs.clone());
+            }
+            let q = any.downcast_ref::<Poly<Quadratic>>()?;
+            q.coeffs.iter().map(|c| c.as_rational().cloned()).collect()
+        };
+        let (a, b) = (rationals(self)?, rationals(other)?);
+        let Some(result) = f(&a, &b) else {
+            return Some(None);
+        };
+        let back: Poly<Rational> = Poly::new(result, &self.var);
+        let any: Box<dyn Any> = if (self as &dyn Any).is::<Poly<Rational>>() {
+            Box::new(back)
+        } else {
+            Box::new(Poly::new(
+                back.coeffs.into_iter().map(Quadratic::rational).collect(),
+                &self.var,
+            ))
+        };
+        any.downcast::<Self>().ok().map(|b| Some(*b))
+    }
     /// The monic multiple of `self` (zero stays zero).
     pub fn monic(&self) -> Self {
         match self.leading().inverse() {
@@ -272,6 +306,11 @@ impl<F: Field> Poly<F> {
     }
     /// The monic greatest common divisor (zero only when both are zero).
     pub fn gcd(&self, other: &Self) -> Self {
+        if let Some(Some(g)) =
+            self.through_rationals(other, |a, b| Some(super::integer_gcd::gcd_rational(a, b)))
+        {
+            return g;
+        }
         let (mut a, mut b) = (self.clone(), other.clone());
         while !b.is_zero() {
             let r = match a.div_rem(&b) {
@@ -285,6 +324,10 @@ impl<F: Field> Poly<F> {
     }
     /// `self / divisor` when the division leaves no remainder.
     pub fn divide_exact(&self, divisor: &Self) -> Option<Self> {
+        if let Some(q) = self.through_rationals(divisor, super::integer_gcd::divide_exact_rational)
+        {
+            return q;
+        }
         let (q, r) = self.div_rem(divisor)?;
         r.is_zero().then_some(q)
     }
