@@ -28,6 +28,18 @@ impl RootSearch {
     pub const CANDIDATE_LIMIT: usize = 20_000;
 }
 
+/// `qⁿ f(p/q)` for integer coefficients `f` (ascending): zero exactly when `p/q` is a root,
+/// in integers (Horner on the homogenised polynomial, no fraction reduced).
+fn homogeneous_value(f: &[BigInt], p: &BigInt, q: &BigInt) -> BigInt {
+    let mut value = BigInt::zero();
+    let mut q_power = BigInt::from(1);
+    for c in f.iter().rev() {
+        value = value * p + c * &q_power;
+        q_power *= q;
+    }
+    value
+}
+
 /// The distinct rational roots of a polynomial with rational coefficients.
 ///
 /// ```
@@ -79,18 +91,32 @@ pub fn rational_roots(p: &Poly<Rational>) -> RootSearch {
         if ps.len() * qs.len() > RootSearch::CANDIDATE_LIMIT {
             exhaustive = false;
         }
-        let reduced = Poly::new(
-            ints.iter().map(|c| Rational::from(c.clone())).collect(),
-            "s",
-        );
+        // f(1) and f(−1) rule most candidates out: p/q a root ⇒ (q − p) | f(1), (q + p) | f(−1)
+        let at_one: BigInt = ints.iter().sum();
+        let at_minus_one: BigInt = ints
+            .iter()
+            .enumerate()
+            .map(|(i, c)| if i % 2 == 0 { c.clone() } else { -c })
+            .sum();
+        let divides = |d: &BigInt, v: &BigInt| {
+            if d.is_zero() {
+                v.is_zero()
+            } else {
+                (v % d).is_zero()
+            }
+        };
         'outer: for q in &qs {
             for pnum in &ps {
                 if roots.len() >= deg {
                     break 'outer;
                 }
                 for sign in [1i64, -1] {
-                    let cand = Rational::new(pnum * sign, q.clone());
-                    if !roots.contains(&cand) && reduced.eval(&cand).is_zero() {
+                    let p = pnum * sign;
+                    if !divides(&(q - &p), &at_one) || !divides(&(q + &p), &at_minus_one) {
+                        continue;
+                    }
+                    let cand = Rational::new(p.clone(), q.clone());
+                    if !roots.contains(&cand) && homogeneous_value(&ints, &p, q).is_zero() {
                         roots.push(cand);
                     }
                 }
