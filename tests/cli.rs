@@ -529,3 +529,165 @@ fn nonsense_requests_are_refused_with_the_flag_named() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+/// Issue 17's diagnoses: each refusal names the flag and what was expected, in the user's
+/// words, and an undetectable pair or out-of-range noise is said as such (exit 2 each).
+#[test]
+fn refusals_name_the_flag_and_the_reason() {
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &[
+                "gain",
+                "--a",
+                "[2 -3; 4 -5]",
+                "--c",
+                "[-3 2 1]",
+                "--poles",
+                "-1, -2",
+            ],
+            "in --c: C is 1×3, expected 2 columns (the order of A)",
+        ),
+        (
+            &[
+                "control",
+                "--a",
+                "[0 1; 0 0]",
+                "--b",
+                "[0; 1; 2]",
+                "--c",
+                "[1 0]",
+                "--l",
+                "[2; 1]",
+                "--f",
+                "[-1 -2]",
+            ],
+            "in --b: B is 3×1, expected 2 rows",
+        ),
+        (
+            &[
+                "control",
+                "--a",
+                "[0 1; 0 0]",
+                "--b",
+                "[0; 1]",
+                "--c",
+                "[1 0]",
+                "--l",
+                "[2 1]",
+                "--f",
+                "[-1 -2]",
+            ],
+            "in --l: the matrix is 1×2, expected 2×1 (states × outputs)",
+        ),
+        (
+            &[
+                "control",
+                "--a",
+                "[0 1; 0 0]",
+                "--b",
+                "[0; 1]",
+                "--c",
+                "[1 0]",
+                "--l",
+                "[2; 1]",
+                "--f",
+                "[-1 -2 3]",
+            ],
+            "in --f: the matrix is 1×3, expected 1×2 (inputs × states)",
+        ),
+        (
+            &[
+                "canonical",
+                "--a",
+                "[0 1; 0 0]",
+                "--b",
+                "[0; 1; 1]",
+                "--c",
+                "[1 0]",
+            ],
+            "in --b: B is 3×1",
+        ),
+        (
+            &[
+                "perfect",
+                "--a",
+                "[0 1; -2 -3]",
+                "--b",
+                "[0; 1]",
+                "--c",
+                "[1 0]",
+                "--changed-a",
+                "[1 2 3]",
+            ],
+            "in --changed-a: the matrix is 1×3, expected 2×2",
+        ),
+        (
+            &[
+                "kalman",
+                "--a",
+                "[1 0; 0 -1]",
+                "--b",
+                "[0; 1]",
+                "--c",
+                "[0 1]",
+                "--input-noise",
+                "[1]",
+                "--output-noise",
+                "[1]",
+            ],
+            "(A, C) is not detectable: the unobservable modes (1)",
+        ),
+        (
+            &[
+                "kalman",
+                "--a",
+                "[0 1; -2 -3]",
+                "--b",
+                "[0; 1]",
+                "--c",
+                "[1 0]",
+                "--input-noise",
+                "[1]",
+                "--output-noise",
+                "[1e-320]",
+            ],
+            "in --output-noise: an intensity of about 1e-320 is outside the range of f64",
+        ),
+        (
+            &[
+                "kalman",
+                "--a",
+                "[0 1; -2 -3]",
+                "--b",
+                "[0; 1]",
+                "--c",
+                "[1 0]",
+                "--input-noise",
+                "[1 0; 0 1]",
+                "--output-noise",
+                "[1]",
+            ],
+            "in --input-noise: the matrix is 2×2, expected 1×1 (inputs × inputs)",
+        ),
+    ];
+    for (args, expected) in cases {
+        let (code, out, err) = owb(args);
+        assert_eq!(code, 2, "{args:?}: {out}{err}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+    }
+    // a detectable pair (the unobservable mode at −1 is stable) is designed, not refused
+    let (code, out, err) = owb(&[
+        "kalman",
+        "--a",
+        "[-1 0; 0 -1]",
+        "--b",
+        "[0; 1]",
+        "--c",
+        "[0 1]",
+        "--input-noise",
+        "[1]",
+        "--output-noise",
+        "[1]",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+}

@@ -60,7 +60,9 @@ pub struct SystemPair {
 impl SystemPair {
     /// Both matrices, exact; errors name the flag and the column.
     pub fn parse(&self) -> Result<(Matrix<Rational>, Matrix<Rational>)> {
-        Ok((matrix("--a", &self.a)?, matrix("--c", &self.c)?))
+        let (a, c) = (matrix("--a", &self.a)?, matrix("--c", &self.c)?);
+        check_plant(&a, None, &c, None)?;
+        Ok((a, c))
     }
 }
 
@@ -241,4 +243,43 @@ impl DesiredArgs {
             bail!("give the desired observer polynomial: --poles, --poly, --repeated T, --butterworth T or --bessel T")
         })
     }
+}
+
+/// Checks the plant's shapes, errors in the flags' words (`in --b: B is 3×1, expected 2 rows
+/// (the order of A)`), before any computation can meet a mismatch in its own terms.
+pub fn check_plant(
+    a: &Matrix<Rational>,
+    b: Option<&Matrix<Rational>>,
+    c: &Matrix<Rational>,
+    d: Option<&Matrix<Rational>>,
+) -> Result<()> {
+    use crate::system::{StateSpace, SystemError};
+    StateSpace::new(a.clone(), b.cloned(), c.clone(), d.cloned())
+        .map(|_| ())
+        .map_err(|e| {
+            let flag = match &e {
+                SystemError::NonSquareA { .. } => "--a".to_string(),
+                SystemError::Shape { matrix, .. } => format!("--{}", matrix.to_lowercase()),
+            };
+            anyhow!("in {flag}: {e}")
+        })
+}
+
+/// Checks that a matrix flag has the shape the plant asks for; `why` says where it comes from
+/// (`"states × outputs"`).
+pub fn expect_shape<T: crate::algebra::Ring>(
+    flag: &str,
+    m: &Matrix<T>,
+    rows: usize,
+    cols: usize,
+    why: &str,
+) -> Result<()> {
+    if m.shape() != (rows, cols) {
+        bail!(
+            "in {flag}: the matrix is {}×{}, expected {rows}×{cols} ({why})",
+            m.rows(),
+            m.cols()
+        );
+    }
+    Ok(())
 }

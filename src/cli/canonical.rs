@@ -47,6 +47,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         .as_deref()
         .map(|t| matrix::<Rational>("--b", t))
         .transpose()?;
+    super::args::check_plant(&a, b.as_ref(), &c, None)?;
     let di = observer_form_di_ruscio(&a, b.as_ref(), &c)?;
     let st = observer_form_stoustrup(&a, b.as_ref(), &c)?;
     let same = di.t == st.t;

@@ -38,13 +38,20 @@ pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let b = matrix::<Rational>("--b", &args.b)?;
     let mut l = matrix::<Rational>("--l", &args.l)?;
+    super::args::check_plant(&a, Some(&b), &c, None)?;
+    let (n, m, p) = (a.rows(), b.cols(), c.rows());
+    super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
     let convention = Convention::parse(&args.convention)
         .ok_or_else(|| anyhow!("in --convention: unknown convention '{}'", args.convention))?;
     if convention == Convention::AMinusKC {
         l = l.neg();
     }
     let f = match (&args.f, &args.feedback_poly) {
-        (Some(f), _) => matrix::<Rational>("--f", f)?,
+        (Some(f), _) => {
+            let f = matrix::<Rational>("--f", f)?;
+            super::args::expect_shape("--f", &f, m, n, "inputs × states")?;
+            f
+        }
         (None, Some(p)) => {
             let p = parse_polynomial::<Rational>(p, "s")
                 .map_err(|e| anyhow!("in --feedback-poly: {}", e.show_in(p)))?;

@@ -230,11 +230,36 @@ fn tabulate(
 pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let (b, d) = args.inputs.parse()?;
+    super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
     let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
     let cu = matrix::<Rational>("--input-noise", &args.input_noise)?;
     let cy = matrix::<Rational>("--output-noise", &args.output_noise)?;
+    let (m, p) = (b.cols(), c.rows());
+    super::args::expect_shape("--input-noise", &cu, m, m, "inputs × inputs")?;
+    super::args::expect_shape("--output-noise", &cy, p, p, "outputs × outputs")?;
     for (flag, m) in [("--input-noise", &cu), ("--output-noise", &cy)] {
         require_covariance(flag, m)?;
+        // exact values that f64 cannot hold would be read as zero noise (or denormal noise)
+        if let Some(x) = m.entries().iter().find(|x| {
+            let f = crate::algebra::ToF64::to_f64(*x);
+            !x.is_zero() && (f.abs() < f64::MIN_POSITIVE || !f.is_finite())
+        }) {
+            let decimal_exponent =
+                (x.numer().bits() as f64 - x.denom().bits() as f64) * std::f64::consts::LOG10_2;
+            bail!(
+                "in {flag}: an intensity of about 1e{decimal_exponent:.0} is outside the range of f64 ({:e} to {:e}), where the Riccati equation is solved: scale the noise (other units)",
+                f64::MIN_POSITIVE,
+                f64::MAX
+            );
+        }
+    }
+    // An observer of any kind needs every unobservable mode stable (detectability).
+    let report = crate::observability::observability_report(&a, &c)?;
+    if !report.observable() && !crate::poly::is_hurwitz(&report.unobservable_polynomial) {
+        bail!(
+            "(A, C) is not detectable: the unobservable modes ({}) are not all stable, so no observer — Kalman or other — makes the estimation error vanish",
+            report.unobservable_eigenvalues.render()
+        );
     }
     if args.grid == 0 || args.grid > 100_000 {
         bail!("in --grid: {} points; give between 1 and 100000", args.grid);

@@ -36,6 +36,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let (b, d) = args.inputs.parse()?;
+    super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
     let p = perfect_observer(&a, &b, &c, d.as_ref())?;
     let conditions = robustness_conditions(&p);
     let changed = args.changed_a.is_some() || args.changed_b.is_some() || args.changed_c.is_some();
@@ -58,6 +59,19 @@ pub fn run(args: Args) -> Result<Outcome> {
             .map(|t| matrix::<Rational>("--changed-c", t))
             .transpose()?
             .unwrap_or_else(|| c.clone());
+        for (flag, changed, original) in [
+            ("--changed-a", &a2, &a),
+            ("--changed-b", &b2, &b),
+            ("--changed-c", &c2, &c),
+        ] {
+            super::args::expect_shape(
+                flag,
+                changed,
+                original.rows(),
+                original.cols(),
+                "the shape of the plant's matrix it changes",
+            )?;
+        }
         Some(robustness_residuals(&p, &a2, &b2, &c2, d.as_ref())?)
     } else {
         None

@@ -9,8 +9,10 @@
 mod factor;
 mod integer_gcd;
 mod rational_function;
+mod stability;
 mod univariate;
 
 pub use factor::{exact_roots, rational_roots, ExactRoots, Factored, RootSearch};
 pub use rational_function::RationalFunction;
+pub use stability::is_hurwitz;
 pub use univariate::Poly;

@@ -1,0 +1,81 @@
+//! Stability of a polynomial decided exactly: the Routh–Hurwitz test in rational arithmetic.
+//! A continuous-time characteristic polynomial is *Hurwitz* when every root has a negative real
+//! part; Routh's array answers that from the coefficients, with no root computed, so the answer
+//! is exact also where floating-point roots scatter (repeated roots, roots near the axis).
+
+use crate::algebra::Rational;
+use crate::poly::Poly;
+use num_traits::Zero;
+
+/// Whether every root of `p` has a strictly negative real part (Routh–Hurwitz, exact).
+/// Constants are Hurwitz (no roots); the zero polynomial is not.
+///
+/// ```
+/// use observer_workbench::algebra::{Rational, Ring};
+/// use observer_workbench::poly::{is_hurwitz, Poly};
+/// let p = |c: &[i64]| Poly::from_descending(&c.iter().map(|&x| Rational::from_i64(x)).collect::<Vec<_>>(), "s");
+/// assert!(is_hurwitz(&p(&[1, 12, 48, 64])));   // (s + 4)^3
+/// assert!(!is_hurwitz(&p(&[1, 0, 1])));        // s^2 + 1: roots on the axis
+/// assert!(!is_hurwitz(&p(&[1, 1, -2])));       // (s + 2)(s − 1)
+/// ```
+pub fn is_hurwitz(p: &Poly<Rational>) -> bool {
+    let Some(n) = p.degree() else {
+        return false;
+    };
+    // descending coefficients, leading one made positive
+    let mut c: Vec<Rational> = p.coeffs().iter().rev().cloned().collect();
+    if c[0] < Rational::zero() {
+        c.iter_mut().for_each(|x| *x = -x.clone());
+    }
+    let mut previous: Vec<Rational> = c.iter().step_by(2).cloned().collect();
+    let mut current: Vec<Rational> = c.iter().skip(1).step_by(2).cloned().collect();
+    for _ in 0..n {
+        let Some(pivot) = current.first().cloned() else {
+            return false;
+        };
+        if pivot <= Rational::zero() {
+            return false;
+        }
+        let at = |v: &[Rational], j: usize| v.get(j).cloned().unwrap_or_else(Rational::zero);
+        let next: Vec<Rational> = (0..previous.len().saturating_sub(1).max(1))
+            .map(|j| {
+                at(&previous, j + 1) - previous[0].clone() * at(&current, j + 1) / pivot.clone()
+            })
+            .collect();
+        previous = std::mem::replace(&mut current, next);
+        // the last row of a degree-n array is a single entry; trailing zeros are harmless
+        while current.len() > 1 && current.last().is_some_and(|x| *x == Rational::zero()) {
+            current.pop();
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::Ring;
+
+    proptest::proptest! {
+        /// Against the roots themselves: a product of real roots and quadratic factors
+        /// s² + b s + c is Hurwitz exactly when every real root is negative and every
+        /// quadratic factor has b > 0, c > 0.
+        #[test]
+        fn agrees_with_the_roots(
+            real in proptest::collection::vec(-6i64..6, 0..4),
+            pairs in proptest::collection::vec((-4i64..5, -4i64..9), 0..3),
+            lead in proptest::sample::select(vec![-3i64, -1, 1, 2]),
+        ) {
+            let q = Rational::from_i64;
+            let mut p = Poly::constant(q(lead), "s");
+            for &r in &real {
+                p = p * Poly::new(vec![q(-r), q(1)], "s");
+            }
+            for &(b, c) in &pairs {
+                p = p * Poly::new(vec![q(c), q(b), q(1)], "s");
+            }
+            let expected = real.iter().all(|&r| r < 0) && pairs.iter().all(|&(b, c)| b > 0 && c > 0);
+            proptest::prop_assert_eq!(is_hurwitz(&p), expected, "{}", p);
+        }
+    }
+}
