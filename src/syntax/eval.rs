@@ -216,7 +216,7 @@ fn power_terms(t: u64, k: u64) -> u64 {
 /// sums, or all the products of a power by squaring): about a second of symbolic arithmetic.
 /// `(s2 + s6 + w + g)^44` has 16 215 terms, under [`MAX_TERMS`], but computing it costs
 /// 4 million products.
-const MAX_PRODUCT_WORK: u64 = 500_000;
+const MAX_PRODUCT_WORK: u64 = 200_000;
 
 /// The term-by-term products [`power`] performs raising a `t`-term sum to `k` (square and
 /// multiply; term counts bounded by [`power_terms`]), saturating.
