@@ -3,6 +3,7 @@
 
 mod common;
 use common::owb;
+use observer_workbench::algebra::Ring;
 use observer_workbench::exercise::diagnose::diagnose;
 use observer_workbench::exercise::generate::{pole_placement, Settings};
 use observer_workbench::exercise::{
@@ -383,4 +384,51 @@ fn outputs_are_refused_or_written_whole() {
     );
     assert!(!dir.join("report.csv.tmp-owb").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Mistakes recognised by computing (issue 17): the answer to another part, the right rows or
+/// columns in another order, F with the opposite feedback sign; and attributions fit the
+/// exercise (no Lemma 3.1 where the exercise never used it).
+#[test]
+fn mistakes_found_by_computing() {
+    let st = key("stoustrup-pole-assignment");
+    // O = [C; CA] with its rows swapped
+    let o = st.part("O").unwrap().value.input();
+    let rows: Vec<&str> = o
+        .trim_matches(['[', ']'])
+        .split(';')
+        .map(str::trim)
+        .collect();
+    let swapped = format!("[{}; {}]", rows[1], rows[0]);
+    assert_eq!(mistake(&st, "O", &swapped), Some("permuted"));
+    // the open-loop polynomial given where the desired one is asked
+    let open_loop = st.part("open_loop").unwrap().value.input();
+    assert_eq!(mistake(&st, "desired", &open_loop), Some("another_part"));
+    let p = st.part("desired").unwrap();
+    let (d, _) = diagnose(&st, p, &open_loop);
+    assert!(d.unwrap().message.contains("part open_loop"));
+    // F of u = Fx given as K of u = −Kx
+    let oc = key("stoustrup-observer-based-control");
+    let f = oc.part("F").unwrap();
+    let negated = match &f.value {
+        observer_workbench::worked::Value::Matrix(m) => m.neg().to_input(),
+        _ => unreachable!("F is a matrix"),
+    };
+    let (d, _) = diagnose(&oc, f, &negated);
+    let d = d.unwrap();
+    assert_eq!(d.mistake, "feedback_sign");
+    assert!(d.message.contains("u = −Kx"), "{}", d.message);
+    // a reversed gain in an exercise without Lemma 3.1 does not cite it
+    let l = st.part("L").unwrap();
+    if let observer_workbench::worked::Value::Matrix(m) = &l.value {
+        let rev = format!("[{}; {}]", m.get(1, 0).to_input(), m.get(0, 0).to_input());
+        let (d, _) = diagnose(&st, l, &rev);
+        let d = d.unwrap();
+        assert_eq!(d.mistake, "reversed");
+        let cites = st
+            .parts
+            .iter()
+            .any(|q| q.claim.method.as_deref() == Some("lemma-3.1"));
+        assert_eq!(d.message.contains("Lemma 3.1"), cites, "{}", d.message);
+    }
 }

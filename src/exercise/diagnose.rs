@@ -25,6 +25,10 @@ pub const MISTAKES: &[&str] = &[
     "other_canonical_form",
     "inverse",
     "negated",
+    "another_part",
+    "permuted",
+    "other_procedure",
+    "feedback_sign",
 ];
 
 /// A named mistake with its explanation.
@@ -62,7 +66,7 @@ fn recompute_as(key: &AnswerKey, part: &KeyPart, what: &str) -> Option<Value> {
 }
 
 /// Candidate wrong answers for this part: (mistake, value, explanation).
-fn candidates(key: &AnswerKey, part: &KeyPart) -> Vec<(&'static str, Value, String)> {
+fn candidates(key: &AnswerKey, part: &KeyPart, answer: &str) -> Vec<(&'static str, Value, String)> {
     let mut out = Vec::new();
     let conv = convention(part);
     let other = match conv {
@@ -75,7 +79,14 @@ fn candidates(key: &AnswerKey, part: &KeyPart) -> Vec<(&'static str, Value, Stri
     };
     match (&part.value, part.spec.ask.as_str()) {
         (Value::Matrix(m), ask) => {
-            if matches!(ask, "gain" | "canonical_gain" | "state_feedback") {
+            if ask == "state_feedback" {
+                out.push((
+                    "feedback_sign",
+                    Value::Matrix(m.neg()),
+                    "your F has the opposite sign: it is K of u = −Kx (negative feedback with the minus written outside); the exercise asks for F in u = Fx, so F = −K".into(),
+                ));
+            }
+            if matches!(ask, "gain" | "canonical_gain") {
                 out.push((
                     "sign_convention",
                     Value::Matrix(m.neg()),
@@ -124,7 +135,20 @@ fn candidates(key: &AnswerKey, part: &KeyPart) -> Vec<(&'static str, Value, Stri
                     (0..m.rows()).flat_map(|i| m.row(i).to_vec()).collect();
                 let rev: Vec<Quadratic> = entries.into_iter().rev().collect();
                 let r = Matrix::from_fn(m.rows(), m.cols(), |i, j| rev[i * m.cols() + j].clone());
-                out.push(("reversed", Value::Matrix(r), "the entries are in reverse order (the state ordering of the other canonical form, or Lemma 3.1's rotation undone)".into()));
+                let lemma = key.parts.iter().any(|q| {
+                    q.claim.method.as_deref() == Some("lemma-3.1")
+                        || q.claim.what.starts_with("lemma_3_1")
+                });
+                let why = if lemma {
+                    "the entries are in reverse order (the state ordering of the other canonical form, or Lemma 3.1's rotation undone)"
+                } else {
+                    "the entries are in reverse order (the state ordering of the other canonical form?)"
+                };
+                out.push(("reversed", Value::Matrix(r), why.into()));
+            }
+            out.extend(permuted(key, m, answer));
+            if let Some(procedure) = other_procedure(key, part) {
+                out.push(procedure);
             }
         }
         (Value::Polynomial(p), ask) => {
@@ -143,11 +167,109 @@ fn candidates(key: &AnswerKey, part: &KeyPart) -> Vec<(&'static str, Value, Stri
             }
         }
         (Value::Transfer(t), _) => {
-            out.push(("negated", Value::Transfer(-t.clone()), "your transfer function has the wrong sign (u = F x̂ with F as given: check the sign of the feedback)".into()));
+            out.push(("negated", Value::Transfer(-t.clone()), "your transfer function has the wrong sign: positive instead of negative feedback or the reverse (u = F x̂ with F as given: check the sign of the feedback)".into()));
         }
         _ => {}
     }
+    // the right answer to another question of the same exercise
+    for q in &key.parts {
+        let same_kind = match (&q.value, &part.value) {
+            (Value::Matrix(x), Value::Matrix(y)) => x.shape() == y.shape(),
+            (Value::Polynomial(_), Value::Polynomial(_))
+            | (Value::Transfer(_), Value::Transfer(_)) => true,
+            _ => false,
+        };
+        if q.spec.id != part.spec.id && same_kind && q.value != part.value {
+            out.push((
+                "another_part",
+                q.value.clone(),
+                format!(
+                    "this is the answer to part {} ({}), not to part {}",
+                    q.spec.id, q.spec.prompt, part.spec.id
+                ),
+            ));
+        }
+    }
     out
+}
+
+/// The key's matrix with its rows (or columns) in the order the student's answer has them,
+/// when the answer holds the right rows (columns) in another order — found by matching
+/// entries in f64, then confirmed exactly by the comparison like any other candidate.
+fn permuted(
+    key: &AnswerKey,
+    m: &Matrix<Quadratic>,
+    answer: &str,
+) -> Vec<(&'static str, Value, String)> {
+    let Some(a) = answer_matrix(key, answer) else {
+        return Vec::new();
+    };
+    if a.shape() != m.shape() {
+        return Vec::new();
+    }
+    let close = |x: &Quadratic, y: &Quadratic| {
+        let (x, y) = (
+            crate::algebra::ToF64::to_f64(x),
+            crate::algebra::ToF64::to_f64(y),
+        );
+        (x - y).abs() <= 5e-3 * y.abs().max(1e-9)
+    };
+    // order[i] = the key's line that the answer's line i is
+    let order = |lines: usize, line: &dyn Fn(&Matrix<Quadratic>, usize) -> Vec<Quadratic>| {
+        let mut used = vec![false; lines];
+        let mut order = Vec::with_capacity(lines);
+        for i in 0..lines {
+            let ours = line(&a, i);
+            let j = (0..lines)
+                .find(|&j| !used[j] && line(m, j).iter().zip(&ours).all(|(x, y)| close(y, x)))?;
+            used[j] = true;
+            order.push(j);
+        }
+        (order.iter().enumerate().any(|(i, &j)| i != j)).then_some(order)
+    };
+    let mut out = Vec::new();
+    let rows = |x: &Matrix<Quadratic>, i: usize| x.row(i).to_vec();
+    let cols = |x: &Matrix<Quadratic>, j: usize| x.col(j);
+    if m.rows() > 1 {
+        if let Some(o) = order(m.rows(), &rows) {
+            let p = Matrix::from_fn(m.rows(), m.cols(), |i, j| m.get(o[i], j).clone());
+            let shown: Vec<String> = o.iter().map(|j| (j + 1).to_string()).collect();
+            out.push(("permuted", Value::Matrix(p), format!("the right rows in another order (yours are rows {} of the answer): check the ordering of the states", shown.join(", "))));
+        }
+    }
+    if m.cols() > 1 {
+        if let Some(o) = order(m.cols(), &cols) {
+            let p = Matrix::from_fn(m.rows(), m.cols(), |i, j| m.get(i, o[j]).clone());
+            let shown: Vec<String> = o.iter().map(|j| (j + 1).to_string()).collect();
+            out.push(("permuted", Value::Matrix(p), format!("the right columns in another order (yours are columns {} of the answer): check the ordering of the states or outputs", shown.join(", "))));
+        }
+    }
+    out
+}
+
+/// A canonical-form part answered with the other procedure's transformation (Di Ruscio's
+/// ss2ocf or Stoustrup's recursion), when the two differ for this system.
+fn other_procedure(key: &AnswerKey, part: &KeyPart) -> Option<(&'static str, Value, String)> {
+    if !part.spec.ask.starts_with("canonical_") || part.spec.ask == "canonical_gain" {
+        return None;
+    }
+    let ours = part.claim.procedure.as_deref().unwrap_or("stoustrup");
+    let (other, other_name, our_name) = match ours {
+        "di-ruscio" => ("stoustrup", "Stoustrup's", "Di Ruscio's"),
+        _ => ("di-ruscio", "Di Ruscio's", "Stoustrup's"),
+    };
+    let claim = ClaimSpec {
+        procedure: Some(other.into()),
+        ..part.claim.clone()
+    };
+    let value = key.recompute(&claim)?;
+    (value != part.value).then(|| {
+        (
+            "other_procedure",
+            value,
+            format!("this is what {other_name} procedure gives; the exercise asks for {our_name}, whose transformation differs for this system"),
+        )
+    })
 }
 
 /// The design's time constant, evaluated with the exercise's parameters.
@@ -440,7 +562,7 @@ fn answer_entry(answer: &str, i: usize, j: usize) -> Option<String> {
 /// answer does (for gains: the poles it places).
 pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagnosis>, Vec<String>) {
     let mut notes = Vec::new();
-    for (mistake, value, message) in candidates(key, part) {
+    for (mistake, value, message) in candidates(key, part, answer) {
         if matches(key, &value, answer) {
             // a named mistake never hides what the answer does: the poles a gain places
             if let Some((_, text, _)) = placed_polynomial(key, part, answer) {
