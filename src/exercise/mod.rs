@@ -2,7 +2,7 @@
 //! computed by the workbench (never typed), and a student's answers are checked with feedback
 //! that names the mistake — computed, not canned.
 //!
-//! * [`format`]: exercise files (`worked_examples/exercises/*.toml`) and answer files.
+//! * [`format`](mod@format): exercise files (`worked_examples/exercises/*.toml`) and answer files.
 //! * [`key`]: the answer key, each part recomputed through the worked-example computations.
 //! * [`check`]: one student's answers — verdict, score (partial credit per diagnosed mistake)
 //!   and feedback per part.

@@ -7,7 +7,7 @@
 //! * [`charpoly`]: the characteristic polynomial by Berkowitz's division-free algorithm (so it
 //!   runs over the symbolic ring too), matrix polynomials `P(A)` and `P(A)·v` by Horner.
 //! * [`definiteness`]: exact positive semidefiniteness of symmetric matrices.
-//! * [`kronecker`]: Kronecker products and `vec`, for Lyapunov equations.
+//! * [`kronecker`](mod@kronecker): Kronecker products and `vec`, for Lyapunov equations.
 //! * [`lyapunov`]: `F X + X Fᵀ + W = 0`, exact (vectorised) and in `f64` (Bartels–Stewart).
 //! * [`float`]: the `f64` side through nalgebra: eigenvalues, singular values, condition numbers.
 
