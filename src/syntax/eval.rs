@@ -375,6 +375,41 @@ fn bound_degree(column: usize, degree: usize) -> Result<(), SyntaxError> {
     Ok(())
 }
 
+/// The most work one operation on transfer functions read from input may cost, measured as
+/// the degree of the result times the bits of all the operands' coefficients: reducing the
+/// result to lowest terms is a polynomial gcd, whose cost grows with both (over `Q(√d)` the
+/// Euclidean remainders swell). Transfer functions a person types stay far below it (degree
+/// 10 with 60-bit coefficients: about 12 000).
+const MAX_RF_WORK: u64 = 50_000;
+
+fn bound_rf_work<F: Field + FromExpr>(
+    column: usize,
+    a: &RationalFunction<F>,
+    b: &RationalFunction<F>,
+) -> Result<(), SyntaxError> {
+    let bits = |r: &RationalFunction<F>| -> u64 {
+        r.numerator()
+            .coeffs()
+            .iter()
+            .chain(r.denominator().coeffs())
+            .map(FromExpr::size_bits)
+            .sum()
+    };
+    let degree = (degree(a) + degree(b)) as u64;
+    let work = degree.saturating_mul(bits(a) + bits(b));
+    if work > MAX_RF_WORK {
+        return Err(SyntaxError::TooLarge {
+            column,
+            what: format!(
+                "a transfer function of degree {degree} with {} bits of coefficients built here",
+                bits(a) + bits(b)
+            ),
+            limit: MAX_RF_WORK as usize,
+        });
+    }
+    Ok(())
+}
+
 fn rf<F: Field + FromExpr>(
     e: &Expr,
     var: &str,
@@ -408,6 +443,7 @@ fn rf<F: Field + FromExpr>(
             let (na, da) = (deg(a.numerator()), deg(a.denominator()));
             let (nb, db) = (deg(b.numerator()), deg(b.denominator()));
             bound_degree(c, (na + db).max(nb + da).max(da + db))?;
+            bound_rf_work(c, &a, &b)?;
             if matches!(e.kind, ExprKind::Add(..)) {
                 a + b
             } else {
@@ -417,11 +453,13 @@ fn rf<F: Field + FromExpr>(
         ExprKind::Mul(x, y) => {
             let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);
             bound_degree(c, degree(&a) + degree(&b))?;
+            bound_rf_work(c, &a, &b)?;
             a * b
         }
         ExprKind::Div(x, y) => {
             let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);
             bound_degree(c, degree(&a) + degree(&b))?;
+            bound_rf_work(c, &a, &b)?;
             a.checked_div(&b)
                 .ok_or(SyntaxError::DivisionByZero { column: c })?
         }
