@@ -3,8 +3,8 @@
 //! with the content divided out at every step. Euclid over `Q` directly makes a gcd per
 //! coefficient operation and lets the coefficients of the remainders swell (a transfer function
 //! typed with `22e-220` took seconds); here the integers stay the size of the inputs' and one
-//! reduction happens per result coefficient. [`Poly::gcd`] and [`Poly::divide_exact`] dispatch
-//! here for rational coefficients (also `Q(√d)` polynomials whose coefficients are rational).
+//! reduction happens per result coefficient. [`Poly::gcd`], [`Poly::divide_exact`] and products
+//! dispatch here for rational coefficients (also `Q(√d)` polynomials whose coefficients are rational).
 
 use crate::algebra::gcd::{fraction, gcd, lcm_of_denominators};
 use crate::algebra::Rational;
@@ -75,6 +75,31 @@ fn to_rationals(p: &[BigInt], scale: &Rational) -> Vec<Rational> {
     p.iter()
         .map(|c| fraction(c * scale.numer(), scale.denom().clone()))
         .collect()
+}
+
+/// The product of two rational polynomials (ascending coefficients, both nonzero): each scaled
+/// to integers by the lcm of its denominators, convolved in integers, each result coefficient
+/// reduced once.
+pub(crate) fn mul_rational(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
+    if a.is_empty() || b.is_empty() {
+        return Vec::new();
+    }
+    let (da, db) = (lcm_of_denominators(a), lcm_of_denominators(b));
+    let scale = |p: &[Rational], d: &BigInt| -> Vec<BigInt> {
+        p.iter().map(|c| c.numer() * (d / c.denom())).collect()
+    };
+    let (ia, ib) = (scale(a, &da), scale(b, &db));
+    let mut out = vec![BigInt::zero(); a.len() + b.len() - 1];
+    for (i, x) in ia.iter().enumerate() {
+        if x.is_zero() {
+            continue;
+        }
+        for (j, y) in ib.iter().enumerate() {
+            out[i + j] += x * y;
+        }
+    }
+    let d = da * db;
+    out.into_iter().map(|n| fraction(n, d.clone())).collect()
 }
 
 /// The monic gcd of two rational polynomials (ascending coefficients); empty when both are zero.
@@ -186,6 +211,21 @@ mod tests {
             let euclid = x.monic();
             let fast = Poly::new(gcd_rational(a.coeffs(), b.coeffs()), "s");
             proptest::prop_assert_eq!(&fast, &euclid);
+            // the fraction-free product against the schoolbook one in rationals
+            if !a.is_zero() && !b.is_zero() {
+                let (x, y) = (a.coeffs(), b.coeffs());
+                let school: Vec<Rational> = (0..x.len() + y.len() - 1)
+                    .map(|k| {
+                        (0..=k)
+                            .filter(|&i| i < x.len() && k - i < y.len())
+                            .fold(Rational::zero(), |acc, i| acc + &x[i] * &y[k - i])
+                    })
+                    .collect();
+                proptest::prop_assert_eq!(
+                    Poly::new(mul_rational(x, y), "s"),
+                    Poly::new(school, "s")
+                );
+            }
             if !fast.is_zero() {
                 let q = Poly::new(divide_exact_rational(a.coeffs(), fast.coeffs()).unwrap(), "s");
                 proptest::prop_assert_eq!(q * fast, a);

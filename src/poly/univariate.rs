@@ -22,6 +22,40 @@ pub struct Poly<R> {
 }
 
 impl<R: Ring> Poly<R> {
+    /// Runs `f` on the coefficients when both polynomials are rational — over `Q`, or over
+    /// `Q(√d)` with every coefficient rational — and brings the result back: `None` when the
+    /// coefficients are not rational (the generic algorithm runs), `Some(None)` when `f` says
+    /// there is no result.
+    pub(crate) fn through_rationals(
+        &self,
+        other: &Self,
+        f: impl FnOnce(&[Rational], &[Rational]) -> Option<Vec<Rational>>,
+    ) -> Option<Option<Self>> {
+        use crate::algebra::Quadratic;
+        use std::any::Any;
+        let rationals = |p: &Self| -> Option<Vec<Rational>> {
+            let any = p as &dyn Any;
+            if let Some(q) = any.downcast_ref::<Poly<Rational>>() {
+                return Some(q.coeffs.clone());
+            }
+            let q = any.downcast_ref::<Poly<Quadratic>>()?;
+            q.coeffs.iter().map(|c| c.as_rational().cloned()).collect()
+        };
+        let (a, b) = (rationals(self)?, rationals(other)?);
+        let Some(result) = f(&a, &b) else {
+            return Some(None);
+        };
+        let back: Poly<Rational> = Poly::new(result, &self.var);
+        let any: Box<dyn Any> = if (self as &dyn Any).is::<Poly<Rational>>() {
+            Box::new(back)
+        } else {
+            Box::new(Poly::new(
+                back.coeffs.into_iter().map(Quadratic::rational).collect(),
+                &self.var,
+            ))
+        };
+        any.downcast::<Self>().ok().map(|b| Some(*b))
+    }
     /// The polynomial with coefficients `coeffs` (ascending powers) in `var`.
     pub fn new(mut coeffs: Vec<R>, var: &str) -> Self {
         while coeffs.last().is_some_and(|c| c.is_zero()) {
@@ -263,40 +297,6 @@ impl<F: Field + 'static> Poly<F> {
         rem.truncate(dd);
         Some((Poly::new(q, &self.var), Poly::new(rem, &self.var)))
     }
-    /// Runs `f` on the coefficients when both polynomials are rational — over `Q`, or over
-    /// `Q(√d)` with every coefficient rational — and brings the result back: `None` when the
-    /// coefficients are not rational (the generic algorithm runs), `Some(None)` when `f` says
-    /// there is no result.
-    fn through_rationals(
-        &self,
-        other: &Self,
-        f: impl FnOnce(&[Rational], &[Rational]) -> Option<Vec<Rational>>,
-    ) -> Option<Option<Self>> {
-        use crate::algebra::Quadratic;
-        use std::any::Any;
-        let rationals = |p: &Self| -> Option<Vec<Rational>> {
-            let any = p as &dyn Any;
-            if let Some(q) = any.downcast_ref::<Poly<Rational>>() {
-                return Some(q.coeffs.clone());
-            }
-            let q = any.downcast_ref::<Poly<Quadratic>>()?;
-            q.coeffs.iter().map(|c| c.as_rational().cloned()).collect()
-        };
-        let (a, b) = (rationals(self)?, rationals(other)?);
-        let Some(result) = f(&a, &b) else {
-            return Some(None);
-        };
-        let back: Poly<Rational> = Poly::new(result, &self.var);
-        let any: Box<dyn Any> = if (self as &dyn Any).is::<Poly<Rational>>() {
-            Box::new(back)
-        } else {
-            Box::new(Poly::new(
-                back.coeffs.into_iter().map(Quadratic::rational).collect(),
-                &self.var,
-            ))
-        };
-        any.downcast::<Self>().ok().map(|b| Some(*b))
-    }
     /// The monic multiple of `self` (zero stays zero).
     pub fn monic(&self) -> Self {
         match self.leading().inverse() {
@@ -391,6 +391,12 @@ impl<R: Ring> Mul for Poly<R> {
     fn mul(self, rhs: Self) -> Self {
         if self.is_zero() || rhs.is_zero() {
             return Poly::zero(&self.var);
+        }
+        // rational coefficients: fraction-free, one reduction per result coefficient
+        if let Some(Some(p)) =
+            self.through_rationals(&rhs, |a, b| Some(super::integer_gcd::mul_rational(a, b)))
+        {
+            return p;
         }
         let mut c = vec![R::zero(); self.coeffs.len() + rhs.coeffs.len() - 1];
         for (i, a) in self.coeffs.iter().enumerate() {
