@@ -31,6 +31,10 @@ pub const MISTAKES: &[&str] = &[
     "feedback_sign",
 ];
 
+/// The largest number (numerator plus denominator bits) in an answer the diagnosis compares
+/// with its candidate mistakes.
+const MAX_DIAGNOSED_BITS: u64 = 2048;
+
 /// A named mistake with its explanation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnosis {
@@ -562,6 +566,23 @@ fn answer_entry(answer: &str, i: usize, j: usize) -> Option<String> {
 /// answer does (for gains: the poles it places).
 pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagnosis>, Vec<String>) {
     let mut notes = Vec::new();
+    // Every candidate mistake is the key's value or a small transformation of it; an answer
+    // holding numbers of thousands of bits matches none of them, and comparing it with each
+    // (dozens of exact evaluations) is what would take long.
+    if let Some(a) = answer_matrix(key, answer) {
+        let largest = a
+            .entries()
+            .iter()
+            .map(crate::syntax::FromExpr::size_bits)
+            .max()
+            .unwrap_or(0);
+        if largest > MAX_DIAGNOSED_BITS {
+            notes.push(format!(
+                "your answer holds a number of {largest} bits; answers that large are not compared with the usual mistakes"
+            ));
+            return (None, notes);
+        }
+    }
     for (mistake, value, message) in candidates(key, part, answer) {
         if matches(key, &value, answer) {
             // a named mistake never hides what the answer does: the poles a gain places
