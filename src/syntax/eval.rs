@@ -395,16 +395,34 @@ fn bound_rf_work<F: Field + FromExpr>(
             .map(FromExpr::size_bits)
             .sum()
     };
+    // over Q(√d) with irrational coefficients the gcd is Euclid's, its remainders swelling:
+    // a tenth of the budget (a Butterworth filter with √2 uses well under a thousand)
+    let irrational = |r: &RationalFunction<F>| {
+        r.numerator()
+            .coeffs()
+            .iter()
+            .chain(r.denominator().coeffs())
+            .any(|c| {
+                (c as &dyn std::any::Any)
+                    .downcast_ref::<Quadratic>()
+                    .is_some_and(|q| q.as_rational().is_none())
+            })
+    };
+    let limit = if irrational(a) || irrational(b) {
+        MAX_RF_WORK / 10
+    } else {
+        MAX_RF_WORK
+    };
     let degree = (degree(a) + degree(b)) as u64;
     let work = degree.saturating_mul(bits(a) + bits(b));
-    if work > MAX_RF_WORK {
+    if work > limit {
         return Err(SyntaxError::TooLarge {
             column,
             what: format!(
                 "a transfer function of degree {degree} with {} bits of coefficients built here",
                 bits(a) + bits(b)
             ),
-            limit: MAX_RF_WORK as usize,
+            limit: limit as usize,
         });
     }
     Ok(())
