@@ -93,35 +93,28 @@ pub const CLI_SUBCOMMANDS: [&str; 8] = [
 /// `--grid` ≤ 100 000), which tests check separately.
 #[cfg(feature = "cli")]
 fn bound_requested_work(args: &mut Vec<String>) {
-    const COUNTS: [(&str, &str, usize); 2] = [("--starts", "1", 1), ("--grid", "50", 50)];
-    for (flag, default, most) in COUNTS {
-        let mut given = false;
+    const COUNTS: [(&str, &str, usize); 2] = [("optimal", "--starts", 1), ("kalman", "--grid", 50)];
+    let clamp = |v: &str, most: usize| match v.trim().parse::<usize>() {
+        Ok(n) if n > most => most.to_string(),
+        _ => v.to_string(),
+    };
+    for (subcommand, flag, most) in COUNTS {
         let joined = format!("{flag}=");
+        let mut given = false;
+        let mut value_next = false;
         for arg in args.iter_mut() {
-            if let Some(v) = arg.strip_prefix(&joined) {
+            if std::mem::take(&mut value_next) {
+                *arg = clamp(arg, most);
+            } else if arg == flag {
                 given = true;
-                if v.trim().parse::<usize>().is_ok_and(|n| n > most) {
-                    *arg = format!("{joined}{most}");
-                }
+                value_next = true;
+            } else if let Some(v) = arg.strip_prefix(&joined) {
+                given = true;
+                *arg = format!("{joined}{}", clamp(v, most));
             }
         }
-        for k in 0..args.len() {
-            if args[k] == flag {
-                given = true;
-                if let Some(v) = args.get_mut(k + 1) {
-                    if v.trim().parse::<usize>().is_ok_and(|n| n > most) {
-                        *v = most.to_string();
-                    }
-                }
-            }
-        }
-        let applies = match flag {
-            "--starts" => args[0] == "optimal",
-            _ => args[0] == "kalman",
-        };
-        if applies && !given {
-            args.push(flag.to_string());
-            args.push(default.to_string());
+        if args[0] == subcommand && !given {
+            args.extend([flag.to_string(), most.to_string()]);
         }
     }
 }

@@ -28,6 +28,13 @@ pub enum ObservabilityError {
         /// entries are rational: the modes no gain can move.
         modes: Option<String>,
     },
+    /// The pair is not detectable: an unobservable mode is not stable, so no observer makes
+    /// the estimation error vanish.
+    #[error("(A, C) is not detectable: the unobservable modes ({modes}) are not all stable, so no observer — Kalman or other — makes the estimation error vanish")]
+    Undetectable {
+        /// The unobservable eigenvalues, printed.
+        modes: String,
+    },
 }
 
 /// `O_n = [C; CA; …; CA^(n−1)]`.
@@ -201,6 +208,24 @@ fn unobservable_modes(a: &Matrix<Rational>, basis: &[Matrix<Rational>]) -> Optio
     let restricted = restriction(a, basis).ok()?;
     let p = linalg::characteristic_polynomial(&restricted, "s").ok()?;
     Some(exact_roots(&p).render())
+}
+
+/// Requires detectability (continuous time): every unobservable mode stable, decided exactly
+/// by Routh–Hurwitz on the unobservable polynomial `det(λI − A|ker O_n)`.
+///
+/// # Errors
+/// [`ObservabilityError::Undetectable`] naming the unobservable modes; a dimension error.
+pub fn require_detectable(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+) -> Result<(), ObservabilityError> {
+    let report = observability_report(a, c)?;
+    if report.observable() || crate::poly::is_hurwitz(&report.unobservable_polynomial) {
+        return Ok(());
+    }
+    Err(ObservabilityError::Undetectable {
+        modes: report.unobservable_eigenvalues.render(),
+    })
 }
 
 /// Requires observability: `Ok(O_n)` or the evidence why not.

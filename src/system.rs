@@ -59,6 +59,23 @@ impl<T: Ring> StateSpace<T> {
         c: Matrix<T>,
         d: Option<Matrix<T>>,
     ) -> Result<Self, SystemError> {
+        let n = a.rows();
+        let b = b.unwrap_or_else(|| Matrix::zeros(n, 0));
+        let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
+        Self::check_shapes(&a, Some(&b), &c, Some(&d))?;
+        Ok(StateSpace { a, b, c, d })
+    }
+    /// Whether `(A, B, C, D)` fit together, without building the model (`B = None`: no input,
+    /// `D = None`: zero).
+    ///
+    /// # Errors
+    /// [`SystemError`] naming the matrix whose shape does not fit.
+    pub fn check_shapes(
+        a: &Matrix<T>,
+        b: Option<&Matrix<T>>,
+        c: &Matrix<T>,
+        d: Option<&Matrix<T>>,
+    ) -> Result<(), SystemError> {
         if !a.is_square() {
             return Err(SystemError::NonSquareA {
                 rows: a.rows(),
@@ -66,8 +83,8 @@ impl<T: Ring> StateSpace<T> {
             });
         }
         let n = a.rows();
-        let b = b.unwrap_or_else(|| Matrix::zeros(n, 0));
-        if b.rows() != n {
+        let inputs = b.map_or(0, Matrix::cols);
+        if let Some(b) = b.filter(|b| b.rows() != n) {
             return Err(SystemError::Shape {
                 matrix: "B",
                 rows: b.rows(),
@@ -83,16 +100,15 @@ impl<T: Ring> StateSpace<T> {
                 expected: format!("{n} columns (the order of A)"),
             });
         }
-        let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
-        if d.shape() != (c.rows(), b.cols()) {
+        if let Some(d) = d.filter(|d| d.shape() != (c.rows(), inputs)) {
             return Err(SystemError::Shape {
                 matrix: "D",
                 rows: d.rows(),
                 cols: d.cols(),
-                expected: format!("{}×{} (outputs × inputs)", c.rows(), b.cols()),
+                expected: format!("{}×{inputs} (outputs × inputs)", c.rows()),
             });
         }
-        Ok(StateSpace { a, b, c, d })
+        Ok(())
     }
     /// The system matrix.
     pub fn a(&self) -> &Matrix<T> {

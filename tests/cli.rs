@@ -534,9 +534,19 @@ fn nonsense_requests_are_refused_with_the_flag_named() {
 /// words, and an undetectable pair or out-of-range noise is said as such (exit 2 each).
 #[test]
 fn refusals_name_the_flag_and_the_reason() {
-    let cases: &[(&[&str], &str)] = &[
+    // a double integrator with observer and feedback gains; one matrix changed per case
+    let control = |b: &'static str, l: &'static str, f: &'static str| {
+        let plant = ["control", "--a", "[0 1; 0 0]", "--c", "[1 0]"];
+        [&plant[..], &["--b", b, "--l", l, "--f", f]].concat()
+    };
+    let kalman = |a: &'static str, c: &'static str, cu: &'static str, cy: &'static str| {
+        let noise = ["--input-noise", cu, "--output-noise", cy];
+        [&["kalman", "--a", a, "--b", "[0; 1]", "--c", c][..], &noise].concat()
+    };
+    let stable = "[0 1; -2 -3]";
+    let cases: Vec<(Vec<&str>, &str)> = vec![
         (
-            &[
+            vec![
                 "gain",
                 "--a",
                 "[2 -3; 4 -5]",
@@ -548,55 +558,19 @@ fn refusals_name_the_flag_and_the_reason() {
             "in --c: C is 1×3, expected 2 columns (the order of A)",
         ),
         (
-            &[
-                "control",
-                "--a",
-                "[0 1; 0 0]",
-                "--b",
-                "[0; 1; 2]",
-                "--c",
-                "[1 0]",
-                "--l",
-                "[2; 1]",
-                "--f",
-                "[-1 -2]",
-            ],
+            control("[0; 1; 2]", "[2; 1]", "[-1 -2]"),
             "in --b: B is 3×1, expected 2 rows",
         ),
         (
-            &[
-                "control",
-                "--a",
-                "[0 1; 0 0]",
-                "--b",
-                "[0; 1]",
-                "--c",
-                "[1 0]",
-                "--l",
-                "[2 1]",
-                "--f",
-                "[-1 -2]",
-            ],
+            control("[0; 1]", "[2 1]", "[-1 -2]"),
             "in --l: the matrix is 1×2, expected 2×1 (states × outputs)",
         ),
         (
-            &[
-                "control",
-                "--a",
-                "[0 1; 0 0]",
-                "--b",
-                "[0; 1]",
-                "--c",
-                "[1 0]",
-                "--l",
-                "[2; 1]",
-                "--f",
-                "[-1 -2 3]",
-            ],
+            control("[0; 1]", "[2; 1]", "[-1 -2 3]"),
             "in --f: the matrix is 1×3, expected 1×2 (inputs × states)",
         ),
         (
-            &[
+            vec![
                 "canonical",
                 "--a",
                 "[0 1; 0 0]",
@@ -608,10 +582,10 @@ fn refusals_name_the_flag_and_the_reason() {
             "in --b: B is 3×1",
         ),
         (
-            &[
+            vec![
                 "perfect",
                 "--a",
-                "[0 1; -2 -3]",
+                stable,
                 "--b",
                 "[0; 1]",
                 "--c",
@@ -622,72 +596,24 @@ fn refusals_name_the_flag_and_the_reason() {
             "in --changed-a: the matrix is 1×3, expected 2×2",
         ),
         (
-            &[
-                "kalman",
-                "--a",
-                "[1 0; 0 -1]",
-                "--b",
-                "[0; 1]",
-                "--c",
-                "[0 1]",
-                "--input-noise",
-                "[1]",
-                "--output-noise",
-                "[1]",
-            ],
+            kalman("[1 0; 0 -1]", "[0 1]", "[1]", "[1]"),
             "(A, C) is not detectable: the unobservable modes (1)",
         ),
         (
-            &[
-                "kalman",
-                "--a",
-                "[0 1; -2 -3]",
-                "--b",
-                "[0; 1]",
-                "--c",
-                "[1 0]",
-                "--input-noise",
-                "[1]",
-                "--output-noise",
-                "[1e-320]",
-            ],
+            kalman(stable, "[1 0]", "[1]", "[1e-320]"),
             "in --output-noise: an intensity of about 1e-320 is outside the range of f64",
         ),
         (
-            &[
-                "kalman",
-                "--a",
-                "[0 1; -2 -3]",
-                "--b",
-                "[0; 1]",
-                "--c",
-                "[1 0]",
-                "--input-noise",
-                "[1 0; 0 1]",
-                "--output-noise",
-                "[1]",
-            ],
+            kalman(stable, "[1 0]", "[1 0; 0 1]", "[1]"),
             "in --input-noise: the matrix is 2×2, expected 1×1 (inputs × inputs)",
         ),
     ];
-    for (args, expected) in cases {
+    for (args, expected) in &cases {
         let (code, out, err) = owb(args);
         assert_eq!(code, 2, "{args:?}: {out}{err}");
         assert!(err.contains(expected), "{args:?}: {err}");
     }
     // a detectable pair (the unobservable mode at −1 is stable) is designed, not refused
-    let (code, out, err) = owb(&[
-        "kalman",
-        "--a",
-        "[-1 0; 0 -1]",
-        "--b",
-        "[0; 1]",
-        "--c",
-        "[0 1]",
-        "--input-noise",
-        "[1]",
-        "--output-noise",
-        "[1]",
-    ]);
+    let (code, out, err) = owb(&kalman("[-1 0; 0 -1]", "[0 1]", "[1]", "[1]"));
     assert_eq!(code, 0, "{out}{err}");
 }

@@ -18,6 +18,19 @@ fn key(id: &str) -> AnswerKey {
     answer_key(&path, &ex).unwrap()
 }
 
+/// `owb grade` of Stoustrup's pole-assignment exercise over `subs` into `csv`.
+fn grade(subs: &Path, csv: &Path, more: &[&str]) -> (i32, String, String) {
+    let mut args = vec![
+        "grade",
+        "stoustrup-pole-assignment",
+        subs.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+    ];
+    args.extend_from_slice(more);
+    owb(&args)
+}
+
 fn mistake(key: &AnswerKey, part: &str, answer: &str) -> Option<&'static str> {
     let p = key.part(part).unwrap();
     diagnose(key, p, answer).0.map(|d| d.mistake)
@@ -182,15 +195,7 @@ fn check_and_grade_from_the_command_line() {
     assert!(err.contains("eve.toml:"), "{err}");
     let csv = dir.join("report.csv");
     let fb = dir.join("feedback");
-    let (code, out, err) = owb(&[
-        "grade",
-        "stoustrup-pole-assignment",
-        subs.to_str().unwrap(),
-        "--csv",
-        csv.to_str().unwrap(),
-        "--feedback",
-        fb.to_str().unwrap(),
-    ]);
+    let (code, out, err) = grade(&subs, &csv, &["--feedback", fb.to_str().unwrap()]);
     assert_eq!(code, 0, "{out}{err}");
     let report = std::fs::read_to_string(&csv).unwrap();
     // eve's file is reported, not skipped; zed's unreadable answer is named
@@ -288,13 +293,7 @@ fn grade_never_writes_over_a_submission() {
     let sub = dir.join("ada.toml");
     let text = "[answers]\nL = \"[-6; -12]\"\n";
     std::fs::write(&sub, text).unwrap();
-    let (code, _, err) = owb(&[
-        "grade",
-        "stoustrup-pole-assignment",
-        dir.to_str().unwrap(),
-        "--csv",
-        sub.to_str().unwrap(),
-    ]);
+    let (code, _, err) = grade(&dir, &sub, &[]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("is a submission being graded"), "{err}");
     assert_eq!(std::fs::read_to_string(&sub).unwrap(), text);
@@ -362,13 +361,7 @@ fn outputs_are_refused_or_written_whole() {
     let long = format!("[answers]\nL = \"[{}]\"\n", "((".repeat(3000));
     std::fs::write(subs.join("long.toml"), long).unwrap();
     let csv = dir.join("report.csv");
-    let (code, out, err) = owb(&[
-        "grade",
-        "stoustrup-pole-assignment",
-        subs.to_str().unwrap(),
-        "--csv",
-        csv.to_str().unwrap(),
-    ]);
+    let (code, out, err) = grade(&subs, &csv, &[]);
     assert_eq!(code, 0, "{out}{err}");
     let report = std::fs::read_to_string(&csv).unwrap();
     assert!(

@@ -252,16 +252,8 @@ fn furlan() -> [Matrix<Rational>; 6] {
 #[test]
 fn furlan_kalman_filter_and_weighted_observer() {
     let [a, b, c, d, cu, cy] = furlan();
-    let plant = Plant {
-        a: to_nalgebra(&a),
-        b: to_nalgebra(&b),
-        c: to_nalgebra(&c),
-        d: to_nalgebra(&d),
-    };
-    let noise = NoiseIntensities {
-        input: to_nalgebra(&cu),
-        output: to_nalgebra(&cy),
-    };
+    let plant = Plant::from_exact(&a, &b, &c, &d);
+    let noise = NoiseIntensities::from_exact(&cu, &cy);
     let k = kalman_filter(&plant, &noise).unwrap();
     assert!(k.residual < 1e-12, "{}", k.residual);
     let poles: Vec<_> = k

@@ -137,6 +137,23 @@ pub fn fraction(n: BigInt, d: BigInt) -> Rational {
     }
 }
 
+/// `values` times their common denominator: `(integers, denominator)` — the one place
+/// fraction-free code (matrix products, polynomial products and gcds) clears denominators.
+pub(crate) fn integer_numerators(values: &[Rational]) -> (Vec<BigInt>, BigInt) {
+    let d = lcm_of_denominators(values);
+    let ints = values
+        .iter()
+        .map(|x| {
+            if x.denom() == &d {
+                x.numer().clone()
+            } else {
+                x.numer() * (&d / x.denom())
+            }
+        })
+        .collect();
+    (ints, d)
+}
+
 /// The least common multiple of the denominators of `values` (1 for none).
 pub fn lcm_of_denominators(values: &[Rational]) -> BigInt {
     let mut acc = BigInt::one();

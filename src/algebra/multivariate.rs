@@ -419,13 +419,8 @@ impl Mul for MultiPoly {
         use num_bigint::BigInt;
         fn integer(p: &MultiPoly) -> (Vec<(&Monomial, BigInt)>, BigInt) {
             let coefficients: Vec<Rational> = p.terms.values().cloned().collect();
-            let d = crate::algebra::gcd::lcm_of_denominators(&coefficients);
-            let scaled = p
-                .terms
-                .iter()
-                .map(|(m, c)| (m, c.numer() * (&d / c.denom())))
-                .collect();
-            (scaled, d)
+            let (ints, d) = crate::algebra::gcd::integer_numerators(&coefficients);
+            (p.terms.keys().zip(ints).collect(), d)
         }
         let (left, d1) = integer(&self);
         let (right, d2) = integer(&rhs);

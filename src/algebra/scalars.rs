@@ -81,7 +81,8 @@ impl Field for BigRational {
         super::lcm_of_denominators(values)
     }
     fn scale_to_integer(&self, d: &BigInt) -> BigInt {
-        (self.numer() * d) / self.denom()
+        // d is a multiple of the denominator: divide first, the smaller product follows
+        self.numer() * (d / self.denom())
     }
     fn from_integer_ratio(n: BigInt, d: BigInt) -> Option<Self> {
         (!Zero::is_zero(&d)).then(|| super::fraction(n, d))

@@ -254,15 +254,13 @@ pub fn check_plant(
     d: Option<&Matrix<Rational>>,
 ) -> Result<()> {
     use crate::system::{StateSpace, SystemError};
-    StateSpace::new(a.clone(), b.cloned(), c.clone(), d.cloned())
-        .map(|_| ())
-        .map_err(|e| {
-            let flag = match &e {
-                SystemError::NonSquareA { .. } => "--a".to_string(),
-                SystemError::Shape { matrix, .. } => format!("--{}", matrix.to_lowercase()),
-            };
-            anyhow!("in {flag}: {e}")
-        })
+    StateSpace::check_shapes(a, b, c, d).map_err(|e| {
+        let flag = match &e {
+            SystemError::NonSquareA { .. } => "--a".to_string(),
+            SystemError::Shape { matrix, .. } => format!("--{}", matrix.to_lowercase()),
+        };
+        anyhow!("in {flag}: {e}")
+    })
 }
 
 /// Checks that a matrix flag has the shape the plant asks for; `why` says where it comes from

@@ -254,13 +254,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
     }
     // An observer of any kind needs every unobservable mode stable (detectability).
-    let report = crate::observability::observability_report(&a, &c)?;
-    if !report.observable() && !crate::poly::is_hurwitz(&report.unobservable_polynomial) {
-        bail!(
-            "(A, C) is not detectable: the unobservable modes ({}) are not all stable, so no observer — Kalman or other — makes the estimation error vanish",
-            report.unobservable_eigenvalues.render()
-        );
-    }
+    crate::observability::require_detectable(&a, &c)?;
     if args.grid == 0 || args.grid > 100_000 {
         bail!("in --grid: {} points; give between 1 and 100000", args.grid);
     }
@@ -268,16 +262,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     {
         bail!("--derivative-output and --derivative-state compare observers with chosen poles: give --poles too");
     }
-    let plant = Plant {
-        a: to_nalgebra(&a),
-        b: to_nalgebra(&b),
-        c: to_nalgebra(&c),
-        d: to_nalgebra(&d),
-    };
-    let noise = NoiseIntensities {
-        input: to_nalgebra(&cu),
-        output: to_nalgebra(&cy),
-    };
+    let plant = Plant::from_exact(&a, &b, &c, &d);
+    let noise = NoiseIntensities::from_exact(&cu, &cy);
     let k = kalman_filter(&plant, &noise)?;
     let kalman_gain = DMatrix::from_fn(k.gain.len(), c.rows(), |i, j| k.gain[i][j]);
     let mut table = vec![Row {

@@ -6,6 +6,7 @@ use super::args::{json_matrix, matrix, print_json};
 use super::Outcome;
 use crate::algebra::{Rational, Ring};
 use crate::derivation::Show;
+use crate::linalg::Matrix;
 use crate::observer::perfect::{
     perfect_observer, robustness_conditions, robustness_residuals, Reconstruction,
 };
@@ -33,6 +34,27 @@ pub struct Args {
     json: bool,
 }
 
+/// A changed plant matrix (`--changed-*`), the original when not given; it must keep the
+/// original's shape.
+fn changed_matrix(
+    flag: &str,
+    text: Option<&str>,
+    original: &Matrix<Rational>,
+) -> Result<Matrix<Rational>> {
+    let Some(text) = text else {
+        return Ok(original.clone());
+    };
+    let m = matrix::<Rational>(flag, text)?;
+    super::args::expect_shape(
+        flag,
+        &m,
+        original.rows(),
+        original.cols(),
+        "the shape of the plant's matrix it changes",
+    )?;
+    Ok(m)
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let (b, d) = args.inputs.parse()?;
@@ -41,37 +63,9 @@ pub fn run(args: Args) -> Result<Outcome> {
     let conditions = robustness_conditions(&p);
     let changed = args.changed_a.is_some() || args.changed_b.is_some() || args.changed_c.is_some();
     let fit = if changed {
-        let a2 = args
-            .changed_a
-            .as_deref()
-            .map(|t| matrix::<Rational>("--changed-a", t))
-            .transpose()?
-            .unwrap_or_else(|| a.clone());
-        let b2 = args
-            .changed_b
-            .as_deref()
-            .map(|t| matrix::<Rational>("--changed-b", t))
-            .transpose()?
-            .unwrap_or_else(|| b.clone());
-        let c2 = args
-            .changed_c
-            .as_deref()
-            .map(|t| matrix::<Rational>("--changed-c", t))
-            .transpose()?
-            .unwrap_or_else(|| c.clone());
-        for (flag, changed, original) in [
-            ("--changed-a", &a2, &a),
-            ("--changed-b", &b2, &b),
-            ("--changed-c", &c2, &c),
-        ] {
-            super::args::expect_shape(
-                flag,
-                changed,
-                original.rows(),
-                original.cols(),
-                "the shape of the plant's matrix it changes",
-            )?;
-        }
+        let a2 = changed_matrix("--changed-a", args.changed_a.as_deref(), &a)?;
+        let b2 = changed_matrix("--changed-b", args.changed_b.as_deref(), &b)?;
+        let c2 = changed_matrix("--changed-c", args.changed_c.as_deref(), &c)?;
         Some(robustness_residuals(&p, &a2, &b2, &c2, d.as_ref())?)
     } else {
         None

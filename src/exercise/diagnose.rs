@@ -70,7 +70,11 @@ fn recompute_as(key: &AnswerKey, part: &KeyPart, what: &str) -> Option<Value> {
 }
 
 /// Candidate wrong answers for this part: (mistake, value, explanation).
-fn candidates(key: &AnswerKey, part: &KeyPart, answer: &str) -> Vec<(&'static str, Value, String)> {
+fn candidates(
+    key: &AnswerKey,
+    part: &KeyPart,
+    answer: Option<&Matrix<Quadratic>>,
+) -> Vec<Candidate> {
     let mut out = Vec::new();
     let conv = convention(part);
     let other = match conv {
@@ -83,77 +87,7 @@ fn candidates(key: &AnswerKey, part: &KeyPart, answer: &str) -> Vec<(&'static st
     };
     match (&part.value, part.spec.ask.as_str()) {
         (Value::Matrix(m), ask) => {
-            if ask == "state_feedback" {
-                out.push((
-                    "feedback_sign",
-                    Value::Matrix(m.neg()),
-                    "your F has the opposite sign: it is K of u = −Kx (negative feedback with the minus written outside); the exercise asks for F in u = Fx, so F = −K".into(),
-                ));
-            }
-            if matches!(ask, "gain" | "canonical_gain") {
-                out.push((
-                    "sign_convention",
-                    Value::Matrix(m.neg()),
-                    format!("your answer is the negative of the gain: it is the gain for the {other} convention, but the exercise asks for {asked}"),
-                ));
-            }
-            if ask == "gain" {
-                if let Some(Value::Matrix(k_o)) = recompute_as(key, part, "canonical_gain") {
-                    out.push((
-                        "canonical_coordinates",
-                        Value::Matrix(k_o.clone()),
-                        format!("this is the gain in observer-canonical coordinates, K_o = {}; transform it back with T (K = T K_o) to get the gain of the original system", k_o.to_input()),
-                    ));
-                    out.push((
-                        "canonical_coordinates",
-                        Value::Matrix(k_o.neg()),
-                        format!("this is −K_o, the canonical-coordinate gain with the other sign convention: transform with T (K = T K_o) and use the {asked} convention"),
-                    ));
-                }
-            }
-            if ask == "canonical_transformation" || ask == "canonical_transformation_inverse" {
-                if let Ok(inv) = crate::linalg::inverse(m) {
-                    out.push((
-                        "inverse",
-                        Value::Matrix(inv),
-                        "you gave the inverse: the exercise uses x = T x_o (A_o = T⁻¹ A T); check which of T and T⁻¹ is asked".into(),
-                    ));
-                }
-            }
-            if ask == "canonical_a" || ask == "canonical_c" || ask == "canonical_b" {
-                out.push((
-                    "other_canonical_form",
-                    Value::Matrix(m.transpose()),
-                    "this is the transpose, the controller (companion) canonical form; the observer canonical form is its dual (coefficients in the first column of A_o, C_o = [1 0 … 0])".into(),
-                ));
-            }
-            if m.rows() != m.cols() {
-                out.push((
-                    "transposed",
-                    Value::Matrix(m.transpose()),
-                    format!("transposed: the answer should be {}×{}", m.rows(), m.cols()),
-                ));
-            }
-            if (m.rows() == 1 || m.cols() == 1) && m.rows() * m.cols() > 1 {
-                let entries: Vec<Quadratic> =
-                    (0..m.rows()).flat_map(|i| m.row(i).to_vec()).collect();
-                let rev: Vec<Quadratic> = entries.into_iter().rev().collect();
-                let r = Matrix::from_fn(m.rows(), m.cols(), |i, j| rev[i * m.cols() + j].clone());
-                let lemma = key.parts.iter().any(|q| {
-                    q.claim.method.as_deref() == Some("lemma-3.1")
-                        || q.claim.what.starts_with("lemma_3_1")
-                });
-                let why = if lemma {
-                    "the entries are in reverse order (the state ordering of the other canonical form, or Lemma 3.1's rotation undone)"
-                } else {
-                    "the entries are in reverse order (the state ordering of the other canonical form?)"
-                };
-                out.push(("reversed", Value::Matrix(r), why.into()));
-            }
-            out.extend(permuted(key, m, answer));
-            if let Some(procedure) = other_procedure(key, part) {
-                out.push(procedure);
-            }
+            out.extend(matrix_candidates(key, part, m, ask, answer, (other, asked)));
         }
         (Value::Polynomial(p), ask) => {
             out.push(("negated", Value::Polynomial(-p.clone()), "your polynomial is the negative of the answer; the characteristic polynomial det(λI − A) is monic (det(A − λI) differs from it by (−1)ⁿ)".into()));
@@ -175,7 +109,101 @@ fn candidates(key: &AnswerKey, part: &KeyPart, answer: &str) -> Vec<(&'static st
         }
         _ => {}
     }
-    // the right answer to another question of the same exercise
+    out.extend(other_parts(key, part));
+    out
+}
+
+/// A candidate wrong answer: (mistake, value, explanation).
+type Candidate = (&'static str, Value, String);
+
+/// Candidates for a matrix part `m` (`ask` says what it is; `conventions` = (the other, the
+/// asked) observer convention in words; `answer` the student's matrix when it reads as one).
+fn matrix_candidates(
+    key: &AnswerKey,
+    part: &KeyPart,
+    m: &Matrix<Quadratic>,
+    ask: &str,
+    answer: Option<&Matrix<Quadratic>>,
+    (other, asked): (&str, &str),
+) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    if ask == "state_feedback" {
+        out.push((
+            "feedback_sign",
+            Value::Matrix(m.neg()),
+            "your F has the opposite sign: it is K of u = −Kx (negative feedback with the minus written outside); the exercise asks for F in u = Fx, so F = −K".into(),
+        ));
+    }
+    if matches!(ask, "gain" | "canonical_gain") {
+        out.push((
+            "sign_convention",
+            Value::Matrix(m.neg()),
+            format!("your answer is the negative of the gain: it is the gain for the {other} convention, but the exercise asks for {asked}"),
+        ));
+    }
+    if ask == "gain" {
+        if let Some(Value::Matrix(k_o)) = recompute_as(key, part, "canonical_gain") {
+            out.push((
+                "canonical_coordinates",
+                Value::Matrix(k_o.clone()),
+                format!("this is the gain in observer-canonical coordinates, K_o = {}; transform it back with T (K = T K_o) to get the gain of the original system", k_o.to_input()),
+            ));
+            out.push((
+                "canonical_coordinates",
+                Value::Matrix(k_o.neg()),
+                format!("this is −K_o, the canonical-coordinate gain with the other sign convention: transform with T (K = T K_o) and use the {asked} convention"),
+            ));
+        }
+    }
+    if ask == "canonical_transformation" || ask == "canonical_transformation_inverse" {
+        if let Ok(inv) = crate::linalg::inverse(m) {
+            out.push((
+                "inverse",
+                Value::Matrix(inv),
+                "you gave the inverse: the exercise uses x = T x_o (A_o = T⁻¹ A T); check which of T and T⁻¹ is asked".into(),
+            ));
+        }
+    }
+    if ask == "canonical_a" || ask == "canonical_c" || ask == "canonical_b" {
+        out.push((
+            "other_canonical_form",
+            Value::Matrix(m.transpose()),
+            "this is the transpose, the controller (companion) canonical form; the observer canonical form is its dual (coefficients in the first column of A_o, C_o = [1 0 … 0])".into(),
+        ));
+    }
+    if m.rows() != m.cols() {
+        out.push((
+            "transposed",
+            Value::Matrix(m.transpose()),
+            format!("transposed: the answer should be {}×{}", m.rows(), m.cols()),
+        ));
+    }
+    if (m.rows() == 1 || m.cols() == 1) && m.rows() * m.cols() > 1 {
+        let entries: Vec<Quadratic> = (0..m.rows()).flat_map(|i| m.row(i).to_vec()).collect();
+        let rev: Vec<Quadratic> = entries.into_iter().rev().collect();
+        let r = Matrix::from_fn(m.rows(), m.cols(), |i, j| rev[i * m.cols() + j].clone());
+        let lemma = key.parts.iter().any(|q| {
+            q.claim.method.as_deref() == Some("lemma-3.1") || q.claim.what.starts_with("lemma_3_1")
+        });
+        let why = if lemma {
+            "the entries are in reverse order (the state ordering of the other canonical form, or Lemma 3.1's rotation undone)"
+        } else {
+            "the entries are in reverse order (the state ordering of the other canonical form?)"
+        };
+        out.push(("reversed", Value::Matrix(r), why.into()));
+    }
+    if let Some(a) = answer {
+        out.extend(permuted(m, a));
+    }
+    if let Some(procedure) = other_procedure(key, part) {
+        out.push(procedure);
+    }
+    out
+}
+
+/// The right answers to the other parts of the same exercise, of the same kind and shape.
+fn other_parts(key: &AnswerKey, part: &KeyPart) -> Vec<Candidate> {
+    let mut out = Vec::new();
     for q in &key.parts {
         let same_kind = match (&q.value, &part.value) {
             (Value::Matrix(x), Value::Matrix(y)) => x.shape() == y.shape(),
@@ -200,14 +228,7 @@ fn candidates(key: &AnswerKey, part: &KeyPart, answer: &str) -> Vec<(&'static st
 /// The key's matrix with its rows (or columns) in the order the student's answer has them,
 /// when the answer holds the right rows (columns) in another order — found by matching
 /// entries in f64, then confirmed exactly by the comparison like any other candidate.
-fn permuted(
-    key: &AnswerKey,
-    m: &Matrix<Quadratic>,
-    answer: &str,
-) -> Vec<(&'static str, Value, String)> {
-    let Some(a) = answer_matrix(key, answer) else {
-        return Vec::new();
-    };
+fn permuted(m: &Matrix<Quadratic>, a: &Matrix<Quadratic>) -> Vec<Candidate> {
     if a.shape() != m.shape() {
         return Vec::new();
     }
@@ -223,7 +244,7 @@ fn permuted(
         let mut used = vec![false; lines];
         let mut order = Vec::with_capacity(lines);
         for i in 0..lines {
-            let ours = line(&a, i);
+            let ours = line(a, i);
             let j = (0..lines)
                 .find(|&j| !used[j] && line(m, j).iter().zip(&ours).all(|(x, y)| close(y, x)))?;
             used[j] = true;
@@ -253,7 +274,7 @@ fn permuted(
 
 /// A canonical-form part answered with the other procedure's transformation (Di Ruscio's
 /// ss2ocf or Stoustrup's recursion), when the two differ for this system.
-fn other_procedure(key: &AnswerKey, part: &KeyPart) -> Option<(&'static str, Value, String)> {
+fn other_procedure(key: &AnswerKey, part: &KeyPart) -> Option<Candidate> {
     if !part.spec.ask.starts_with("canonical_") || part.spec.ask == "canonical_gain" {
         return None;
     }
@@ -566,10 +587,12 @@ fn answer_entry(answer: &str, i: usize, j: usize) -> Option<String> {
 /// answer does (for gains: the poles it places).
 pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagnosis>, Vec<String>) {
     let mut notes = Vec::new();
+    // the student's matrix, read once for every use below
+    let parsed = answer_matrix(key, answer);
     // Every candidate mistake is the key's value or a small transformation of it; an answer
     // holding numbers of thousands of bits matches none of them, and comparing it with each
     // (dozens of exact evaluations) is what would take long.
-    if let Some(a) = answer_matrix(key, answer) {
+    if let Some(a) = &parsed {
         let largest = a
             .entries()
             .iter()
@@ -583,7 +606,7 @@ pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagno
             return (None, notes);
         }
     }
-    for (mistake, value, message) in candidates(key, part, answer) {
+    for (mistake, value, message) in candidates(key, part, parsed.as_ref()) {
         if matches(key, &value, answer) {
             // a named mistake never hides what the answer does: the poles a gain places
             if let Some((_, text, _)) = placed_polynomial(key, part, answer) {
@@ -604,7 +627,7 @@ pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagno
         found = single_slip(key, part, answer);
     }
     if found.is_none() {
-        if let (Value::Matrix(m), Some(a)) = (&part.value, answer_matrix(key, answer)) {
+        if let (Value::Matrix(m), Some(a)) = (&part.value, &parsed) {
             if (a.rows(), a.cols()) != (m.rows(), m.cols()) {
                 notes.push(format!(
                     "your answer is {}×{}, the answer is {}×{}",

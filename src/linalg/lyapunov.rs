@@ -115,16 +115,22 @@ pub fn lyapunov_residual(f: &DMatrix<f64>, w: &DMatrix<f64>, x: &DMatrix<f64>) -
     }
 }
 
+/// Shapes fit and every entry is finite.
+fn check_f64_inputs(f: &DMatrix<f64>, w: &DMatrix<f64>) -> Result<(), LyapunovError> {
+    check_shapes(f.nrows(), f.ncols(), w.nrows(), w.ncols())?;
+    if f.iter().chain(w.iter()).any(|x| !x.is_finite()) {
+        return Err(LyapunovError::NotFinite);
+    }
+    Ok(())
+}
+
 /// Solves `F X + X Fᵀ + W = 0` in `f64` by Bartels–Stewart.
 ///
 /// # Errors
 /// [`LyapunovError`] for mismatched shapes, non-finite entries, or a (numerically) singular
 /// block system — two eigenvalues of `F` summing to zero.
 pub fn lyapunov_f64(f: &DMatrix<f64>, w: &DMatrix<f64>) -> Result<LyapunovSolution, LyapunovError> {
-    check_shapes(f.nrows(), f.ncols(), w.nrows(), w.ncols())?;
-    if f.iter().chain(w.iter()).any(|x| !x.is_finite()) {
-        return Err(LyapunovError::NotFinite);
-    }
+    check_f64_inputs(f, w)?;
     let n = f.nrows();
     if n == 0 {
         return Ok(LyapunovSolution {
@@ -168,10 +174,7 @@ pub fn lyapunov_f64_with_abscissa(
     f: &DMatrix<f64>,
     w: &DMatrix<f64>,
 ) -> Result<Option<(LyapunovSolution, f64)>, LyapunovError> {
-    check_shapes(f.nrows(), f.ncols(), w.nrows(), w.ncols())?;
-    if f.iter().chain(w.iter()).any(|x| !x.is_finite()) {
-        return Err(LyapunovError::NotFinite);
-    }
+    check_f64_inputs(f, w)?;
     let n = f.nrows();
     let Some(schur) = nalgebra::linalg::Schur::try_new(f.clone(), f64::EPSILON, 30 * n.max(10))
     else {

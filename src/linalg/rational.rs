@@ -13,7 +13,7 @@
 //! computation on rationals takes this path; the results are the same numbers.
 
 use super::Matrix;
-use crate::algebra::{fraction, lcm_of_denominators, BigInt, Rational};
+use crate::algebra::{fraction, BigInt, Rational};
 use crate::poly::Poly;
 use num_traits::{One, ToPrimitive, Zero};
 
@@ -50,21 +50,7 @@ impl Scaled {
     }
 }
 
-/// `v` times its entries' common denominator: `(integers, denominator)`.
-fn scale(values: &[Rational]) -> (Vec<BigInt>, BigInt) {
-    let d = lcm_of_denominators(values);
-    let ints = values
-        .iter()
-        .map(|x| {
-            if x.denom() == &d {
-                x.numer().clone()
-            } else {
-                x.numer() * (&d / x.denom())
-            }
-        })
-        .collect();
-    (ints, d)
-}
+use crate::algebra::gcd::integer_numerators as scale;
 
 /// `a · b` (shapes checked by the caller).
 pub(crate) fn mul(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Matrix<Rational> {

@@ -234,7 +234,29 @@ pub fn minimal_dynamical_error(
                 .fold(0.0, f64::max)
         })
         .fold(0.0, f64::max);
-    let eigen = numerical_hessian(&cost, &best_x).symmetric_eigen();
+    let (hessian_eigenvalues, flat_directions, flat_vectors) = flatness(&cost, &best_x);
+    let places_exactly = places_exactly(a, c, desired, placed_column, &free, &best_x);
+    Ok(DynamicalErrorReport {
+        rows: n,
+        cols: p,
+        placed_column,
+        starts,
+        converged,
+        reached_best: near.len(),
+        spread,
+        hessian_eigenvalues,
+        flat_directions,
+        flat_vectors,
+        best,
+        runs: runs.into_iter().map(|r| r.1).collect(),
+        places_exactly,
+    })
+}
+
+/// The Hessian's eigenvalues at the minimiser `x`, how many directions are flat there
+/// (eigenvalue below `1e-5` of the largest), and those directions (largest entry positive).
+fn flatness(cost: &impl Fn(&[f64]) -> f64, x: &[f64]) -> (Vec<f64>, usize, Vec<Vec<f64>>) {
+    let eigen = numerical_hessian(cost, x).symmetric_eigen();
     let hessian_eigenvalues: Vec<f64> = eigen.eigenvalues.iter().copied().collect();
     let largest = hessian_eigenvalues.iter().copied().fold(0.0, f64::max);
     let flat: Vec<usize> = (0..hessian_eigenvalues.len())
@@ -253,33 +275,31 @@ pub fn minimal_dynamical_error(
             v.iter().map(|x| if big < 0.0 { -x } else { *x }).collect()
         })
         .collect();
-    // Exact placement of the reported minimiser: free entries as exact binary fractions.
+    (hessian_eigenvalues, flat_directions, flat_vectors)
+}
+
+/// Whether the minimiser, its free entries read as the exact binary fractions they are and the
+/// placed column computed exactly, has exactly the desired characteristic polynomial.
+fn places_exactly(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &Poly<Rational>,
+    placed_column: usize,
+    free: &[(usize, usize)],
+    x: &[f64],
+) -> bool {
+    let (n, p) = (a.rows(), c.rows());
     let mut fixed = Matrix::<Rational>::zeros(n, p);
-    for (v, &(i, j)) in best_x.iter().zip(&free) {
+    for (v, &(i, j)) in x.iter().zip(free) {
         if let Some(r) = num_rational::BigRational::from_float(*v) {
             fixed.set(i, j, r);
         }
     }
-    let places_exactly = place_free_column(a, c, &fixed, placed_column, desired)
+    place_free_column(a, c, &fixed, placed_column, desired)
         .ok()
         .and_then(|g| a.sub(&g.mul(c).ok()?).ok())
         .and_then(|f| crate::linalg::characteristic_polynomial(&f, "s").ok())
-        .is_some_and(|cp| cp.coeffs() == desired.coeffs());
-    Ok(DynamicalErrorReport {
-        rows: n,
-        cols: p,
-        placed_column,
-        starts,
-        converged,
-        reached_best: near.len(),
-        spread,
-        hessian_eigenvalues,
-        flat_directions,
-        flat_vectors,
-        best,
-        runs: runs.into_iter().map(|r| r.1).collect(),
-        places_exactly,
-    })
+        .is_some_and(|cp| cp.coeffs() == desired.coeffs())
 }
 
 /// Central-difference Hessian with step `1e-4`.

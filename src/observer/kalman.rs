@@ -62,6 +62,20 @@ pub struct NoiseIntensities {
     pub output: DMatrix<f64>,
 }
 
+impl NoiseIntensities {
+    /// The f64 image of exact intensities `C_U`, `C_Y`.
+    pub fn from_exact(
+        input: &Matrix<crate::algebra::Rational>,
+        output: &Matrix<crate::algebra::Rational>,
+    ) -> Self {
+        use crate::linalg::float::to_nalgebra;
+        NoiseIntensities {
+            input: to_nalgebra(input),
+            output: to_nalgebra(output),
+        }
+    }
+}
+
 /// A plant for noise computations: `(A, B, C, D)` in `f64`.
 #[derive(Clone, Debug)]
 pub struct Plant {
@@ -76,6 +90,21 @@ pub struct Plant {
 }
 
 impl Plant {
+    /// The f64 image of an exact plant `(A, B, C, D)` (shapes are checked where it is used).
+    pub fn from_exact(
+        a: &Matrix<crate::algebra::Rational>,
+        b: &Matrix<crate::algebra::Rational>,
+        c: &Matrix<crate::algebra::Rational>,
+        d: &Matrix<crate::algebra::Rational>,
+    ) -> Self {
+        use crate::linalg::float::to_nalgebra;
+        Plant {
+            a: to_nalgebra(a),
+            b: to_nalgebra(b),
+            c: to_nalgebra(c),
+            d: to_nalgebra(d),
+        }
+    }
     fn check(&self, noise: &NoiseIntensities) -> Result<(), KalmanError> {
         let n = self.a.nrows();
         let (m, p) = (self.b.ncols(), self.c.nrows());

@@ -116,16 +116,8 @@ pub fn weighted_design(
     state: usize,
     grid: usize,
 ) -> Result<WeightedDesign, WeightedError> {
-    let plant = Plant {
-        a: to_nalgebra(a),
-        b: to_nalgebra(b),
-        c: to_nalgebra(c),
-        d: to_nalgebra(d),
-    };
-    let noise = NoiseIntensities {
-        input: to_nalgebra(input_noise),
-        output: to_nalgebra(output_noise),
-    };
+    let plant = Plant::from_exact(a, b, c, d);
+    let noise = NoiseIntensities::from_exact(input_noise, output_noise);
     let (af, cf) = (a.map(|x| x.to_f64()), c.map(|x| x.to_f64()));
     let pf = desired.map(ToF64::to_f64);
     let variance = |w: f64| -> f64 {

@@ -6,7 +6,7 @@
 //! reduction happens per result coefficient. [`Poly::gcd`], [`Poly::divide_exact`] and products
 //! dispatch here for rational coefficients (also `Q(√d)` polynomials whose coefficients are rational).
 
-use crate::algebra::gcd::{fraction, gcd, lcm_of_denominators};
+use crate::algebra::gcd::{fraction, gcd, integer_numerators};
 use crate::algebra::Rational;
 use num_bigint::BigInt;
 use num_traits::{One, Signed, Zero};
@@ -17,8 +17,7 @@ fn primitive_part(p: &[Rational]) -> Option<(Vec<BigInt>, Rational)> {
     if p.iter().all(Zero::is_zero) {
         return None;
     }
-    let d = lcm_of_denominators(p);
-    let ints: Vec<BigInt> = p.iter().map(|c| c.numer() * (&d / c.denom())).collect();
+    let (ints, d) = integer_numerators(p);
     let (mut prim, content) = integer_primitive(ints);
     let mut content = fraction(content, d);
     if prim.last().is_some_and(Signed::is_negative) {
@@ -84,11 +83,7 @@ pub(crate) fn mul_rational(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
     if a.is_empty() || b.is_empty() {
         return Vec::new();
     }
-    let (da, db) = (lcm_of_denominators(a), lcm_of_denominators(b));
-    let scale = |p: &[Rational], d: &BigInt| -> Vec<BigInt> {
-        p.iter().map(|c| c.numer() * (d / c.denom())).collect()
-    };
-    let (ia, ib) = (scale(a, &da), scale(b, &db));
+    let ((ia, da), (ib, db)) = (integer_numerators(a), integer_numerators(b));
     let mut out = vec![BigInt::zero(); a.len() + b.len() - 1];
     for (i, x) in ia.iter().enumerate() {
         if x.is_zero() {

@@ -46,15 +46,11 @@ impl<R: Ring> Poly<R> {
             return Some(None);
         };
         let back: Poly<Rational> = Poly::new(result, &self.var);
-        let any: Box<dyn Any> = if (self as &dyn Any).is::<Poly<Rational>>() {
-            Box::new(back)
-        } else {
-            Box::new(Poly::new(
-                back.coeffs.into_iter().map(Quadratic::rational).collect(),
-                &self.var,
-            ))
-        };
-        any.downcast::<Self>().ok().map(|b| Some(*b))
+        if (self as &dyn Any).is::<Poly<Rational>>() {
+            return crate::linalg::from_rational(back).map(Some);
+        }
+        let quadratic = back.coeffs.into_iter().map(Quadratic::rational).collect();
+        crate::linalg::from_rational(Poly::new(quadratic, &self.var)).map(Some)
     }
     /// The polynomial with coefficients `coeffs` (ascending powers) in `var`.
     pub fn new(mut coeffs: Vec<R>, var: &str) -> Self {

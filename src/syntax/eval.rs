@@ -402,11 +402,7 @@ fn bound_rf_work<F: Field + FromExpr>(
             .coeffs()
             .iter()
             .chain(r.denominator().coeffs())
-            .any(|c| {
-                (c as &dyn std::any::Any)
-                    .downcast_ref::<Quadratic>()
-                    .is_some_and(|q| q.as_rational().is_none())
-            })
+            .any(|c| c.field_tag() != 0)
     };
     let limit = if irrational(a) || irrational(b) {
         MAX_RF_WORK / 10

@@ -135,19 +135,19 @@ pub(super) fn dynamical_error(inputs: &Inputs, title: &str) -> Result<Computed, 
 }
 
 fn plant_and_noise(inputs: &Inputs) -> Result<(Plant, NoiseIntensities), ComputeError> {
-    let plant = Plant {
-        a: to_nalgebra(&inputs.numeric("A")?),
-        b: to_nalgebra(&inputs.numeric("B")?),
-        c: to_nalgebra(&inputs.numeric("C")?),
-        d: to_nalgebra(&inputs.numeric("D")?),
-    };
+    let plant = Plant::from_exact(
+        &inputs.numeric("A")?,
+        &inputs.numeric("B")?,
+        &inputs.numeric("C")?,
+        &inputs.numeric("D")?,
+    );
     if !inputs.has("input_noise") {
         return Err(input_error("noise", "this claim needs a [noise] section"));
     }
-    let noise = NoiseIntensities {
-        input: to_nalgebra(&inputs.numeric("input_noise")?),
-        output: to_nalgebra(&inputs.numeric("output_noise")?),
-    };
+    let noise = NoiseIntensities::from_exact(
+        &inputs.numeric("input_noise")?,
+        &inputs.numeric("output_noise")?,
+    );
     Ok((plant, noise))
 }
 
