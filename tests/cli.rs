@@ -518,6 +518,8 @@ fn nonsense_requests_are_refused_with_the_flag_named() {
         (with(&optimal, &["--starts", "100000000"]), "--starts"),
         (with(&optimal, &["--index", "j2", "--weight", "[-1 0 0; 0 1 0; 0 0 1]"]), "--weight"),
         (vec!["optimal", "--a", diagonal, "--c", first_state_twice, "--poles", "-4, -4, -4"], "not observable"),
+        (vec!["optimal", "--a", "[0]", "--c", "[1; 2]", "--poles", "0", "--index", "j2"], "not Hurwitz"),
+        (vec!["optimal", "--a", "[1]", "--c", "[0; 1]", "--poles", "-1", "--index", "j2"], "output 1 cannot place the poles alone"),
         (vec!["gain", "--a", diagonal, "--c", first_state_twice, "--poles", "-1, -2, -3"], "unobservable eigenvalues 3, 2"),
         (with(&kalman, &["--input-noise", "[-1]", "--output-noise", "[1]"]), "--input-noise"),
         (with(&kalman, &["--input-noise", "[1]", "--output-noise", "[1]", "--derivative-output", "1"]), "give --poles"),
@@ -528,6 +530,20 @@ fn nonsense_requests_are_refused_with_the_flag_named() {
         assert_eq!(code, 2, "{args:?}: {out}{err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+}
+
+/// A 1×1 plant with two outputs: J2 = D/6 on every gain placing s + 3, so the minimiser is not
+/// unique (every direction is flat, though the Hessian vanishes there).
+#[test]
+fn a_constant_j2_is_flat_everywhere() {
+    let (code, out, err) = owb(&[
+        "optimal", "--a", "[-1]", "--c", "[1; 1]", "--poles", "-3", "--index", "j2", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    assert_eq!(v["report"]["flat_directions"], 1, "{out}");
+    let j2 = v["report"]["best"]["cost"].as_f64().expect("cost");
+    assert!((j2 - 1.0 / 6.0).abs() < 1e-9, "{j2}");
 }
 
 /// Issue 17's diagnoses: each refusal names the flag and what was expected, in the user's

@@ -27,6 +27,8 @@ fn replay(target: &str, run: fn(&[u8])) -> usize {
 fn syntax_findings_are_refused_quickly() {
     // `s^4 s^499` took 0.4 s (a product of powers grew without bound): now a degree limit;
     // `2(s--poles+6+s6)^26` took 2.6 s (a gcd per product term): multiplication now fraction-free
+    // `(33848^-845 - s + 263 - 12)^111` built 1.4 Mbit coefficients: powers of transfer functions
+    // now bound the size of the coefficients they build
     assert!(replay("syntax", observer_workbench::fuzzing::syntax) >= 1);
 }
 

@@ -19,6 +19,7 @@ use observer_workbench::observer::kalman::{
 };
 use observer_workbench::observer::partial::place_free_column;
 use observer_workbench::observer::perfect::{perfect_observer, robustness_conditions};
+use observer_workbench::observer::search::Multistart;
 use observer_workbench::observer::weighted::{weighted_design, weighted_gain};
 use observer_workbench::poly::Poly;
 use observer_workbench::syntax::{evaluate_with, parse_matrix, parse_matrix_expressions};
@@ -157,7 +158,15 @@ fn baranowski_minimal_dynamical_error_is_reproduced_and_not_unique() {
     let a = m("[-2 1 0; 1 -2 1; 0 1 -2]");
     let c = m("[1 0 0; 0 0 1]");
     let d = m("[0 0 0; 0 1 0; 0 0 0]");
-    let r = minimal_dynamical_error(&a, &c, &triple_minus_four(), &d, 0, 24, 2024).unwrap();
+    let r = minimal_dynamical_error(
+        &a,
+        &c,
+        &triple_minus_four(),
+        &d,
+        0,
+        Multistart::new(24, 2024),
+    )
+    .unwrap();
     // the printed J2 = 0.2255 (4 decimals)
     assert!((r.best.cost - 0.2255).abs() < 5e-5, "{}", r.best.cost);
     assert!(r.places_exactly);

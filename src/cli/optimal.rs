@@ -9,6 +9,7 @@ use crate::linalg::float::{eigenvalues, to_nalgebra};
 use crate::linalg::{characteristic_polynomial, Matrix};
 use crate::observer::dynamical_error::{dynamical_error_cost, minimal_dynamical_error};
 use crate::observer::optimal::{minimum_norm_gain, pole_placement_constraints};
+use crate::observer::search::Multistart;
 use crate::poly::{exact_roots, Poly};
 use anyhow::{anyhow, bail, Result};
 use nalgebra::DMatrix;
@@ -90,6 +91,17 @@ fn scatter(
         .collect()
 }
 
+/// A progress bar over the seeded starts, drawn on a terminal's stderr only (hidden in pipes
+/// and CI logs): thousands of starts take minutes.
+fn starts_bar(starts: usize) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(starts as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("seeded starts {pos}/{len} {wide_bar} {eta}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
 /// A validated `owb optimal` request.
 struct Request {
     a: Matrix<Rational>,
@@ -166,7 +178,13 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
     let Request { a, c, p, .. } = req;
     let n = a.rows();
     let cons = pole_placement_constraints(a, c, p)?;
-    let r = minimum_norm_gain(&cons, args.starts, args.seed);
+    let bar = starts_bar(args.starts);
+    let tell = || bar.inc(1);
+    let r = minimum_norm_gain(
+        &cons,
+        Multistart::new(args.starts, args.seed).reporting(&tell),
+    );
+    bar.finish_and_clear();
     text.push_str(&format!(
             "Minimum-norm gain: minimise J1 = Σ k_i² subject to det(sI − (A − GC)) = {p}\n  constraints (G = [k1 k{}…] column by column):\n",
             n + 1
@@ -211,15 +229,18 @@ fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             c.rows()
         );
     }
+    let bar = starts_bar(args.starts);
+    let tell = || bar.inc(1);
     let r = minimal_dynamical_error(
         a,
         c,
         p,
         weight,
         args.placed_output - 1,
-        args.starts,
-        args.seed,
-    )?;
+        Multistart::new(args.starts, args.seed).reporting(&tell),
+    );
+    bar.finish_and_clear();
+    let r = r?;
     let g = DMatrix::from_row_slice(r.rows, r.cols, &r.best.gain);
     text.push_str(&format!(
             "Minimal dynamical error: minimise J2 = λ_max(H), Fᵀ H + H F = −D, F = A − GC, over the gains with det(sI − F) = {p}\n  D = {}\n  column {} of G placed exactly (dual Ackermann) from the others; Nelder–Mead over the other {} entries\n",

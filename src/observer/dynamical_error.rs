@@ -12,8 +12,8 @@
 //! decides whether the minimiser is unique.
 
 use super::partial::place_free_column;
-use super::search::nelder_mead;
-use crate::algebra::{Rational, ToF64};
+use super::search::{nelder_mead, Multistart};
+use crate::algebra::{Rational, Ring, ToF64};
 use crate::linalg::float::{eigenvalues, to_nalgebra};
 use crate::linalg::lyapunov::{lyapunov_f64, lyapunov_f64_with_abscissa, LyapunovError};
 use crate::linalg::Matrix;
@@ -47,6 +47,20 @@ pub enum DynamicalErrorError {
     /// The free column could not be placed from any start.
     #[error("no start gave a placing, stable gain: {0}")]
     NoFeasibleStart(String),
+    /// The desired polynomial has a root with nonnegative real part: every placing gain leaves
+    /// `A − GC` unstable, and `J2` is the integral of a growing error.
+    #[error("the desired polynomial {0} is not Hurwitz (a root has nonnegative real part): J2 needs a stable observer")]
+    UnstableTarget(String),
+    /// The placed output cannot place the polynomial, whatever the other columns are.
+    #[error("output {output} cannot place the poles alone: (A − Σ_{{i≠{output}}} g_i c_i, c_{output}) stayed unobservable at {tries} random integer choices of the other columns (its observability determinant is a polynomial in them, so it is almost surely zero everywhere){hint}")]
+    PlacedOutputCannotPlace {
+        /// The output (1-based).
+        output: usize,
+        /// Random choices tried.
+        tries: usize,
+        /// The outputs that can, as advice.
+        hint: String,
+    },
 }
 
 fn shape(m: &DMatrix<f64>) -> String {
@@ -152,9 +166,9 @@ pub fn minimal_dynamical_error(
     desired: &Poly<Rational>,
     weight: &Matrix<Rational>,
     placed_column: usize,
-    starts: usize,
-    seed: u64,
+    search: Multistart,
 ) -> Result<DynamicalErrorReport, DynamicalErrorError> {
+    let starts = search.starts;
     let (n, p) = (a.rows(), c.rows());
     let (af, cf, wf) = (to_nalgebra(a), to_nalgebra(c), to_nalgebra(weight));
     if placed_column >= p || wf.shape() != (n, n) || a.cols() != n || c.cols() != n {
@@ -165,6 +179,10 @@ pub fn minimal_dynamical_error(
             d: shape(&wf),
         });
     }
+    if !crate::poly::is_hurwitz(desired) {
+        return Err(DynamicalErrorError::UnstableTarget(desired.to_string()));
+    }
+    require_placing_output(a, c, desired, placed_column)?;
     let am = a.map(|x| x.to_f64());
     let cm = c.map(|x| x.to_f64());
     let dp = desired.map(ToF64::to_f64);
@@ -185,15 +203,17 @@ pub fn minimal_dynamical_error(
             .and_then(|g| dynamical_error_cost(&af, &cf, &g, &wf).ok())
             .map_or(f64::INFINITY, |(j, _)| j)
     };
-    let mut uniform = super::search::seeded_uniform(seed);
+    let mut uniform = super::search::seeded_uniform(search.seed);
     let mut runs: Vec<(Vec<f64>, DynamicalErrorMinimum)> = Vec::new();
     let mut converged = 0;
     for _ in 0..starts {
         let start: Vec<f64> = free.iter().map(|_| 10.0 * uniform() - 5.0).collect();
         if !cost(&start).is_finite() {
+            search.started();
             continue;
         }
         let r = nelder_mead(cost, &start, 0.5, 1e-9, 1e-15, 20_000);
+        search.started();
         if !r.value.is_finite() {
             continue;
         }
@@ -253,14 +273,64 @@ pub fn minimal_dynamical_error(
     })
 }
 
+/// Random integer choices of the other columns tried before an output is declared unable to
+/// place the polynomial.
+const PLACING_TRIES: usize = 3;
+
+/// Whether output `j` can place `desired` for some choice of the other gain columns, tried
+/// exactly at a few seeded random integer choices (the reduced pair's observability is a
+/// polynomial condition on them: true at one point, true almost everywhere).
+fn output_can_place(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &Poly<Rational>,
+    j: usize,
+) -> bool {
+    let (n, p) = (a.rows(), c.rows());
+    let mut uniform = super::search::seeded_uniform(7 + j as u64);
+    (0..PLACING_TRIES).any(|_| {
+        let fixed = Matrix::from_fn(n, p, |_, _| {
+            Rational::from_i64((uniform() * 19.0).floor() as i64 - 9)
+        });
+        place_free_column(a, c, &fixed, j, desired).is_ok()
+    })
+}
+
+fn require_placing_output(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &Poly<Rational>,
+    placed_column: usize,
+) -> Result<(), DynamicalErrorError> {
+    if output_can_place(a, c, desired, placed_column) {
+        return Ok(());
+    }
+    let able: Vec<String> = (0..c.rows())
+        .filter(|&j| j != placed_column && output_can_place(a, c, desired, j))
+        .map(|j| (j + 1).to_string())
+        .collect();
+    Err(DynamicalErrorError::PlacedOutputCannotPlace {
+        output: placed_column + 1,
+        tries: PLACING_TRIES,
+        hint: if able.is_empty() {
+            String::new()
+        } else {
+            format!("; output(s) {} can (--placed-output)", able.join(", "))
+        },
+    })
+}
+
 /// The Hessian's eigenvalues at the minimiser `x`, how many directions are flat there
 /// (eigenvalue below `1e-5` of the largest), and those directions (largest entry positive).
 fn flatness(cost: &impl Fn(&[f64]) -> f64, x: &[f64]) -> (Vec<f64>, usize, Vec<Vec<f64>>) {
     let eigen = numerical_hessian(cost, x).symmetric_eigen();
     let hessian_eigenvalues: Vec<f64> = eigen.eigenvalues.iter().copied().collect();
+    // relative to the largest curvature, or to the cost itself where the Hessian vanishes
+    // (a cost constant on the whole constraint set: every direction is flat)
     let largest = hessian_eigenvalues.iter().copied().fold(0.0, f64::max);
+    let scale = largest.max(cost(x).abs());
     let flat: Vec<usize> = (0..hessian_eigenvalues.len())
-        .filter(|&k| hessian_eigenvalues[k].abs() < 1e-5 * largest)
+        .filter(|&k| hessian_eigenvalues[k].abs() <= 1e-5 * scale)
         .collect();
     let flat_directions = flat.len();
     let flat_vectors = flat

@@ -8,6 +8,7 @@
 //! classified (second-order test on the tangent space), and the report says how many starts
 //! reached the best minimum, which other minima exist, and whether the best is unique.
 
+use super::search::Multistart;
 use crate::algebra::{MultiPoly, Rational};
 use crate::linalg::{self, Matrix};
 use crate::poly::Poly;
@@ -184,14 +185,17 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, 
 
 /// Minimises `J1 = Σ k_i²` subject to the constraints from `starts` seeded random starts
 /// (entries uniform in [−15, 15]).
-pub fn minimum_norm_gain(cons: &Constraints, starts: usize, seed: u64) -> MinimumNormReport {
+pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormReport {
     let m = cons.variables.len();
-    let mut uniform = super::search::seeded_uniform(seed);
+    let starts = search.starts;
+    let mut uniform = super::search::seeded_uniform(search.seed);
     let mut minima: Vec<LocalMinimum> = Vec::new();
     let mut converged = 0;
     for _ in 0..starts {
         let start = DVector::from_fn(m, |_, _| 30.0 * uniform() - 15.0);
-        let Some((k, cost)) = newton_kkt(cons, start) else {
+        let found = newton_kkt(cons, start);
+        search.started();
+        let Some((k, cost)) = found else {
             continue;
         };
         converged += 1;
@@ -249,7 +253,7 @@ mod tests {
             "s",
         );
         let cons = pole_placement_constraints(&a, &c, &desired).unwrap();
-        let r = minimum_norm_gain(&cons, 60, 2024);
+        let r = minimum_norm_gain(&cons, Multistart::new(60, 2024));
         assert!(r.converged > 0);
         let best = &r.minima[0];
         assert!(best.constraint_residual < 1e-10);

@@ -2,6 +2,54 @@
 //! (a largest eigenvalue) or are only evaluated: Nelder–Mead on `Rⁿ` and golden-section search
 //! on an interval. Both are deterministic: same start, same result.
 
+/// How a multistart search runs: how many seeded starts, the seed, and whom to tell after each
+/// start (a progress bar; nobody by default).
+///
+/// ```
+/// use observer_workbench::observer::search::Multistart;
+/// use std::cell::Cell;
+/// let done = Cell::new(0);
+/// let tell = || done.set(done.get() + 1);
+/// let m = Multistart::new(3, 2024).reporting(&tell);
+/// (0..m.starts).for_each(|_| m.started());
+/// assert_eq!(done.get(), 3);
+/// ```
+#[derive(Clone, Copy)]
+pub struct Multistart<'a> {
+    /// Seeded random starts.
+    pub starts: usize,
+    /// Seed of the starts: same seed, same result.
+    pub seed: u64,
+    on_start: &'a dyn Fn(),
+}
+
+impl Multistart<'static> {
+    /// `starts` starts from `seed`, telling nobody.
+    pub fn new(starts: usize, seed: u64) -> Self {
+        Multistart {
+            starts,
+            seed,
+            on_start: &|| {},
+        }
+    }
+}
+
+impl<'a> Multistart<'a> {
+    /// The same search, calling `tell` after each start.
+    pub fn reporting<'b>(self, tell: &'b dyn Fn()) -> Multistart<'b> {
+        Multistart {
+            starts: self.starts,
+            seed: self.seed,
+            on_start: tell,
+        }
+    }
+
+    /// Called by the search after each start.
+    pub fn started(&self) {
+        (self.on_start)();
+    }
+}
+
 /// A seeded generator of uniform numbers in `[0, 1)` (xorshift64), for the starts of multistart
 /// searches: the same seed gives the same starts on every platform.
 pub fn seeded_uniform(seed: u64) -> impl FnMut() -> f64 {

@@ -382,6 +382,30 @@ fn bound_degree(column: usize, degree: usize) -> Result<(), SyntaxError> {
 /// 10 with 60-bit coefficients: about 12 000).
 const MAX_RF_WORK: u64 = 50_000;
 
+/// A power of a transfer function multiplies the size of its coefficients by the exponent: the
+/// largest coefficient of the base times the exponent stays within
+/// [`MAX_VALUE_BITS`], the bound on any number built while reading (found by fuzzing:
+/// `(33848^-845 - s + 263 - 12)^111` built coefficients of 1.4 million bits).
+fn bound_rf_power<F: Field + FromExpr>(
+    column: usize,
+    base: &RationalFunction<F>,
+    exponent: u64,
+) -> Result<(), SyntaxError> {
+    let largest = base
+        .numerator()
+        .coeffs()
+        .iter()
+        .chain(base.denominator().coeffs())
+        .map(FromExpr::size_bits)
+        .max()
+        .unwrap_or(0);
+    let estimate = largest.saturating_mul(exponent);
+    if estimate > MAX_VALUE_BITS {
+        return Err(too_large(column, estimate));
+    }
+    Ok(())
+}
+
 fn bound_rf_work<F: Field + FromExpr>(
     column: usize,
     a: &RationalFunction<F>,
@@ -480,6 +504,7 @@ fn rf<F: Field + FromExpr>(
         ExprKind::Pow(x, k) => {
             let b = rf::<F>(x, var, ctx)?;
             bound_degree(c, degree(&b).saturating_mul(k.unsigned_abs() as usize))?;
+            bound_rf_power(c, &b, k.unsigned_abs())?;
             let p = power(constant(F::one()), b, k.unsigned_abs());
             if *k < 0 {
                 p.inverse()

@@ -11,6 +11,7 @@ use crate::derivation::Derivation;
 use crate::linalg::{self, elimination::determinant_in_domain, Matrix};
 use crate::observability::{controllability_matrix, observability_matrix};
 use crate::observer::perfect::perfect_observer;
+use crate::observer::search::Multistart;
 use crate::observer::{
     canonical_gain, design, Convention, DesiredPolynomial, GainMethod, ObserverGain,
 };
@@ -622,7 +623,7 @@ fn minimum_norm(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> 
         .rational()
         .ok_or_else(|| failed("the optimal design needs a rational desired polynomial"))?;
     let cons = pole_placement_constraints(&a, &c, &desired).map_err(failed)?;
-    let r = minimum_norm_gain(&cons, OPTIMISER_STARTS, OPTIMISER_SEED);
+    let r = minimum_norm_gain(&cons, Multistart::new(OPTIMISER_STARTS, OPTIMISER_SEED));
     let best: Vec<_> = r.minima.iter().take(r.best_count).collect();
     if best.is_empty() {
         return Err(failed("no start converged to a minimum"));

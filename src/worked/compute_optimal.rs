@@ -16,6 +16,7 @@ use crate::observer::kalman::{
 use crate::observer::partial::gain_for_observer_matrix;
 use crate::observer::perfect::{perfect_observer, robustness_conditions, robustness_residuals};
 use crate::observer::robust::robust_observer_gain;
+use crate::observer::search::Multistart;
 use crate::observer::weighted::weighted_design;
 use nalgebra::DMatrix;
 
@@ -100,8 +101,7 @@ pub(super) fn dynamical_error(inputs: &Inputs, title: &str) -> Result<Computed, 
         &desired,
         &weight,
         0,
-        DYNAMICAL_ERROR_STARTS,
-        OPTIMISER_SEED,
+        Multistart::new(DYNAMICAL_ERROR_STARTS, OPTIMISER_SEED),
     )
     .map_err(failed)?;
     let note = format!(
