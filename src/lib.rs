@@ -6,6 +6,8 @@
 //! polynomials, rational functions) → [`syntax`] (reading and printing what users type).
 #![warn(missing_docs)]
 
+mod names;
+
 pub mod algebra;
 #[cfg(feature = "cli")]
 pub mod book;

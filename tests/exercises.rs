@@ -33,7 +33,7 @@ fn grade(subs: &Path, csv: &Path, more: &[&str]) -> (i32, String, String) {
 
 fn mistake(key: &AnswerKey, part: &str, answer: &str) -> Option<&'static str> {
     let p = key.part(part).unwrap();
-    diagnose(key, p, answer).0.map(|d| d.mistake)
+    diagnose(key, p, answer).0.map(|d| d.mistake.name())
 }
 
 #[test]
@@ -409,7 +409,7 @@ fn mistakes_found_by_computing() {
     };
     let (d, _) = diagnose(&oc, f, &negated);
     let d = d.unwrap();
-    assert_eq!(d.mistake, "feedback_sign");
+    assert_eq!(d.mistake.name(), "feedback_sign");
     assert!(d.message.contains("u = −Kx"), "{}", d.message);
     // a reversed gain in an exercise without Lemma 3.1 does not cite it
     let l = st.part("L").unwrap();
@@ -417,7 +417,7 @@ fn mistakes_found_by_computing() {
         let rev = format!("[{}; {}]", m.get(1, 0).to_input(), m.get(0, 0).to_input());
         let (d, _) = diagnose(&st, l, &rev);
         let d = d.unwrap();
-        assert_eq!(d.mistake, "reversed");
+        assert_eq!(d.mistake.name(), "reversed");
         let cites = st
             .parts
             .iter()

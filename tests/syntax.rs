@@ -138,3 +138,23 @@ fn long_inputs_are_not_echoed_whole() {
     let caret = lines[1].chars().position(|c| c == '^').unwrap();
     assert_eq!(lines[0].chars().nth(caret), Some('x'));
 }
+
+/// Symbolic division is exact long division: a divisor with a variable the dividend lacks is
+/// refused at once, and one whose long division would cost too much is refused by a work bound
+/// (found by fuzzing: `(s^222 + 74)/(2s + u22 + 20)` took seconds).
+#[test]
+fn symbolic_divisions_are_exact_or_refused_quickly() {
+    let q = parse_scalar::<MultiPoly>("(s^2 - u^2)/(s - u)").unwrap();
+    assert_eq!(q, parse_scalar::<MultiPoly>("s + u").unwrap());
+    for text in [
+        "(s^222 + 74)/(2s + u22 + 20)",
+        "(u*s^222 + 74)/(2s + u + 20)",
+    ] {
+        let e = parse_scalar::<MultiPoly>(text).unwrap_err().to_string();
+        assert!(e.contains("a division by"), "{text}: {e}");
+    }
+    let e = parse_scalar::<MultiPoly>("(u*s^222 + 74)/(2s + u + 20)")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("term operations"), "{e}");
+}

@@ -496,20 +496,70 @@ impl Ring for MultiPoly {
     }
 }
 
-impl IntegralDomain for MultiPoly {
-    fn divide_exact(&self, divisor: &Self) -> Option<Self> {
-        let (lm, lc) = divisor.leading()?;
+/// An exact division stopped because it would cost more than its budget.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DivisionTooCostly {
+    /// The budget, in term operations.
+    pub budget: u64,
+}
+
+impl MultiPoly {
+    /// `self / divisor` when it is exact (`Ok(None)` when it is not), giving up with
+    /// [`DivisionTooCostly`] once the long division has cost `budget` term operations (each
+    /// step subtracts a multiple of the divisor from the remainder). A divisor whose degree in
+    /// some variable exceeds the dividend's cannot divide it, and is refused at once.
+    ///
+    /// ```
+    /// use observer_workbench::algebra::MultiPoly;
+    /// let (s, u) = (MultiPoly::var("s"), MultiPoly::var("u"));
+    /// let p = (s.clone() + u.clone()) * (s.clone() - u.clone());
+    /// assert_eq!(p.divide_exact_within(&(s.clone() - u.clone()), 1_000), Ok(Some(s.clone() + u.clone())));
+    /// assert_eq!(s.divide_exact_within(&u, 1_000), Ok(None));
+    /// ```
+    ///
+    /// # Errors
+    /// [`DivisionTooCostly`] when the budget runs out.
+    pub fn divide_exact_within(
+        &self,
+        divisor: &Self,
+        budget: u64,
+    ) -> Result<Option<Self>, DivisionTooCostly> {
+        let Some((lm, lc)) = divisor.leading() else {
+            return Ok(None);
+        };
+        if !self.is_zero()
+            && divisor
+                .variables()
+                .iter()
+                .any(|v| divisor.degree_in(v) > self.degree_in(v))
+        {
+            return Ok(None);
+        }
         let (lm, lc) = (lm.clone(), lc.clone());
+        let step = divisor.terms.len() as u64;
+        let mut spent = 0u64;
         let mut rest = self.clone();
         let mut quotient = MultiPoly::zero();
         while let Some((m, c)) = rest.leading() {
-            let qm = m.div(&lm)?;
+            let Some(qm) = m.div(&lm) else {
+                return Ok(None);
+            };
+            spent = spent.saturating_add(step + rest.terms.len() as u64);
+            if spent > budget {
+                return Err(DivisionTooCostly { budget });
+            }
             let qc = c.clone() / lc.clone();
             let t = MultiPoly::term(qc, qm);
             rest = rest - t.clone() * divisor.clone();
             quotient = quotient + t;
         }
-        Some(quotient)
+        Ok(Some(quotient))
+    }
+}
+
+impl IntegralDomain for MultiPoly {
+    fn divide_exact(&self, divisor: &Self) -> Option<Self> {
+        self.divide_exact_within(divisor, u64::MAX).ok().flatten()
     }
 }
 

@@ -149,12 +149,12 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                     let (diagnosis, notes) = diagnose(key, part, text);
                     let credit = diagnosis
                         .as_ref()
-                        .and_then(|d| part.spec.partial.get(d.mistake))
+                        .and_then(|d| part.spec.partial.get(&d.mistake))
                         .copied()
                         .unwrap_or(0.0);
                     let mut lines = Vec::new();
                     if let Some(d) = &diagnosis {
-                        lines.push(format!("{} — {}", d.mistake.replace('_', " "), d.message));
+                        lines.push(format!("{} — {}", d.mistake.words(), d.message));
                     } else {
                         lines.push("not the answer, and not a mistake the workbench recognises".into());
                     }

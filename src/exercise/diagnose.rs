@@ -6,30 +6,14 @@
 //! constant, mirrored poles).
 
 use super::key::{AnswerKey, KeyPart};
+use super::Mistake;
 use crate::algebra::{Quadratic, Rational};
 use crate::linalg::{characteristic_polynomial, Matrix};
 use crate::observer::float_check::companion_roots;
 use crate::observer::{Convention, DesiredPolynomial};
 use crate::poly::Poly;
 use crate::syntax::{evaluate_with, parse_matrix_expressions};
-use crate::worked::{compare, ClaimSpec, Inputs, Value};
-
-/// The mistakes that can be named (keys of a part's `partial` credit table).
-pub const MISTAKES: &[&str] = &[
-    "sign_convention",
-    "canonical_coordinates",
-    "transposed",
-    "reversed",
-    "wrong_polynomial",
-    "slip",
-    "other_canonical_form",
-    "inverse",
-    "negated",
-    "another_part",
-    "permuted",
-    "other_procedure",
-    "feedback_sign",
-];
+use crate::worked::{compare, ClaimSpec, Computation, Identity, Inputs, Value};
 
 /// The largest number (numerator plus denominator bits) in an answer the diagnosis compares
 /// with its candidate mistakes.
@@ -38,8 +22,8 @@ const MAX_DIAGNOSED_BITS: u64 = 2048;
 /// A named mistake with its explanation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnosis {
-    /// One of [`MISTAKES`].
-    pub mistake: &'static str,
+    /// Which mistake.
+    pub mistake: Mistake,
     /// What the student did, in words, with the numbers.
     pub message: String,
 }
@@ -61,9 +45,9 @@ pub fn answer_matrix(key: &AnswerKey, answer: &str) -> Option<Matrix<Quadratic>>
     crate::syntax::parse_matrix_with(answer, &key.env).ok()
 }
 
-fn recompute_as(key: &AnswerKey, part: &KeyPart, what: &str) -> Option<Value> {
+fn recompute_as(key: &AnswerKey, part: &KeyPart, what: Computation) -> Option<Value> {
     let claim = ClaimSpec {
-        what: what.into(),
+        what,
         ..part.claim.clone()
     };
     key.recompute(&claim)
@@ -85,16 +69,16 @@ fn candidates(
         Convention::AMinusKC => "A − KC",
         Convention::APlusLC => "A + LC",
     };
-    match (&part.value, part.spec.ask.as_str()) {
+    match (&part.value, part.spec.ask) {
         (Value::Matrix(m), ask) => {
             out.extend(matrix_candidates(key, part, m, ask, answer, (other, asked)));
         }
         (Value::Polynomial(p), ask) => {
-            out.push(("negated", Value::Polynomial(-p.clone()), "your polynomial is the negative of the answer; the characteristic polynomial det(λI − A) is monic (det(A − λI) differs from it by (−1)ⁿ)".into()));
-            if ask == "desired_polynomial" {
+            out.push((Mistake::Negated, Value::Polynomial(-p.clone()), "your polynomial is the negative of the answer; the characteristic polynomial det(λI − A) is monic (det(A − λI) differs from it by (−1)ⁿ)".into()));
+            if ask == Computation::DesiredPolynomial {
                 for (family, value) in other_families(key, part) {
                     out.push((
-                        "wrong_polynomial",
+                        Mistake::WrongPolynomial,
                         Value::Polynomial(value),
                         format!(
                             "this is the {family} polynomial; the exercise asks for {}",
@@ -105,7 +89,7 @@ fn candidates(
             }
         }
         (Value::Transfer(t), _) => {
-            out.push(("negated", Value::Transfer(-t.clone()), "your transfer function has the wrong sign: positive instead of negative feedback or the reverse (u = F x̂ with F as given: check the sign of the feedback)".into()));
+            out.push((Mistake::Negated, Value::Transfer(-t.clone()), "your transfer function has the wrong sign: positive instead of negative feedback or the reverse (u = F x̂ with F as given: check the sign of the feedback)".into()));
         }
         _ => {}
     }
@@ -114,7 +98,7 @@ fn candidates(
 }
 
 /// A candidate wrong answer: (mistake, value, explanation).
-type Candidate = (&'static str, Value, String);
+type Candidate = (Mistake, Value, String);
 
 /// Candidates for a matrix part `m` (`ask` says what it is; `conventions` = (the other, the
 /// asked) observer convention in words; `answer` the student's matrix when it reads as one).
@@ -122,58 +106,64 @@ fn matrix_candidates(
     key: &AnswerKey,
     part: &KeyPart,
     m: &Matrix<Quadratic>,
-    ask: &str,
+    ask: Computation,
     answer: Option<&Matrix<Quadratic>>,
     (other, asked): (&str, &str),
 ) -> Vec<Candidate> {
     let mut out = Vec::new();
-    if ask == "state_feedback" {
+    if ask == Computation::StateFeedback {
         out.push((
-            "feedback_sign",
+            Mistake::FeedbackSign,
             Value::Matrix(m.neg()),
             "your F has the opposite sign: it is K of u = −Kx (negative feedback with the minus written outside); the exercise asks for F in u = Fx, so F = −K".into(),
         ));
     }
-    if matches!(ask, "gain" | "canonical_gain") {
+    if matches!(ask, Computation::Gain | Computation::CanonicalGain) {
         out.push((
-            "sign_convention",
+            Mistake::SignConvention,
             Value::Matrix(m.neg()),
             format!("your answer is the negative of the gain: it is the gain for the {other} convention, but the exercise asks for {asked}"),
         ));
     }
-    if ask == "gain" {
-        if let Some(Value::Matrix(k_o)) = recompute_as(key, part, "canonical_gain") {
+    if ask == Computation::Gain {
+        if let Some(Value::Matrix(k_o)) = recompute_as(key, part, Computation::CanonicalGain) {
             out.push((
-                "canonical_coordinates",
+                Mistake::CanonicalCoordinates,
                 Value::Matrix(k_o.clone()),
                 format!("this is the gain in observer-canonical coordinates, K_o = {}; transform it back with T (K = T K_o) to get the gain of the original system", k_o.to_input()),
             ));
             out.push((
-                "canonical_coordinates",
+                Mistake::CanonicalCoordinates,
                 Value::Matrix(k_o.neg()),
                 format!("this is −K_o, the canonical-coordinate gain with the other sign convention: transform with T (K = T K_o) and use the {asked} convention"),
             ));
         }
     }
-    if ask == "canonical_transformation" || ask == "canonical_transformation_inverse" {
+    if matches!(
+        ask,
+        Computation::CanonicalTransformation | Computation::CanonicalTransformationInverse
+    ) {
         if let Ok(inv) = crate::linalg::inverse(m) {
             out.push((
-                "inverse",
+                Mistake::Inverse,
                 Value::Matrix(inv),
                 "you gave the inverse: the exercise uses x = T x_o (A_o = T⁻¹ A T); check which of T and T⁻¹ is asked".into(),
             ));
         }
     }
-    if ask == "canonical_a" || ask == "canonical_c" || ask == "canonical_b" {
+    if matches!(
+        ask,
+        Computation::CanonicalA | Computation::CanonicalC | Computation::CanonicalB
+    ) {
         out.push((
-            "other_canonical_form",
+            Mistake::OtherCanonicalForm,
             Value::Matrix(m.transpose()),
             "this is the transpose, the controller (companion) canonical form; the observer canonical form is its dual (coefficients in the first column of A_o, C_o = [1 0 … 0])".into(),
         ));
     }
     if m.rows() != m.cols() {
         out.push((
-            "transposed",
+            Mistake::Transposed,
             Value::Matrix(m.transpose()),
             format!("transposed: the answer should be {}×{}", m.rows(), m.cols()),
         ));
@@ -183,14 +173,15 @@ fn matrix_candidates(
         let rev: Vec<Quadratic> = entries.into_iter().rev().collect();
         let r = Matrix::from_fn(m.rows(), m.cols(), |i, j| rev[i * m.cols() + j].clone());
         let lemma = key.parts.iter().any(|q| {
-            q.claim.method.as_deref() == Some("lemma-3.1") || q.claim.what.starts_with("lemma_3_1")
+            q.claim.method.as_deref() == Some("lemma-3.1")
+                || q.claim.identity == Some(Identity::Lemma31GivesCMinusA)
         });
         let why = if lemma {
             "the entries are in reverse order (the state ordering of the other canonical form, or Lemma 3.1's rotation undone)"
         } else {
             "the entries are in reverse order (the state ordering of the other canonical form?)"
         };
-        out.push(("reversed", Value::Matrix(r), why.into()));
+        out.push((Mistake::Reversed, Value::Matrix(r), why.into()));
     }
     if let Some(a) = answer {
         out.extend(permuted(m, a));
@@ -213,7 +204,7 @@ fn other_parts(key: &AnswerKey, part: &KeyPart) -> Vec<Candidate> {
         };
         if q.spec.id != part.spec.id && same_kind && q.value != part.value {
             out.push((
-                "another_part",
+                Mistake::AnotherPart,
                 q.value.clone(),
                 format!(
                     "this is the answer to part {} ({}), not to part {}",
@@ -259,14 +250,14 @@ fn permuted(m: &Matrix<Quadratic>, a: &Matrix<Quadratic>) -> Vec<Candidate> {
         if let Some(o) = order(m.rows(), &rows) {
             let p = Matrix::from_fn(m.rows(), m.cols(), |i, j| m.get(o[i], j).clone());
             let shown: Vec<String> = o.iter().map(|j| (j + 1).to_string()).collect();
-            out.push(("permuted", Value::Matrix(p), format!("the right rows in another order (yours are rows {} of the answer): check the ordering of the states", shown.join(", "))));
+            out.push((Mistake::Permuted, Value::Matrix(p), format!("the right rows in another order (yours are rows {} of the answer): check the ordering of the states", shown.join(", "))));
         }
     }
     if m.cols() > 1 {
         if let Some(o) = order(m.cols(), &cols) {
             let p = Matrix::from_fn(m.rows(), m.cols(), |i, j| m.get(i, o[j]).clone());
             let shown: Vec<String> = o.iter().map(|j| (j + 1).to_string()).collect();
-            out.push(("permuted", Value::Matrix(p), format!("the right columns in another order (yours are columns {} of the answer): check the ordering of the states or outputs", shown.join(", "))));
+            out.push((Mistake::Permuted, Value::Matrix(p), format!("the right columns in another order (yours are columns {} of the answer): check the ordering of the states or outputs", shown.join(", "))));
         }
     }
     out
@@ -275,7 +266,14 @@ fn permuted(m: &Matrix<Quadratic>, a: &Matrix<Quadratic>) -> Vec<Candidate> {
 /// A canonical-form part answered with the other procedure's transformation (Di Ruscio's
 /// ss2ocf or Stoustrup's recursion), when the two differ for this system.
 fn other_procedure(key: &AnswerKey, part: &KeyPart) -> Option<Candidate> {
-    if !part.spec.ask.starts_with("canonical_") || part.spec.ask == "canonical_gain" {
+    if !matches!(
+        part.spec.ask,
+        Computation::CanonicalTransformation
+            | Computation::CanonicalTransformationInverse
+            | Computation::CanonicalA
+            | Computation::CanonicalB
+            | Computation::CanonicalC
+    ) {
         return None;
     }
     let ours = part.claim.procedure.as_deref().unwrap_or("stoustrup");
@@ -290,7 +288,7 @@ fn other_procedure(key: &AnswerKey, part: &KeyPart) -> Option<Candidate> {
     let value = key.recompute(&claim)?;
     (value != part.value).then(|| {
         (
-            "other_procedure",
+            Mistake::OtherProcedure,
             value,
             format!("this is what {other_name} procedure gives; the exercise asks for {our_name}, whose transformation differs for this system"),
         )
@@ -372,7 +370,7 @@ pub fn placed_polynomial(
     part: &KeyPart,
     answer: &str,
 ) -> Option<(Poly<Quadratic>, String, Option<Diagnosis>)> {
-    if part.spec.ask != "gain" {
+    if part.spec.ask != Computation::Gain {
         return None;
     }
     let inputs = Inputs {
@@ -434,7 +432,7 @@ pub fn placed_polynomial(
         if let Value::Matrix(_) = &part.value {
             if let Some(Value::Polynomial(d)) = {
                 let claim = ClaimSpec {
-                    what: "desired_polynomial".into(),
+                    what: Computation::DesiredPolynomial,
                     ..part.claim.clone()
                 };
                 key.recompute(&claim)
@@ -454,7 +452,7 @@ pub fn placed_polynomial(
                 );
                 if close(&mirrored) && !close(&df) {
                     diagnosis = Some(Diagnosis {
-                        mistake: "wrong_polynomial",
+                        mistake: Mistake::WrongPolynomial,
                         message: "your gain places the poles mirrored into the right half-plane (s − p instead of s + p): the observer would be unstable".into(),
                     });
                 }
@@ -501,7 +499,7 @@ fn identify_family(
         if let Ok(q) = make(&tq, n) {
             if close(&q.float) {
                 return Some(Diagnosis {
-                    mistake: "wrong_polynomial",
+                    mistake: Mistake::WrongPolynomial,
                     message: format!(
                         "{lead} {name} with time constant T ≈ {t:.4}; the exercise asks for {}",
                         asked_family(key, part)
@@ -518,7 +516,7 @@ fn polynomial_family(key: &AnswerKey, part: &KeyPart, answer: &str) -> Option<Di
     let Value::Polynomial(q) = &part.value else {
         return None;
     };
-    if part.spec.ask != "desired_polynomial" {
+    if part.spec.ask != Computation::DesiredPolynomial {
         return None;
     }
     let e = crate::syntax::parse_expression(answer).ok()?;
@@ -556,7 +554,7 @@ fn single_slip(key: &AnswerKey, part: &KeyPart, answer: &str) -> Option<Diagnosi
     }
     if let [(i, j, text)] = wrong.as_slice() {
         return Some(Diagnosis {
-            mistake: "slip",
+            mistake: Mistake::Slip,
             message: format!(
                 "one slip: entry ({}, {}) is {text}, it should be {}; everything else is right",
                 i + 1,

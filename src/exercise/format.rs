@@ -62,7 +62,7 @@ pub struct PartSpec {
     /// The key of the answer (`O`, `T`, `K`…).
     pub id: String,
     /// What is asked: a worked-example computation (`observability_matrix`, `gain`, …).
-    pub ask: String,
+    pub ask: crate::worked::Computation,
     /// The question, for the student.
     pub prompt: String,
     /// Points for a correct answer.
@@ -70,7 +70,7 @@ pub struct PartSpec {
     pub points: f64,
     /// Partial credit (fraction of `points`) per diagnosed mistake, e.g. `{ sign_convention = 0.5 }`.
     #[serde(default)]
-    pub partial: BTreeMap<String, f64>,
+    pub partial: BTreeMap<super::Mistake, f64>,
     /// A C for this part only (e.g. one output).
     #[serde(rename = "C")]
     pub c: Option<String>,
@@ -81,32 +81,6 @@ pub struct PartSpec {
 fn one() -> f64 {
     1.0
 }
-
-/// The computations a part may ask for.
-pub const ASKABLE: &[&str] = &[
-    "observability_matrix",
-    "observability_determinant",
-    "observable",
-    "characteristic_polynomial",
-    "eigenvalues",
-    "canonical_transformation",
-    "canonical_transformation_inverse",
-    "canonical_a",
-    "canonical_b",
-    "canonical_c",
-    "desired_polynomial",
-    "canonical_gain",
-    "gain",
-    "state_feedback",
-    "closed_loop_poles",
-    "closed_loop_polynomial",
-    "controller_transfer_function",
-    "closed_loop_transfer_function",
-    "perfect_observer_e",
-    "perfect_observer_f",
-    "perfect_observer_input_matrix",
-    "perfect_observer_output_matrix",
-];
 
 /// A student's answers: `answers.K = "[-6; -12]"`.
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -144,12 +118,13 @@ fn read(path: &Path) -> Result<String, ExerciseError> {
 }
 
 fn toml_error(path: &Path, raw: &str, e: &toml::de::Error) -> ExerciseError {
+    let line = e.span().map_or(0, |s| {
+        raw[..s.start.min(raw.len())].matches('\n').count() + 1
+    });
     ExerciseError {
         file: path.display().to_string(),
-        line: e.span().map_or(0, |s| {
-            raw[..s.start.min(raw.len())].matches('\n').count() + 1
-        }),
-        field: "toml".into(),
+        line,
+        field: crate::worked::toml_field(raw, line),
         message: e.message().to_string(),
     }
 }
@@ -182,13 +157,13 @@ pub fn parse_exercise(path: &Path, raw: &str) -> Result<ExerciseFile, ExerciseEr
         if !seen.insert(p.id.clone()) {
             return Err(bad("id", format!("part '{}' appears twice", p.id)));
         }
-        if !ASKABLE.contains(&p.ask.as_str()) {
+        if !p.ask.askable() {
             return Err(bad(
                 "ask",
                 format!(
-                    "unknown computation '{}'; known: {}",
+                    "'{}' cannot be asked of a student; askable: {}",
                     p.ask,
-                    ASKABLE.join(", ")
+                    crate::worked::Computation::known_askable()
                 ),
             ));
         }
@@ -199,19 +174,6 @@ pub fn parse_exercise(path: &Path, raw: &str) -> Result<ExerciseFile, ExerciseEr
             return Err(bad(
                 "partial",
                 format!("{k} = {v}: a fraction of the points, between 0 and 1"),
-            ));
-        }
-        if let Some(k) = p
-            .partial
-            .keys()
-            .find(|k| !super::diagnose::MISTAKES.contains(&k.as_str()))
-        {
-            return Err(bad(
-                "partial",
-                format!(
-                    "unknown mistake '{k}'; known: {}",
-                    super::diagnose::MISTAKES.join(", ")
-                ),
             ));
         }
     }
@@ -234,14 +196,4 @@ pub fn load_answers(path: &Path) -> Result<(AnswerFile, String), ExerciseError> 
 /// [`ExerciseError`] with file, line and field.
 pub fn parse_answers(path: &Path, raw: &str) -> Result<AnswerFile, ExerciseError> {
     toml::from_str(raw).map_err(|e| toml_error(path, raw, &e))
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn every_askable_part_is_a_worked_computation() {
-        for a in super::ASKABLE {
-            assert!(crate::worked::COMPUTATIONS.contains(a), "{a}");
-        }
-    }
 }

@@ -6,7 +6,7 @@ use super::ExerciseError;
 use crate::algebra::Rational;
 use crate::derivation::Derivation;
 use crate::syntax::{parse_scalar, Environment};
-use crate::worked::{compute, ClaimSpec, ExampleFile, Inputs, Value};
+use crate::worked::{compute, ClaimSpec, Computation, ExampleFile, Inputs, Value};
 
 /// One part with its computed answer.
 #[derive(Clone)]
@@ -76,7 +76,7 @@ pub fn claim_for(ex: &ExerciseFile, part: &PartSpec, gain: Option<String>) -> Cl
     ClaimSpec {
         id: part.id.clone(),
         source: ex.source.clone(),
-        what: part.ask.clone(),
+        what: part.ask,
         c: part.c.clone(),
         convention: d.convention.clone(),
         procedure: d.procedure.clone(),
@@ -120,11 +120,11 @@ pub fn answer_key(file: &str, ex: &ExerciseFile) -> Result<AnswerKey, ExerciseEr
     let mut gain_text: Option<String> = None;
     for part in &ex.parts {
         let needs_gain = matches!(
-            part.ask.as_str(),
-            "closed_loop_poles"
-                | "closed_loop_polynomial"
-                | "controller_transfer_function"
-                | "closed_loop_transfer_function"
+            part.ask,
+            Computation::ClosedLoopPoles
+                | Computation::ClosedLoopPolynomial
+                | Computation::ControllerTransferFunction
+                | Computation::ClosedLoopTransferFunction
         );
         let claim = claim_for(ex, part, if needs_gain { gain_text.clone() } else { None });
         let computed = compute(&Inputs {
@@ -138,7 +138,7 @@ pub fn answer_key(file: &str, ex: &ExerciseFile) -> Result<AnswerKey, ExerciseEr
             field: format!("parts.{}", part.id),
             message: format!("the answer key cannot be computed: {e}"),
         })?;
-        if part.ask == "gain" {
+        if part.ask == Computation::Gain {
             gain_text = Some(computed.value.input());
         }
         parts.push(KeyPart {

@@ -17,10 +17,12 @@ pub mod diagnose;
 pub mod format;
 pub mod generate;
 pub mod key;
+pub mod mistake;
 
 pub use check::{check_answers, PartResult, PartVerdict, Report};
 pub use format::{load_answers, load_exercise, AnswerFile, ExerciseFile, PartSpec};
 pub use key::{answer_key, AnswerKey};
+pub use mistake::Mistake;
 
 /// A file that cannot be used, located by file, line and field.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -582,16 +582,18 @@ impl FromExpr for MultiPoly {
         match divisor.as_constant() {
             Some(c) if c.is_zero() => Err(DivisionRefused::ByZero),
             Some(c) => Ok(self.clone() * MultiPoly::constant(c.recip())),
-            None => self
-                .divide_exact_poly(divisor)
-                .ok_or_else(|| DivisionRefused::NotAllowed(format!("a division by {divisor}"))),
+            None => match self.divide_exact_within(divisor, MAX_PRODUCT_WORK) {
+                Ok(Some(q)) => Ok(q),
+                Ok(None) => Err(DivisionRefused::NotAllowed(format!(
+                    "a division by {divisor}"
+                ))),
+                // found by fuzzing: (s^222 + 74)/(2s + u22 + 20) by long division
+                Err(e) => Err(DivisionRefused::NotAllowed(format!(
+                    "a division by {divisor} costing over {} term operations",
+                    e.budget
+                ))),
+            },
         }
-    }
-}
-
-impl MultiPoly {
-    fn divide_exact_poly(&self, divisor: &MultiPoly) -> Option<MultiPoly> {
-        crate::algebra::IntegralDomain::divide_exact(self, divisor)
     }
 }
 

@@ -3,7 +3,8 @@
 //! `natural_frequency`, `estimation_error_rms`, `perfect_observer_robustness`,
 //! `perfect_observer_fits`.
 
-use super::compute::{failed, input_error, ComputeError, Computed, Inputs, OPTIMISER_SEED};
+use super::computation::Computation;
+use super::inputs::{failed, input_error, ComputeError, Computed, Inputs};
 use super::value::Value;
 use crate::algebra::{Rational, ToF64};
 use crate::derivation::{Derivation, Words};
@@ -69,10 +70,10 @@ pub(super) fn dynamical_error(inputs: &Inputs, title: &str) -> Result<Computed, 
     let weight = inputs.numeric("weight")?;
     let mut d = Derivation::new(title);
     d.push("D", "weight of the error integral", &weight);
-    if inputs.claim.what == "dynamical_error_cost" {
+    if inputs.claim.what == Computation::DynamicalErrorCost {
         let g = inputs.numeric("gain")?;
-        let f = a.sub(&g.mul(&c).map_err(failed)?).map_err(failed)?;
-        let cp = linalg::characteristic_polynomial(&f, "s").map_err(failed)?;
+        let f = a.sub(&g.mul(&c)?)?;
+        let cp = linalg::characteristic_polynomial(&f, "s")?;
         d.push("F", "A − GC", &f);
         d.push("det(sI − F)", "exact", &cp);
         d.push("poles", "eigenvalues of F", &poles_text(&to_nalgebra(&f)));
@@ -81,8 +82,7 @@ pub(super) fn dynamical_error(inputs: &Inputs, title: &str) -> Result<Computed, 
             &to_nalgebra(&c),
             &to_nalgebra(&g),
             &to_nalgebra(&weight),
-        )
-        .map_err(failed)?;
+        )?;
         d.push("H", "Fᵀ H + H F = −D (Bartels–Stewart)", &float_matrix(&h));
         let value = scalar(j, "λ_max(H) of the given gain".into());
         d.push("J2", "λ_max(H)", &value);
@@ -102,8 +102,7 @@ pub(super) fn dynamical_error(inputs: &Inputs, title: &str) -> Result<Computed, 
         &weight,
         0,
         Multistart::new(DYNAMICAL_ERROR_STARTS, OPTIMISER_SEED),
-    )
-    .map_err(failed)?;
+    )?;
     let note = format!(
         "Nelder–Mead over the gains placing the poles exactly (column 1 placed by Ackermann from the others) from {} seeded starts: {} reached the best value; their gains lie up to {:.3} apart; {} flat direction(s) of J2 at the smallest of them{}, so the minimiser is {}",
         r.starts,
@@ -154,7 +153,7 @@ fn plant_and_noise(inputs: &Inputs) -> Result<(Plant, NoiseIntensities), Compute
 /// `kalman_bandwidth`, `natural_frequency`, `estimation_error_rms`.
 pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let mut d = Derivation::new(title);
-    if inputs.claim.what == "natural_frequency" {
+    if inputs.claim.what == Computation::NaturalFrequency {
         let p = inputs
             .desired()?
             .rational()
@@ -178,14 +177,14 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
         "B C_U Dᵀ (input noise seen by both)",
         &float_matrix(&s),
     );
-    let method = if inputs.claim.what == "kalman_bandwidth" {
+    let method = if inputs.claim.what == Computation::KalmanBandwidth {
         "kalman"
     } else {
         inputs.claim.method.as_deref().unwrap_or("kalman")
     };
     let l = match method {
         "kalman" => {
-            let k = kalman_filter(&plant, &noise).map_err(failed)?;
+            let k = kalman_filter(&plant, &noise)?;
             d.push(
                 "P",
                 "stabilising solution of the filter Riccati equation",
@@ -200,7 +199,7 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
         }
         "robust" => {
             let poles = float_poles(inputs)?;
-            let r = robust_observer_gain(&plant.a, &plant.c, &poles).map_err(failed)?;
+            let r = robust_observer_gain(&plant.a, &plant.c, &poles)?;
             rows_matrix(&r.gain)
         }
         "diagonal" => {
@@ -224,7 +223,7 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
                     Rational::from_integer(0.into())
                 }
             });
-            let l = gain_for_observer_matrix(&a, &inputs.numeric("C")?, &m).map_err(failed)?;
+            let l = gain_for_observer_matrix(&a, &inputs.numeric("C")?, &m)?;
             d.push("L", "(A − diag(poles)) C⁻¹, exact", &l);
             to_nalgebra(&l)
         }
@@ -254,8 +253,7 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
                 out,
                 state,
                 1001,
-            )
-            .map_err(failed)?;
+            )?;
             d.push(
                 "w",
                 "weight minimising trace Σ (grid of 1001 points, golden section)",
@@ -273,14 +271,14 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
     let f = &plant.a - &l * &plant.c;
     d.push("L", "observer gain (A − LC)", &float_matrix(&l));
     d.push("poles", "eigenvalues of A − LC", &poles_text(&f));
-    let value = if inputs.claim.what == "kalman_bandwidth" {
+    let value = if inputs.claim.what == Computation::KalmanBandwidth {
         let w = natural_frequency(&eigenvalues(&f));
         scalar(
             w,
             "natural frequency (Π|λ_i|)^(1/n) of the Kalman poles".into(),
         )
     } else {
-        let (sigma, residual) = error_covariance(&plant, &noise, &l).map_err(failed)?;
+        let (sigma, residual) = error_covariance(&plant, &noise, &l)?;
         d.push(
             "Σ",
             "(A − LC)Σ + Σ(A − LC)ᵀ + (B − LD)C_U(B − LD)ᵀ + L C_Y Lᵀ = 0",
@@ -357,10 +355,9 @@ pub(super) fn perfect_robustness(inputs: &Inputs, title: &str) -> Result<Compute
         &system.numeric("B")?,
         &system.numeric("C")?,
         d_sys.as_ref(),
-    )
-    .map_err(failed)?;
+    )?;
     d.extend(observer.derivation.clone());
-    let value = if inputs.claim.what == "perfect_observer_robustness" {
+    let value = if inputs.claim.what == Computation::PerfectObserverRobustness {
         let conds = robustness_conditions(&observer);
         let v = Value::Conditions(conds);
         d.push(
@@ -375,11 +372,69 @@ pub(super) fn perfect_robustness(inputs: &Inputs, title: &str) -> Result<Compute
             inputs.numeric("B")?,
             inputs.numeric("C")?,
         );
-        let (ra, rb) = robustness_residuals(&observer, &a, &b, &c, None).map_err(failed)?;
+        let (ra, rb) = robustness_residuals(&observer, &a, &b, &c, None)?;
         d.push("E A' − F − G_y C'", "zero iff the state equations fit", &ra);
         d.push("E B' − G_u − G_y D'", "zero iff the input terms fit", &rb);
         Value::Bool(ra.is_zero() && rb.is_zero())
     };
+    Ok(Computed {
+        value,
+        derivation: d,
+    })
+}
+
+/// Seeded starts of the minimum-norm search (documented in the report).
+const OPTIMISER_STARTS: usize = 60;
+const OPTIMISER_SEED: u64 = 2024;
+
+pub(super) fn minimum_norm(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    use crate::observer::optimal::{minimum_norm_gain, pole_placement_constraints};
+    let a = inputs.numeric("A")?;
+    let c = inputs.numeric("C")?;
+    let desired = inputs
+        .desired()?
+        .rational()
+        .ok_or_else(|| failed("the optimal design needs a rational desired polynomial"))?;
+    let cons = pole_placement_constraints(&a, &c, &desired)?;
+    let r = minimum_norm_gain(&cons, Multistart::new(OPTIMISER_STARTS, OPTIMISER_SEED));
+    let best: Vec<_> = r.minima.iter().take(r.best_count).collect();
+    if best.is_empty() {
+        return Err(failed("no start converged to a minimum"));
+    }
+    let (n, p) = (a.rows(), c.rows());
+    let note = format!(
+        "J1 minimised by Newton on the KKT system with exact constraint derivatives from {} seeded starts: {} converged; {} equally good minimiser(s), reached by {} start(s); {} other local minima",
+        r.starts,
+        r.converged,
+        best.len(),
+        best.iter().map(|m| m.starts.to_string()).collect::<Vec<_>>().join(" + "),
+        r.minima.len() - best.len()
+    );
+    let mut d = Derivation::new(title);
+    d.push(
+        "constraints",
+        "coefficients of det(λI − (A − GC)) = desired",
+        &Value::Equations(cons.equations.clone()),
+    );
+    let value = if inputs.claim.what == Computation::MinimumNormGain {
+        Value::Approximate {
+            rows: n,
+            cols: p,
+            candidates: best
+                .iter()
+                .map(|m| (0..n * p).map(|k| m.gain[(k % p) * n + k / p]).collect())
+                .collect(),
+            note,
+        }
+    } else {
+        Value::Approximate {
+            rows: 1,
+            cols: 1,
+            candidates: vec![vec![best[0].cost]],
+            note,
+        }
+    };
+    d.push("minimisers", "", &value);
     Ok(Computed {
         value,
         derivation: d,

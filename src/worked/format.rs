@@ -73,7 +73,7 @@ pub struct ClaimSpec {
     /// Where the document prints it: `eq. (77)`, `slide 'Example: pole assignment'`.
     pub source: String,
     /// The computation that recomputes it (see the README for the list).
-    pub what: String,
+    pub what: super::Computation,
     /// The value exactly as printed (in input syntax; decimals as printed).
     pub printed: String,
     /// A remark shown with the claim.
@@ -119,7 +119,7 @@ pub struct ClaimSpec {
     /// The variable of printed polynomials (default `s`, or `λ` when the print uses it).
     pub var: Option<String>,
     /// For `what = "identity"`: which identity.
-    pub identity: Option<String>,
+    pub identity: Option<super::Identity>,
     /// Parameters kept symbolic for this claim (a general formula stated before the numbers).
     #[serde(default)]
     pub symbols: Vec<String>,

@@ -8,24 +8,28 @@
 //! exact arithmetic at several seeded random rational values of those symbols, and the report
 //! says so.
 
+mod computation;
 mod compute;
 mod compute_optimal;
 mod format;
+mod inputs;
 mod report;
 mod scenario;
 mod value;
 mod verify;
 
-pub use compute::{compute, ComputeError, Computed, Inputs, COMPUTATIONS, IDENTITIES};
+pub use computation::{Computation, Identity};
+pub use compute::compute;
 pub use format::{
     CheckSpec, ClaimSpec, ErratumSpec, ExampleFile, IntensitySpec, PrintedRecord, ScenarioSpec,
     SystemSpec,
 };
+pub use inputs::{ComputeError, Computed, Inputs};
 pub use report::{errata_markdown, render_derivations, render_table, report_json};
 pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
 pub use value::{compare, Agreement, Value};
-pub(crate) use verify::locate;
 pub use verify::{
     load_example, load_folder, parse_example, verify_example, ClaimReport, ExampleReport, Summary,
     Verdict, WorkedError,
 };
+pub(crate) use verify::{locate, toml_field};

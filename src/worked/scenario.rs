@@ -1,7 +1,8 @@
 //! Running a worked example's simulation scenarios and checking what its figures claim.
 
-use super::compute::{compute, Inputs};
+use super::compute::compute;
 use super::format::{ExampleFile, ScenarioSpec};
+use super::inputs::Inputs;
 use super::value::Value;
 use super::verify::WorkedError;
 use crate::algebra::{Quadratic, Rational};

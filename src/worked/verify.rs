@@ -1,7 +1,9 @@
 //! Verdicts: holds, documented erratum (checked), or mismatch.
 
-use super::compute::{compute, ComputeError, Inputs};
+use super::computation::Computation;
+use super::compute::compute;
 use super::format::{ClaimSpec, ErratumSpec, ExampleFile, PrintedRecord};
+use super::inputs::{ComputeError, Inputs};
 use super::value::{compare, Agreement};
 use crate::algebra::Rational;
 use crate::derivation::Derivation;
@@ -134,6 +136,51 @@ pub(crate) fn locate(raw: &str, block: Option<(&str, &str)>, field: &str) -> usi
         .map_or(start + 1, |(i, _)| i + 1)
 }
 
+/// The field a TOML error at 1-based `line` concerns, named as the other errors name fields:
+/// `claims.L.what` (the table, the block's `id` or `name`, the key written on that line);
+/// `toml` when the line assigns nothing (a syntax error).
+pub(crate) fn toml_field(raw: &str, line: usize) -> String {
+    let lines: Vec<&str> = raw.lines().collect();
+    let Some(here) = line.checked_sub(1).and_then(|i| lines.get(i)) else {
+        return "toml".into();
+    };
+    let key_of = |l: &str| -> Option<String> {
+        let (k, _) = l.split_once('=')?;
+        let k = k.trim();
+        let bare = !k.is_empty()
+            && k.chars()
+                .all(|c| c.is_alphanumeric() || matches!(c, '_' | '-' | '.'));
+        bare.then(|| k.to_string())
+    };
+    let Some(key) = key_of(here) else {
+        return "toml".into();
+    };
+    let header = (0..line - 1).rev().find_map(|i| {
+        let t = lines[i].trim();
+        t.starts_with('[')
+            .then(|| (i, t.trim_matches(|c| c == '[' || c == ']').to_string()))
+    });
+    let Some((start, table)) = header else {
+        return key;
+    };
+    // the block's name: its `id` or `name`, wherever in the block it is written
+    let end = (start + 1..lines.len())
+        .find(|&i| lines[i].trim_start().starts_with('['))
+        .unwrap_or(lines.len());
+    let name = lines[start + 1..end].iter().find_map(|l| {
+        let k = key_of(l)?;
+        if k != "id" && k != "name" {
+            return None;
+        }
+        let v = l.split_once('=')?.1.trim();
+        Some(v.trim_matches('"').to_string())
+    });
+    match name {
+        Some(n) if key != "id" && key != "name" => format!("{table}.{n}.{key}"),
+        _ => format!("{table}.{key}"),
+    }
+}
+
 /// Reads and checks one example file.
 ///
 /// # Errors
@@ -165,7 +212,7 @@ pub fn parse_example(file: &str, raw: &str) -> Result<ExampleFile, WorkedError> 
         WorkedError {
             file: file.clone(),
             line,
-            field: "toml".into(),
+            field: toml_field(&raw, line),
             message: e.message().to_string(),
         }
     })?;
@@ -185,18 +232,6 @@ pub fn parse_example(file: &str, raw: &str) -> Result<ExampleFile, WorkedError> 
                 line: locate(&raw, Some(("id", &c.id)), "id"),
                 field: "id".into(),
                 message: format!("claim id '{}' appears twice", c.id),
-            });
-        }
-        if !super::compute::COMPUTATIONS.contains(&c.what.as_str()) {
-            return Err(WorkedError {
-                file: file.clone(),
-                line: locate(&raw, Some(("id", &c.id)), "what"),
-                field: format!("claims.{}.what", c.id),
-                message: format!(
-                    "unknown computation '{}'; known: {}",
-                    c.what,
-                    super::compute::COMPUTATIONS.join(", ")
-                ),
             });
         }
     }
@@ -587,7 +622,7 @@ pub fn verify_example(
             env.remove(s);
         }
         // An identity claim prints a formula; the document asserts that it holds.
-        let asserted = if claim.what == "identity" {
+        let asserted = if claim.what == Computation::Identity {
             "true"
         } else {
             claim.printed.as_str()
@@ -634,4 +669,21 @@ pub fn verify_example(
         claims,
         printed_only: ex.printed_only.clone(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::toml_field;
+
+    #[test]
+    fn toml_errors_name_the_field_of_their_line() {
+        let raw = "id = \"x\"\n\n[[claims]]\nid = \"L\"\nwhat = \"gian\"\n\n[system]\nA = \"[1\"\n";
+        assert_eq!(toml_field(raw, 1), "id");
+        assert_eq!(toml_field(raw, 5), "claims.L.what");
+        assert_eq!(toml_field(raw, 4), "claims.id");
+        assert_eq!(toml_field(raw, 8), "system.A");
+        assert_eq!(toml_field(raw, 3), "toml");
+        assert_eq!(toml_field(raw, 0), "toml");
+        assert_eq!(toml_field(raw, 99), "toml");
+    }
 }
