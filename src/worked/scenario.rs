@@ -189,67 +189,92 @@ fn error(file: &str, raw: &str, scenario: &str, field: &str, message: String) ->
     }
 }
 
-fn run_one(
-    file: &str,
-    raw: &str,
-    ex: &ExampleFile,
-    sc: &ScenarioSpec,
-) -> Result<ScenarioRun, WorkedError> {
-    let bad = |field: &str, m: String| error(file, raw, &sc.name, field, m);
-    let mut env: Environment = Environment::new();
-    for (k, v) in ex.parameters.iter().chain(&sc.parameters) {
-        let r = parse_scalar::<Rational>(v)
-            .map_err(|e| bad("parameters", format!("{k}: {}", e.show_in(v))))?;
-        env.insert(k.clone(), r);
+/// One scenario being read: where errors point, and the symbol values in force.
+struct ScenarioContext<'a> {
+    file: &'a str,
+    raw: &'a str,
+    ex: &'a ExampleFile,
+    sc: &'a ScenarioSpec,
+    env: Environment,
+}
+
+impl ScenarioContext<'_> {
+    fn bad(&self, field: &str, m: String) -> WorkedError {
+        error(self.file, self.raw, &self.sc.name, field, m)
     }
-    let text =
-        |over: &Option<String>, sys: &Option<String>, name: &str| -> Result<String, WorkedError> {
+
+    fn float(&self, text: &str, field: &str) -> Result<DMatrix<f64>, WorkedError> {
+        float_matrix(text, &self.env).map_err(|m| self.bad(field, m))
+    }
+
+    /// A, B, C, D as floats: the scenario's matrices first, else `[system]`'s (D only with
+    /// the system's own C).
+    #[allow(clippy::type_complexity)]
+    fn plant(
+        &self,
+    ) -> Result<(DMatrix<f64>, DMatrix<f64>, DMatrix<f64>, DMatrix<f64>), WorkedError> {
+        let (sc, sys) = (self.sc, &self.ex.system);
+        let text = |over: &Option<String>, sys: &Option<String>, name: &str| {
             over.clone().or_else(|| sys.clone()).ok_or_else(|| {
-                bad(
+                self.bad(
                     name,
                     format!("{name} is missing (in the scenario or [system])"),
                 )
             })
         };
-    let a_text = text(&sc.a, &ex.system.a, "A")?;
-    let b_text = text(&sc.b, &ex.system.b, "B")?;
-    let c_text = text(&sc.c, &ex.system.c, "C")?;
-    let a = float_matrix(&a_text, &env).map_err(|m| bad("A", m))?;
-    let b = float_matrix(&b_text, &env).map_err(|m| bad("B", m))?;
-    let c = float_matrix(&c_text, &env).map_err(|m| bad("C", m))?;
-    let d = match &ex.system.d {
-        Some(t) if sc.c.is_none() => float_matrix(t, &env).map_err(|m| bad("D", m))?,
-        _ => DMatrix::zeros(c.nrows(), b.ncols()),
-    };
-    let (n, m, p) = (a.nrows(), b.ncols(), c.nrows());
-    let convention = match &sc.convention {
-        None => Convention::AMinusKC,
-        Some(t) => Convention::parse(t)
-            .ok_or_else(|| bad("convention", format!("'{t}' is neither a-kc nor a+lc")))?,
-    };
-    let (gain, observer) = if sc.perfect {
-        (
-            DMatrix::zeros(n, p),
-            "perfect observer of [system]".to_string(),
-        )
-    } else if let Some(g) = &sc.gain {
-        (
-            float_matrix(g, &env).map_err(|m| bad("gain", m))?,
-            format!("gain {g}"),
-        )
-    } else if let Some(id) = &sc.gain_claim {
-        let claim = ex
+        let a = self.float(&text(&sc.a, &sys.a, "A")?, "A")?;
+        let b = self.float(&text(&sc.b, &sys.b, "B")?, "B")?;
+        let c = self.float(&text(&sc.c, &sys.c, "C")?, "C")?;
+        let d = match &sys.d {
+            Some(t) if sc.c.is_none() => self.float(t, "D")?,
+            _ => DMatrix::zeros(c.nrows(), b.ncols()),
+        };
+        Ok((a, b, c, d))
+    }
+
+    /// The gain in A − KC form and how the report names it.
+    fn gain(&self, n: usize, p: usize) -> Result<(DMatrix<f64>, String), WorkedError> {
+        let sc = self.sc;
+        let convention = match &sc.convention {
+            None => Convention::AMinusKC,
+            Some(t) => Convention::parse(t)
+                .ok_or_else(|| self.bad("convention", format!("'{t}' is neither a-kc nor a+lc")))?,
+        };
+        let (gain, observer) = if sc.perfect {
+            return Ok((
+                DMatrix::zeros(n, p),
+                "perfect observer of [system]".to_string(),
+            ));
+        } else if let Some(g) = &sc.gain {
+            (self.float(g, "gain")?, format!("gain {g}"))
+        } else if let Some(id) = &sc.gain_claim {
+            self.claimed_gain(id)?
+        } else {
+            return Err(self.bad("gain", "give gain, gain_claim or perfect = true".into()));
+        };
+        let gain = if convention == Convention::APlusLC {
+            -gain
+        } else {
+            gain
+        };
+        Ok((gain, observer))
+    }
+
+    /// The gain a claim of the example recomputes, in A − KC form.
+    fn claimed_gain(&self, id: &str) -> Result<(DMatrix<f64>, String), WorkedError> {
+        let claim = self
+            .ex
             .claims
             .iter()
-            .find(|c| &c.id == id)
-            .ok_or_else(|| bad("gain_claim", format!("no claim with id '{id}'")))?;
+            .find(|c| c.id == id)
+            .ok_or_else(|| self.bad("gain_claim", format!("no claim with id '{id}'")))?;
         let computed = compute(&Inputs {
-            file: ex,
+            file: self.ex,
             claim,
-            env: &env,
+            env: &self.env,
         })
         .map_err(|e| {
-            bad(
+            self.bad(
                 "gain_claim",
                 format!("claim '{id}' could not be recomputed: {e}"),
             )
@@ -265,7 +290,7 @@ fn run_one(
                 ..
             } if !candidates.is_empty() => DMatrix::from_row_slice(rows, cols, &candidates[0]),
             other => {
-                return Err(bad(
+                return Err(self.bad(
                     "gain_claim",
                     format!("claim '{id}' is not a gain ({})", other.input()),
                 ))
@@ -287,77 +312,123 @@ fn run_one(
             .map(|x| format!("{x:.4}"))
             .collect::<Vec<_>>()
             .join(", ");
-        (
+        Ok((
             g,
             format!("gain of claim '{id}' (recomputed; entries row by row: {shown})"),
+        ))
+    }
+
+    fn vector(&self, t: &Option<String>, field: &str, n: usize) -> Result<Vec<f64>, WorkedError> {
+        match t {
+            None => Ok(vec![0.0; n]),
+            Some(t) => Ok(self.float(t, field)?.iter().copied().collect()),
+        }
+    }
+
+    fn integrator(&self) -> Result<Integrator, WorkedError> {
+        Ok(match self.sc.integrator.as_deref() {
+            None | Some("rk4") => Integrator::Rk4,
+            Some("dormand-prince") => Integrator::DormandPrince {
+                rtol: 1e-9,
+                atol: 1e-12,
+            },
+            Some("discrete") => Integrator::Discrete,
+            Some(o) => {
+                return Err(self.bad(
+                    "integrator",
+                    format!("'{o}': use rk4, dormand-prince or discrete"),
+                ))
+            }
+        })
+    }
+
+    /// The input signals: written in the scenario, read from CSV files beside the example,
+    /// or zero.
+    fn inputs(&self, m: usize) -> Result<Vec<simulation::Signal>, WorkedError> {
+        let sc = self.sc;
+        let mut input = sc.input.clone();
+        if !sc.input_csv.is_empty() {
+            if !input.is_empty() {
+                return Err(self.bad("input_csv", "give input or input_csv, not both".into()));
+            }
+            let base = Path::new(self.file)
+                .parent()
+                .unwrap_or_else(|| Path::new("."));
+            for f in &sc.input_csv {
+                let path = base.join(f);
+                let read = |e: String| self.bad("input_csv", format!("{}: {e}", path.display()));
+                let text = std::fs::read_to_string(&path).map_err(|e| read(e.to_string()))?;
+                input.push(simulation::Signal::from_csv(&text).map_err(|e| read(e.to_string()))?);
+            }
+        }
+        if input.is_empty() {
+            input = vec![simulation::Signal::Zero; m];
+        }
+        Ok(input)
+    }
+
+    /// The perfect observer of `[system]`, exactly.
+    fn perfect(&self) -> Result<crate::observer::perfect::PerfectObserver, WorkedError> {
+        let system = &self.ex.system;
+        let sys = |t: &Option<String>, name: &str| -> Result<Matrix<Rational>, WorkedError> {
+            let t = t.as_ref().ok_or_else(|| {
+                self.bad(
+                    name,
+                    format!("[system] {name} is needed for the perfect observer"),
+                )
+            })?;
+            exact_matrix(t, &self.env).map_err(|m| self.bad(name, m))
+        };
+        let d_sys = system
+            .d
+            .as_ref()
+            .map(|t| exact_matrix(t, &self.env).map_err(|m| self.bad("D", m)))
+            .transpose()?;
+        perfect_observer(
+            &sys(&system.a, "A")?,
+            &sys(&system.b, "B")?,
+            &sys(&system.c, "C")?,
+            d_sys.as_ref(),
         )
-    } else {
-        return Err(bad(
-            "gain",
-            "give gain, gain_claim or perfect = true".into(),
-        ));
+        .map_err(|e| self.bad("perfect", e.to_string()))
+    }
+}
+
+fn run_one(
+    file: &str,
+    raw: &str,
+    ex: &ExampleFile,
+    sc: &ScenarioSpec,
+) -> Result<ScenarioRun, WorkedError> {
+    let mut cx = ScenarioContext {
+        file,
+        raw,
+        ex,
+        sc,
+        env: Environment::new(),
     };
-    let gain = if convention == Convention::APlusLC && !sc.perfect {
-        -gain
-    } else {
-        gain
-    };
+    for (k, v) in ex.parameters.iter().chain(&sc.parameters) {
+        let r = parse_scalar::<Rational>(v)
+            .map_err(|e| cx.bad("parameters", format!("{k}: {}", e.show_in(v))))?;
+        cx.env.insert(k.clone(), r);
+    }
+    let (a, b, c, d) = cx.plant()?;
+    let (n, m, p) = (a.nrows(), b.ncols(), c.nrows());
+    let (gain, observer) = cx.gain(n, p)?;
     let feedback = sc
         .feedback
         .as_ref()
-        .map(|f| float_matrix(f, &env).map_err(|m| bad("feedback", m)))
+        .map(|f| cx.float(f, "feedback"))
         .transpose()?;
-    let vector = |t: &Option<String>, field: &str| -> Result<Vec<f64>, WorkedError> {
-        match t {
-            None => Ok(vec![0.0; n]),
-            Some(t) => {
-                let v = float_matrix(t, &env).map_err(|m| bad(field, m))?;
-                Ok(v.iter().copied().collect())
-            }
-        }
-    };
-    let integrator = match sc.integrator.as_deref() {
-        None | Some("rk4") => Integrator::Rk4,
-        Some("dormand-prince") => Integrator::DormandPrince {
-            rtol: 1e-9,
-            atol: 1e-12,
-        },
-        Some("discrete") => Integrator::Discrete,
-        Some(o) => {
-            return Err(bad(
-                "integrator",
-                format!("'{o}': use rk4, dormand-prince or discrete"),
-            ))
-        }
-    };
-    let mut input = sc.input.clone();
-    if !sc.input_csv.is_empty() {
-        if !input.is_empty() {
-            return Err(bad("input_csv", "give input or input_csv, not both".into()));
-        }
-        let base = Path::new(file).parent().unwrap_or_else(|| Path::new("."));
-        for f in &sc.input_csv {
-            let path = base.join(f);
-            let text = std::fs::read_to_string(&path)
-                .map_err(|e| bad("input_csv", format!("{}: {e}", path.display())))?;
-            input.push(
-                simulation::Signal::from_csv(&text)
-                    .map_err(|e| bad("input_csv", format!("{}: {e}", path.display())))?,
-            );
-        }
-    }
-    if input.is_empty() {
-        input = vec![simulation::Signal::Zero; m];
-    }
     let setup = Setup {
         horizon: sc.horizon,
         step: sc.step,
-        integrator,
-        input,
+        integrator: cx.integrator()?,
+        input: cx.inputs(m)?,
         output_noise: sc.output_noise.clone(),
         process_noise: sc.process_noise.clone(),
-        x0: vector(&sc.x0, "x0")?,
-        xhat0: vector(&sc.xhat0, "xhat0")?,
+        x0: cx.vector(&sc.x0, "x0", n)?,
+        xhat0: cx.vector(&sc.xhat0, "xhat0", n)?,
     };
     let lp = Loop {
         a,
@@ -368,33 +439,11 @@ fn run_one(
         feedback,
     };
     let trace = if sc.perfect {
-        let sys = |t: &Option<String>, name: &str| -> Result<Matrix<Rational>, WorkedError> {
-            let t = t.as_ref().ok_or_else(|| {
-                bad(
-                    name,
-                    format!("[system] {name} is needed for the perfect observer"),
-                )
-            })?;
-            exact_matrix(t, &env).map_err(|m| bad(name, m))
-        };
-        let d_sys = ex
-            .system
-            .d
-            .as_ref()
-            .map(|t| exact_matrix(t, &env).map_err(|m| bad("D", m)))
-            .transpose()?;
-        let po = perfect_observer(
-            &sys(&ex.system.a, "A")?,
-            &sys(&ex.system.b, "B")?,
-            &sys(&ex.system.c, "C")?,
-            d_sys.as_ref(),
-        )
-        .map_err(|e| bad("perfect", e.to_string()))?;
-        simulation::simulate_perfect(&lp, &po, &setup)
+        simulation::simulate_perfect(&lp, &cx.perfect()?, &setup)
     } else {
         simulation::simulate(&lp, &setup)
     }
-    .map_err(|e| bad("horizon", e.to_string()))?;
+    .map_err(|e| cx.bad("horizon", e.to_string()))?;
     let summary = summarize(&trace);
     let plot = if sc.plot.is_empty() {
         (1..=n).collect()
@@ -402,10 +451,7 @@ fn run_one(
         sc.plot.clone()
     };
     if let Some(bad_state) = plot.iter().find(|&&s| s == 0 || s > n) {
-        return Err(bad(
-            "plot",
-            format!("state {bad_state} does not exist (1…{n})"),
-        ));
+        return Err(cx.bad("plot", format!("state {bad_state} does not exist (1…{n})")));
     }
     Ok(ScenarioRun {
         name: sc.name.clone(),

@@ -348,284 +348,360 @@ fn agreement(ok: bool, digits: Option<i32>, why: impl FnOnce() -> String) -> Agr
 /// A message when the printed text cannot be read as that kind of value.
 pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreement, String> {
     let digits = printed_decimals(printed);
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
     match value {
-        Value::Matrix(m) => {
-            let rows = parse_matrix_expressions(printed).map_err(syntax)?;
-            let p: Vec<Vec<Quadratic>> = rows
-                .iter()
-                .map(|r| {
-                    r.iter()
-                        .map(|e| evaluate_with::<Quadratic>(e, env))
-                        .collect::<Result<_, _>>()
-                })
-                .collect::<Result<_, _>>()
-                .map_err(syntax)?;
-            let shape_ok = p.len() == m.rows() && p.iter().all(|r| r.len() == m.cols());
-            if !shape_ok {
-                return Ok(Agreement::Differs(format!(
-                    "printed {}×{}, recomputed {}×{}",
-                    p.len(),
-                    p.first().map_or(0, Vec::len),
-                    m.rows(),
-                    m.cols()
-                )));
-            }
-            let mut bad = Vec::new();
-            for i in 0..m.rows() {
-                for j in 0..m.cols() {
-                    if !close(m.get(i, j), &p[i][j], digits) {
-                        bad.push(format!(
-                            "({}, {}): printed {}, recomputed {}",
-                            i + 1,
-                            j + 1,
-                            p[i][j],
-                            m.get(i, j)
-                        ));
-                    }
-                }
-            }
-            Ok(agreement(bad.is_empty(), digits, || bad.join("; ")))
-        }
-        Value::SymbolicMatrix(m) => {
-            let rows = parse_matrix_expressions(printed).map_err(syntax)?;
-            let p: Vec<Vec<MultiPoly>> = rows
-                .iter()
-                .map(|r| {
-                    r.iter()
-                        .map(|e| evaluate_with::<MultiPoly>(e, env))
-                        .collect::<Result<_, _>>()
-                })
-                .collect::<Result<_, _>>()
-                .map_err(syntax)?;
-            let pm = Matrix::from_rows(p).map_err(|e| e.to_string())?;
-            let ok = pm == *m;
-            Ok(agreement(ok, None, || {
-                format!("printed {}, recomputed {}", pm.to_input(), m.to_input())
-            }))
-        }
-        Value::Polynomial(q) => {
-            let e = parse_expression(printed).map_err(syntax)?;
-            let rf = rational_function_with::<Quadratic>(&e, q.var(), Some(env)).map_err(syntax)?;
-            if rf.denominator().degree() != Some(0) {
-                return Err(format!(
-                    "the printed value {printed} is not a polynomial in {}",
-                    q.var()
-                ));
-            }
-            let p = rf.numerator().clone().with_var(q.var());
-            let n = p.degree().unwrap_or(0).max(q.degree().unwrap_or(0));
-            let ok = (0..=n).all(|k| close(&q.coeff(k), &p.coeff(k), digits));
-            Ok(agreement(ok, digits, || {
-                format!("printed {p}, recomputed {q}")
-            }))
-        }
-        Value::SymbolicPolynomial(q, _) | Value::Symbolic(q) => {
-            let e = parse_expression(printed).map_err(syntax)?;
-            let p = evaluate_with::<MultiPoly>(&e, env).map_err(syntax)?;
-            let ok = &p == q;
-            Ok(agreement(ok, None, || {
-                format!(
-                    "printed {p}, recomputed {q}; difference {}",
-                    p.clone() - q.clone()
-                )
-            }))
-        }
-        Value::Scalar(x) => {
-            let e = parse_expression(printed).map_err(syntax)?;
-            let p = evaluate_with::<Quadratic>(&e, env).map_err(syntax)?;
-            Ok(agreement(close(x, &p, digits), digits, || {
-                format!("printed {p}, recomputed {x}")
-            }))
-        }
-        Value::Bool(b) => {
-            let t = printed.trim().to_lowercase();
-            let p = match t.as_str() {
-                "true" | "yes" | "observable" | "holds" => true,
-                "false" | "no" | "unobservable" | "not observable" => false,
-                _ => {
-                    return Err(format!(
-                    "expected yes/no (true, false, observable, unobservable), found '{printed}'"
-                ))
-                }
-            };
-            Ok(agreement(p == *b, None, || {
-                format!("printed {p}, recomputed {b}")
-            }))
-        }
-        Value::Roots(r) => {
-            let rows = parse_matrix_expressions(printed).map_err(syntax)?;
-            let mut p: Vec<Quadratic> = rows
-                .iter()
-                .flatten()
-                .map(|e| evaluate_with::<Quadratic>(e, env))
-                .collect::<Result<_, _>>()
-                .map_err(syntax)?;
-            let mut unmatched = Vec::new();
-            for x in r {
-                match p.iter().position(|y| close(x, y, digits)) {
-                    Some(k) => {
-                        p.remove(k);
-                    }
-                    None => unmatched.push(x.to_string()),
-                }
-            }
-            let ok = unmatched.is_empty() && p.is_empty();
-            Ok(agreement(ok, digits, || {
-                format!(
-                    "recomputed roots not printed: [{}]; printed roots not recomputed: [{}]",
-                    unmatched.join(", "),
-                    p.iter()
-                        .map(|x| x.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )
-            }))
-        }
-        Value::Transfer(t) => {
-            let e = parse_expression(printed).map_err(syntax)?;
-            let p = rational_function_with::<Rational>(&e, "s", Some(env)).map_err(syntax)?;
-            Ok(agreement(&p == t, None, || {
-                format!("printed {p}, recomputed {t}")
-            }))
-        }
-        Value::Equations(eqs) => {
-            let parts: Vec<&str> = printed
-                .split(';')
-                .map(str::trim)
-                .filter(|s| !s.is_empty())
-                .collect();
-            if parts.len() != eqs.len() {
-                return Ok(Agreement::Differs(format!(
-                    "printed {} equations, recomputed {}",
-                    parts.len(),
-                    eqs.len()
-                )));
-            }
-            let mut bad = Vec::new();
-            for (k, (text, q)) in parts.iter().zip(eqs).enumerate() {
-                let p = equation(text, env)?;
-                if !proportional(&p, q) {
-                    bad.push(format!(
-                        "equation {}: printed {} = 0, recomputed {} = 0",
-                        k + 1,
-                        p,
-                        q
-                    ));
-                }
-            }
-            Ok(agreement(bad.is_empty(), None, || bad.join("; ")))
-        }
-        Value::Conditions(conds) => {
-            let printed_conds: Vec<MultiPoly> = printed
-                .split(';')
-                .map(str::trim)
-                .filter(|s| !s.is_empty())
-                .map(|t| equation(t, env))
-                .collect::<Result<_, _>>()?;
-            let mut remaining: Vec<&MultiPoly> = conds.iter().collect();
-            let mut not_recomputed = Vec::new();
-            for p in &printed_conds {
-                match remaining.iter().position(|q| proportional(p, q)) {
-                    Some(k) => {
-                        remaining.remove(k);
-                    }
-                    None => not_recomputed.push(format!("{p} = 0")),
-                }
-            }
-            let ok = not_recomputed.is_empty() && remaining.is_empty();
-            Ok(agreement(ok, None, || {
-                let mut why = Vec::new();
-                if !not_recomputed.is_empty() {
-                    why.push(format!(
-                        "printed but not required: {}",
-                        not_recomputed.join(", ")
-                    ));
-                }
-                if !remaining.is_empty() {
-                    why.push(format!(
-                        "required but not printed: {}",
-                        remaining
-                            .iter()
-                            .map(|q| format!("{q} = 0"))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ));
-                }
-                why.join("; ")
-            }))
-        }
+        Value::Matrix(m) => compare_matrix(m, printed, env, digits),
+        Value::SymbolicMatrix(m) => compare_symbolic_matrix(m, printed, env),
+        Value::Polynomial(q) => compare_polynomial(q, printed, env, digits),
+        Value::SymbolicPolynomial(q, _) | Value::Symbolic(q) => compare_symbolic(q, printed, env),
+        Value::Scalar(x) => compare_scalar(x, printed, env, digits),
+        Value::Bool(b) => compare_bool(b, printed),
+        Value::Roots(r) => compare_roots(r, printed, env, digits),
+        Value::Transfer(t) => compare_transfer(t, printed, env),
+        Value::Equations(eqs) => compare_equations(eqs, printed, env),
+        Value::Conditions(conds) => compare_conditions(conds, printed, env),
         Value::Approximate {
             rows,
             cols,
             candidates,
             ..
-        } => {
-            let prows = parse_matrix_expressions(printed).map_err(syntax)?;
-            let p: Vec<f64> = prows
-                .iter()
-                .flatten()
-                .map(|e| evaluate_with::<Quadratic>(e, env).map(|x| x.to_complex_f64().0))
+        } => compare_approximate((rows, cols), candidates, printed, env, digits),
+        Value::LinearSystem(m, r) => compare_linear_system(m, r, printed),
+    }
+}
+
+fn compare_matrix(
+    m: &Matrix<Quadratic>,
+    printed: &str,
+    env: &Environment,
+    digits: Option<i32>,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let rows = parse_matrix_expressions(printed).map_err(syntax)?;
+    let p: Vec<Vec<Quadratic>> = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|e| evaluate_with::<Quadratic>(e, env))
                 .collect::<Result<_, _>>()
-                .map_err(syntax)?;
-            if prows.len() != *rows || p.len() != rows * cols {
-                return Ok(Agreement::Differs(format!(
-                    "printed {} entries, recomputed {rows}×{cols}",
-                    p.len()
-                )));
+        })
+        .collect::<Result<_, _>>()
+        .map_err(syntax)?;
+    let shape_ok = p.len() == m.rows() && p.iter().all(|r| r.len() == m.cols());
+    if !shape_ok {
+        return Ok(Agreement::Differs(format!(
+            "printed {}×{}, recomputed {}×{}",
+            p.len(),
+            p.first().map_or(0, Vec::len),
+            m.rows(),
+            m.cols()
+        )));
+    }
+    let mut bad = Vec::new();
+    for i in 0..m.rows() {
+        for j in 0..m.cols() {
+            if !close(m.get(i, j), &p[i][j], digits) {
+                bad.push(format!(
+                    "({}, {}): printed {}, recomputed {}",
+                    i + 1,
+                    j + 1,
+                    p[i][j],
+                    m.get(i, j)
+                ));
             }
-            let d = digits.unwrap_or(0);
-            let tol = 0.5 * 10f64.powi(-d) * (1.0 + 1e-9);
-            let matches = |c: &Vec<f64>| c.iter().zip(&p).all(|(x, y)| (x - y).abs() <= tol);
-            let ok = candidates.iter().any(matches);
-            let worst = candidates
-                .iter()
-                .map(|c| {
-                    c.iter()
-                        .zip(&p)
-                        .map(|(x, y)| (x - y).abs())
-                        .fold(0.0, f64::max)
-                })
-                .fold(f64::INFINITY, f64::min);
-            Ok(agreement(ok, Some(d), || {
-                format!("largest difference {worst:.3e} from the nearest recomputed candidate")
-            }))
-        }
-        Value::LinearSystem(m, r) => {
-            let (lhs, rhs) = printed
-                .split_once('=')
-                .ok_or_else(|| format!("expected 'M g = r', found '{printed}'"))?;
-            let close_bracket = lhs
-                .rfind(']')
-                .ok_or_else(|| format!("expected a matrix before the gain in '{lhs}'"))?;
-            let pm =
-                crate::syntax::parse_matrix::<Rational>(&lhs[..=close_bracket]).map_err(syntax)?;
-            let pr = crate::syntax::parse_matrix::<Rational>(rhs.trim()).map_err(syntax)?;
-            // a system of equations does not depend on the order of its rows
-            let rows = |m: &Matrix<Rational>, r: &Matrix<Rational>| {
-                let mut v: Vec<Vec<Rational>> = (0..m.rows())
-                    .map(|i| {
-                        let mut row = m.row(i).to_vec();
-                        row.push(r.get(i, 0).clone());
-                        row
-                    })
-                    .collect();
-                v.sort();
-                v
-            };
-            let ok =
-                pm.shape() == m.shape() && pr.shape() == r.shape() && rows(&pm, &pr) == rows(m, r);
-            Ok(agreement(ok, None, || {
-                format!(
-                    "printed {} g = {}, recomputed {} g = {}",
-                    pm.to_input(),
-                    pr.to_input(),
-                    m.to_input(),
-                    r.to_input()
-                )
-            }))
         }
     }
+    Ok(agreement(bad.is_empty(), digits, || bad.join("; ")))
+}
+
+fn compare_symbolic_matrix(
+    m: &Matrix<MultiPoly>,
+    printed: &str,
+    env: &Environment,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let rows = parse_matrix_expressions(printed).map_err(syntax)?;
+    let p: Vec<Vec<MultiPoly>> = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|e| evaluate_with::<MultiPoly>(e, env))
+                .collect::<Result<_, _>>()
+        })
+        .collect::<Result<_, _>>()
+        .map_err(syntax)?;
+    let pm = Matrix::from_rows(p).map_err(|e| e.to_string())?;
+    let ok = pm == *m;
+    Ok(agreement(ok, None, || {
+        format!("printed {}, recomputed {}", pm.to_input(), m.to_input())
+    }))
+}
+
+fn compare_polynomial(
+    q: &Poly<Quadratic>,
+    printed: &str,
+    env: &Environment,
+    digits: Option<i32>,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let e = parse_expression(printed).map_err(syntax)?;
+    let rf = rational_function_with::<Quadratic>(&e, q.var(), Some(env)).map_err(syntax)?;
+    if rf.denominator().degree() != Some(0) {
+        return Err(format!(
+            "the printed value {printed} is not a polynomial in {}",
+            q.var()
+        ));
+    }
+    let p = rf.numerator().clone().with_var(q.var());
+    let n = p.degree().unwrap_or(0).max(q.degree().unwrap_or(0));
+    let ok = (0..=n).all(|k| close(&q.coeff(k), &p.coeff(k), digits));
+    Ok(agreement(ok, digits, || {
+        format!("printed {p}, recomputed {q}")
+    }))
+}
+
+fn compare_symbolic(q: &MultiPoly, printed: &str, env: &Environment) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let e = parse_expression(printed).map_err(syntax)?;
+    let p = evaluate_with::<MultiPoly>(&e, env).map_err(syntax)?;
+    let ok = &p == q;
+    Ok(agreement(ok, None, || {
+        format!(
+            "printed {p}, recomputed {q}; difference {}",
+            p.clone() - q.clone()
+        )
+    }))
+}
+
+fn compare_scalar(
+    x: &Quadratic,
+    printed: &str,
+    env: &Environment,
+    digits: Option<i32>,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let e = parse_expression(printed).map_err(syntax)?;
+    let p = evaluate_with::<Quadratic>(&e, env).map_err(syntax)?;
+    Ok(agreement(close(x, &p, digits), digits, || {
+        format!("printed {p}, recomputed {x}")
+    }))
+}
+
+fn compare_bool(b: &bool, printed: &str) -> Result<Agreement, String> {
+    let t = printed.trim().to_lowercase();
+    let p = match t.as_str() {
+        "true" | "yes" | "observable" | "holds" => true,
+        "false" | "no" | "unobservable" | "not observable" => false,
+        _ => {
+            return Err(format!(
+                "expected yes/no (true, false, observable, unobservable), found '{printed}'"
+            ))
+        }
+    };
+    Ok(agreement(p == *b, None, || {
+        format!("printed {p}, recomputed {b}")
+    }))
+}
+
+fn compare_roots(
+    r: &[Quadratic],
+    printed: &str,
+    env: &Environment,
+    digits: Option<i32>,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let rows = parse_matrix_expressions(printed).map_err(syntax)?;
+    let mut p: Vec<Quadratic> = rows
+        .iter()
+        .flatten()
+        .map(|e| evaluate_with::<Quadratic>(e, env))
+        .collect::<Result<_, _>>()
+        .map_err(syntax)?;
+    let mut unmatched = Vec::new();
+    for x in r {
+        match p.iter().position(|y| close(x, y, digits)) {
+            Some(k) => {
+                p.remove(k);
+            }
+            None => unmatched.push(x.to_string()),
+        }
+    }
+    let ok = unmatched.is_empty() && p.is_empty();
+    Ok(agreement(ok, digits, || {
+        format!(
+            "recomputed roots not printed: [{}]; printed roots not recomputed: [{}]",
+            unmatched.join(", "),
+            p.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    }))
+}
+
+fn compare_transfer(
+    t: &RationalFunction<Rational>,
+    printed: &str,
+    env: &Environment,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let e = parse_expression(printed).map_err(syntax)?;
+    let p = rational_function_with::<Rational>(&e, "s", Some(env)).map_err(syntax)?;
+    Ok(agreement(&p == t, None, || {
+        format!("printed {p}, recomputed {t}")
+    }))
+}
+
+fn compare_equations(
+    eqs: &[MultiPoly],
+    printed: &str,
+    env: &Environment,
+) -> Result<Agreement, String> {
+    let parts: Vec<&str> = printed
+        .split(';')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect();
+    if parts.len() != eqs.len() {
+        return Ok(Agreement::Differs(format!(
+            "printed {} equations, recomputed {}",
+            parts.len(),
+            eqs.len()
+        )));
+    }
+    let mut bad = Vec::new();
+    for (k, (text, q)) in parts.iter().zip(eqs).enumerate() {
+        let p = equation(text, env)?;
+        if !proportional(&p, q) {
+            bad.push(format!(
+                "equation {}: printed {} = 0, recomputed {} = 0",
+                k + 1,
+                p,
+                q
+            ));
+        }
+    }
+    Ok(agreement(bad.is_empty(), None, || bad.join("; ")))
+}
+
+fn compare_conditions(
+    conds: &[MultiPoly],
+    printed: &str,
+    env: &Environment,
+) -> Result<Agreement, String> {
+    let printed_conds: Vec<MultiPoly> = printed
+        .split(';')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|t| equation(t, env))
+        .collect::<Result<_, _>>()?;
+    let mut remaining: Vec<&MultiPoly> = conds.iter().collect();
+    let mut not_recomputed = Vec::new();
+    for p in &printed_conds {
+        match remaining.iter().position(|q| proportional(p, q)) {
+            Some(k) => {
+                remaining.remove(k);
+            }
+            None => not_recomputed.push(format!("{p} = 0")),
+        }
+    }
+    let ok = not_recomputed.is_empty() && remaining.is_empty();
+    Ok(agreement(ok, None, || {
+        let mut why = Vec::new();
+        if !not_recomputed.is_empty() {
+            why.push(format!(
+                "printed but not required: {}",
+                not_recomputed.join(", ")
+            ));
+        }
+        if !remaining.is_empty() {
+            why.push(format!(
+                "required but not printed: {}",
+                remaining
+                    .iter()
+                    .map(|q| format!("{q} = 0"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        why.join("; ")
+    }))
+}
+
+fn compare_approximate(
+    (rows, cols): (&usize, &usize),
+    candidates: &[Vec<f64>],
+    printed: &str,
+    env: &Environment,
+    digits: Option<i32>,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let prows = parse_matrix_expressions(printed).map_err(syntax)?;
+    let p: Vec<f64> = prows
+        .iter()
+        .flatten()
+        .map(|e| evaluate_with::<Quadratic>(e, env).map(|x| x.to_complex_f64().0))
+        .collect::<Result<_, _>>()
+        .map_err(syntax)?;
+    if prows.len() != *rows || p.len() != rows * cols {
+        return Ok(Agreement::Differs(format!(
+            "printed {} entries, recomputed {rows}×{cols}",
+            p.len()
+        )));
+    }
+    let d = digits.unwrap_or(0);
+    let tol = 0.5 * 10f64.powi(-d) * (1.0 + 1e-9);
+    let matches = |c: &Vec<f64>| c.iter().zip(&p).all(|(x, y)| (x - y).abs() <= tol);
+    let ok = candidates.iter().any(matches);
+    let worst = candidates
+        .iter()
+        .map(|c| {
+            c.iter()
+                .zip(&p)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min);
+    Ok(agreement(ok, Some(d), || {
+        format!("largest difference {worst:.3e} from the nearest recomputed candidate")
+    }))
+}
+
+fn compare_linear_system(
+    m: &Matrix<Rational>,
+    r: &Matrix<Rational>,
+    printed: &str,
+) -> Result<Agreement, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let (lhs, rhs) = printed
+        .split_once('=')
+        .ok_or_else(|| format!("expected 'M g = r', found '{printed}'"))?;
+    let close_bracket = lhs
+        .rfind(']')
+        .ok_or_else(|| format!("expected a matrix before the gain in '{lhs}'"))?;
+    let pm = crate::syntax::parse_matrix::<Rational>(&lhs[..=close_bracket]).map_err(syntax)?;
+    let pr = crate::syntax::parse_matrix::<Rational>(rhs.trim()).map_err(syntax)?;
+    // a system of equations does not depend on the order of its rows
+    let rows = |m: &Matrix<Rational>, r: &Matrix<Rational>| {
+        let mut v: Vec<Vec<Rational>> = (0..m.rows())
+            .map(|i| {
+                let mut row = m.row(i).to_vec();
+                row.push(r.get(i, 0).clone());
+                row
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let ok = pm.shape() == m.shape() && pr.shape() == r.shape() && rows(&pm, &pr) == rows(m, r);
+    Ok(agreement(ok, None, || {
+        format!(
+            "printed {} g = {}, recomputed {} g = {}",
+            pm.to_input(),
+            pr.to_input(),
+            m.to_input(),
+            r.to_input()
+        )
+    }))
 }
 
 /// `lhs = rhs` as the polynomial `lhs − rhs`.
