@@ -125,17 +125,13 @@ fn partners(poles: &[(f64, f64)]) -> Result<Vec<usize>, RobustError> {
     Ok(partner.into_iter().map(|p| p.unwrap_or(0)).collect())
 }
 
-/// Places the eigenvalues of `A − KC` at `poles` (real or in conjugate pairs, as `(re, im)`),
-/// choosing the free parameters for well-conditioned eigenvectors.
-///
-/// # Errors
-/// [`RobustError`] for mismatched shapes, unpaired complex poles, too high multiplicities, or a
-/// rank-deficient `C`.
-pub fn robust_observer_gain(
+/// Shapes, the pole count, conjugate partners (returned) and multiplicities at most the number
+/// of outputs.
+fn check_request(
     a: &DMatrix<f64>,
     c: &DMatrix<f64>,
     poles: &[(f64, f64)],
-) -> Result<RobustPlacement, RobustError> {
+) -> Result<Vec<usize>, RobustError> {
     let n = a.nrows();
     if a.ncols() != n || c.ncols() != n {
         return Err(RobustError::Shape {
@@ -163,6 +159,81 @@ pub fn robust_observer_gain(
             });
         }
     }
+    Ok(partner)
+}
+
+/// Kautsky–Nichols–Van Dooren sweeps: each eigenvector in turn made as orthogonal to the
+/// others as its allowable subspace (`bases[j]`) permits, conjugate partners kept conjugate;
+/// returns the sweeps made (at most 30).
+fn orthogonalise(x: &mut DMatrix<C64>, bases: &[DMatrix<C64>], partner: &[usize]) -> usize {
+    let n = x.ncols();
+    let mut sweeps = 0;
+    for _ in 0..30 {
+        sweeps += 1;
+        let before = x.clone();
+        for j in 0..n {
+            if partner[j] < j {
+                continue; // set from its partner
+            }
+            let others = x.clone().remove_column(j);
+            let y = if n > 1 {
+                orthogonal_to(&others)
+            } else {
+                x.column(j).into_owned()
+            };
+            let s = &bases[j];
+            let mut v = s * (s.adjoint() * y);
+            let nrm = v.norm();
+            if nrm > 1e-14 {
+                v /= C64::new(nrm, 0.0);
+                x.set_column(j, &v);
+                if partner[j] != j {
+                    let conj = v.map(|e| e.conj());
+                    x.set_column(partner[j], &conj);
+                }
+            }
+        }
+        if (&*x - &before).norm() < 1e-12 {
+            break;
+        }
+    }
+    sweeps
+}
+
+/// The largest distance from a computed eigenvalue to the requested pole it is matched with
+/// (greedily, nearest first).
+fn farthest_pole(ev: &[C64], lambdas: &[C64]) -> f64 {
+    let mut requested = lambdas.to_vec();
+    let mut residual: f64 = 0.0;
+    for z in ev {
+        let (pos, d) = requested
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (i, (z - p).norm()))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((0, f64::INFINITY));
+        residual = residual.max(d);
+        if !requested.is_empty() {
+            requested.remove(pos);
+        }
+    }
+    residual
+}
+
+/// Places the eigenvalues of `A − KC` at `poles` (real or in conjugate pairs, as `(re, im)`),
+/// choosing the free parameters for well-conditioned eigenvectors.
+///
+/// # Errors
+/// [`RobustError`] for mismatched shapes, unpaired complex poles, too high multiplicities, or a
+/// rank-deficient `C`.
+pub fn robust_observer_gain(
+    a: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    poles: &[(f64, f64)],
+) -> Result<RobustPlacement, RobustError> {
+    let n = a.nrows();
+    let m = c.nrows();
+    let partner = check_request(a, c, poles)?;
     // Dual problem: state feedback F for (Aᵀ, B = Cᵀ), eig(Aᵀ − B F) = poles, K = Fᵀ.
     let at = a.transpose();
     let b = c.transpose();
@@ -206,36 +277,7 @@ pub fn robust_observer_gain(
             x.column_mut(j).scale_mut(1.0 / nrm);
         }
     }
-    let mut sweeps = 0;
-    for _ in 0..30 {
-        sweeps += 1;
-        let before = x.clone();
-        for j in 0..n {
-            if partner[j] < j {
-                continue; // set from its partner
-            }
-            let others = x.clone().remove_column(j);
-            let y = if n > 1 {
-                orthogonal_to(&others)
-            } else {
-                x.column(j).into_owned()
-            };
-            let s = &bases[j];
-            let mut v = s * (s.adjoint() * y);
-            let nrm = v.norm();
-            if nrm > 1e-14 {
-                v /= C64::new(nrm, 0.0);
-                x.set_column(j, &v);
-                if partner[j] != j {
-                    let conj = v.map(|e| e.conj());
-                    x.set_column(partner[j], &conj);
-                }
-            }
-        }
-        if (&x - &before).norm() < 1e-12 {
-            break;
-        }
-    }
+    let sweeps = orthogonalise(&mut x, &bases, &partner);
     let x_inv = x
         .clone()
         .try_inverse()
@@ -257,20 +299,7 @@ pub fn robust_observer_gain(
     let k = f.transpose(); // n × m
     let observer = a - &k * c;
     let ev = eigenvalues(&observer);
-    let mut requested = lambdas.clone();
-    let mut residual: f64 = 0.0;
-    for z in &ev {
-        let (pos, d) = requested
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (i, (z - p).norm()))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .unwrap_or((0, f64::INFINITY));
-        residual = residual.max(d);
-        if !requested.is_empty() {
-            requested.remove(pos);
-        }
-    }
+    let residual = farthest_pole(&ev, &lambdas);
     let relative_residual =
         (&observer - target.transpose()).norm() / a.norm().max(f64::MIN_POSITIVE);
     let svd = x.clone().svd(false, false);

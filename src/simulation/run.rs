@@ -210,6 +210,121 @@ fn noise_sources(spec: &Option<NoiseSpec>, count: usize, offset: u64) -> Vec<Opt
         .collect()
 }
 
+/// `a · b` over the common length (the loop's inner products, in a fixed order).
+fn dot(row: &[f64], v: &[f64]) -> f64 {
+    let len = row.len().min(v.len());
+    let (row, v) = (&row[..len], &v[..len]);
+    let mut acc = 0.0;
+    for j in 0..len {
+        acc += row[j] * v[j];
+    }
+    acc
+}
+
+/// The loop is linear and time-invariant: with `z = (x, x̂)`,
+/// `z' = [A, BF; LC, A + BF − LC] z + [B; B] r + [B w; L v]` — the system and drive matrices,
+/// row-major.
+struct Augmented {
+    n: usize,
+    m: usize,
+    system: Vec<f64>,
+    drive: Vec<f64>,
+}
+
+/// The stages of one RK4 step.
+struct Rk4Scratch {
+    k: [Vec<f64>; 4],
+    tmp: Vec<f64>,
+}
+
+impl Rk4Scratch {
+    fn new(len: usize) -> Self {
+        Rk4Scratch {
+            k: std::array::from_fn(|_| vec![0.0; len]),
+            tmp: vec![0.0; len],
+        }
+    }
+}
+
+impl Augmented {
+    fn of(l: &Loop, n: usize, m: usize) -> Self {
+        let bf = match &l.feedback {
+            Some(f) => &l.b * f,
+            None => DMatrix::zeros(n, n),
+        };
+        let lc = &l.gain * &l.c;
+        let mut big = DMatrix::<f64>::zeros(2 * n, 2 * n);
+        big.view_mut((0, 0), (n, n)).copy_from(&l.a);
+        big.view_mut((0, n), (n, n)).copy_from(&bf);
+        big.view_mut((n, 0), (n, n)).copy_from(&lc);
+        big.view_mut((n, n), (n, n)).copy_from(&(&l.a + &bf - &lc));
+        let mut p_mat = DMatrix::<f64>::zeros(2 * n, m);
+        p_mat.view_mut((0, 0), (n, m)).copy_from(&l.b);
+        p_mat.view_mut((n, 0), (n, m)).copy_from(&l.b);
+        Augmented {
+            n,
+            m,
+            system: big.transpose().iter().copied().collect(),
+            drive: p_mat.transpose().iter().copied().collect(),
+        }
+    }
+
+    /// `z'` given the reference `r` already evaluated at the stage time.
+    fn deriv_at(&self, zz: &[f64], constant: &[f64], r: &[f64], out: &mut [f64]) {
+        let (n2, m) = (2 * self.n, self.m);
+        for i in 0..n2 {
+            out[i] = constant[i]
+                + dot(&self.system[i * n2..(i + 1) * n2], zz)
+                + dot(&self.drive[i * m..(i + 1) * m], r);
+        }
+    }
+
+    /// One classical RK4 step of length `h`; `r` holds the reference at t, t + h/2, t + h.
+    fn rk4_step(
+        &self,
+        z: &mut [f64],
+        constant: &[f64],
+        [r0, r_half, r1]: [&[f64]; 3],
+        h: f64,
+        s: &mut Rk4Scratch,
+    ) {
+        let n2 = 2 * self.n;
+        let [k1, k2, k3, k4] = &mut s.k;
+        let tmp = &mut s.tmp;
+        self.deriv_at(z, constant, r0, k1);
+        for i in 0..n2 {
+            tmp[i] = z[i] + 0.5 * h * k1[i];
+        }
+        self.deriv_at(tmp, constant, r_half, k2);
+        for i in 0..n2 {
+            tmp[i] = z[i] + 0.5 * h * k2[i];
+        }
+        self.deriv_at(tmp, constant, r_half, k3);
+        for i in 0..n2 {
+            tmp[i] = z[i] + h * k3[i];
+        }
+        self.deriv_at(tmp, constant, r1, k4);
+        for i in 0..n2 {
+            z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+    }
+}
+
+/// One step of the discrete-time loop: `x[k+1] = A x + B(u + w)`,
+/// `x̂[k+1] = A x̂ + B u + L(y − C x̂ − D u)`.
+fn discrete_step(l: &Loop, z: &[f64], u: &[f64], w: &[f64], y: &[f64]) -> Vec<f64> {
+    let n = l.a.nrows();
+    let (x, xhat) = z.split_at(n);
+    let ax = DVector::from_column_slice(x);
+    let axh = DVector::from_column_slice(xhat);
+    let ud = DVector::from_column_slice(u);
+    let wd = DVector::from_column_slice(w);
+    let yd = DVector::from_column_slice(y);
+    let xn = &l.a * &ax + &l.b * (&ud + &wd);
+    let xhn = &l.a * &axh + &l.b * &ud + &l.gain * (yd - &l.c * &axh - &l.d * &ud);
+    xn.iter().chain(xhn.iter()).copied().collect()
+}
+
 /// Runs the loop.
 ///
 /// # Errors
@@ -228,23 +343,7 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
         u: Series::new(m, samples + 1),
         adaptive_steps: (0, 0),
     };
-    // The loop is linear and time-invariant: z = (x, x̂),
-    // z' = [A, BF; LC, A + BF − LC] z + [B; B] r + [B w; L v].
-    let bf = match &l.feedback {
-        Some(f) => &l.b * f,
-        None => DMatrix::zeros(n, n),
-    };
-    let lc = &l.gain * &l.c;
-    let mut big = DMatrix::<f64>::zeros(2 * n, 2 * n);
-    big.view_mut((0, 0), (n, n)).copy_from(&l.a);
-    big.view_mut((0, n), (n, n)).copy_from(&bf);
-    big.view_mut((n, 0), (n, n)).copy_from(&lc);
-    big.view_mut((n, n), (n, n)).copy_from(&(&l.a + &bf - &lc));
-    let system: Vec<f64> = big.transpose().iter().copied().collect();
-    let mut p_mat = DMatrix::<f64>::zeros(2 * n, m);
-    p_mat.view_mut((0, 0), (n, m)).copy_from(&l.b);
-    p_mat.view_mut((n, 0), (n, m)).copy_from(&l.b);
-    let drive: Vec<f64> = p_mat.transpose().iter().copied().collect();
+    let aug = Augmented::of(l, n, m);
     let row_major = |x: &DMatrix<f64>| -> Vec<f64> { x.transpose().iter().copied().collect() };
     let (cm, dm, bm, lm) = (
         row_major(&l.c),
@@ -254,31 +353,10 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
     );
     let fm = l.feedback.as_ref().map(row_major);
     let p = l.c.nrows();
-    let dot = |row: &[f64], v: &[f64]| {
-        let len = row.len().min(v.len());
-        let (row, v) = (&row[..len], &v[..len]);
-        let mut acc = 0.0;
-        for j in 0..len {
-            acc += row[j] * v[j];
-        }
-        acc
-    };
     let reference = |t: f64, r: &mut [f64]| {
         for (rk, sig) in r.iter_mut().zip(&s.input) {
             *rk = sig.value(t);
         }
-    };
-    // z' given the reference r already evaluated at the stage time
-    let deriv_at = |zz: &[f64], constant: &[f64], r: &[f64], out: &mut [f64]| {
-        for i in 0..2 * n {
-            out[i] = constant[i]
-                + dot(&system[i * 2 * n..(i + 1) * 2 * n], zz)
-                + dot(&drive[i * m..(i + 1) * m], r);
-        }
-    };
-    let deriv = |t: f64, zz: &[f64], constant: &[f64], r: &mut [f64], out: &mut [f64]| {
-        reference(t, r);
-        deriv_at(zz, constant, r, out);
     };
     // RK4 needs r at t, t + h/2 and t + h; r(t + h) is the next step's r(t)
     let (mut r0, mut r_half, mut r1) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
@@ -286,13 +364,7 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
     let mut h_adaptive = s.step;
     let mut stats = AdaptiveStats::default();
     let mut constant = vec![0.0; 2 * n];
-    let (mut k1, mut k2, mut k3, mut k4, mut tmp) = (
-        vec![0.0; 2 * n],
-        vec![0.0; 2 * n],
-        vec![0.0; 2 * n],
-        vec![0.0; 2 * n],
-        vec![0.0; 2 * n],
-    );
+    let mut scratch = Rk4Scratch::new(2 * n);
     let (mut u, mut v, mut w, mut y) = (vec![0.0; m], vec![0.0; p], vec![0.0; m], vec![0.0; p]);
     for k in 0..=samples {
         let t = k as f64 * s.step;
@@ -334,29 +406,15 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
                 let h = s.step;
                 reference(t + 0.5 * h, &mut r_half);
                 reference(t + h, &mut r1);
-                deriv_at(&z, &constant, &r0, &mut k1);
-                for i in 0..2 * n {
-                    tmp[i] = z[i] + 0.5 * h * k1[i];
-                }
-                deriv_at(&tmp, &constant, &r_half, &mut k2);
-                for i in 0..2 * n {
-                    tmp[i] = z[i] + 0.5 * h * k2[i];
-                }
-                deriv_at(&tmp, &constant, &r_half, &mut k3);
-                for i in 0..2 * n {
-                    tmp[i] = z[i] + h * k3[i];
-                }
-                deriv_at(&tmp, &constant, &r1, &mut k4);
+                aug.rk4_step(&mut z, &constant, [&r0, &r_half, &r1], h, &mut scratch);
                 std::mem::swap(&mut r0, &mut r1);
-                for i in 0..2 * n {
-                    z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-                }
             }
             Integrator::DormandPrince { rtol, atol } => {
                 let mut f = |tt: f64, zz: &[f64]| -> Vec<f64> {
                     let mut out = vec![0.0; 2 * n];
                     let mut rr = vec![0.0; m];
-                    deriv(tt, zz, &constant, &mut rr, &mut out);
+                    reference(tt, &mut rr);
+                    aug.deriv_at(zz, &constant, &rr, &mut out);
                     out
                 };
                 z = dopri5(
@@ -371,18 +429,7 @@ pub fn simulate(l: &Loop, s: &Setup) -> Result<Trace, SimulationError> {
                 )
                 .map_err(|_| SimulationError::Diverged(t))?;
             }
-            Integrator::Discrete => {
-                // x[k+1] = A x + B(u + w), x̂[k+1] = A x̂ + B u + L(y − C x̂ − D u)
-                let (x, xhat) = z.split_at(n);
-                let ax = DVector::from_column_slice(x);
-                let axh = DVector::from_column_slice(xhat);
-                let ud = DVector::from_column_slice(&u);
-                let wd = DVector::from_column_slice(&w);
-                let yd = DVector::from_column_slice(&y);
-                let xn = &l.a * &ax + &l.b * (&ud + &wd);
-                let xhn = &l.a * &axh + &l.b * &ud + &l.gain * (yd - &l.c * &axh - &l.d * &ud);
-                z = xn.iter().chain(xhn.iter()).copied().collect();
-            }
+            Integrator::Discrete => z = discrete_step(l, &z, &u, &w, &y),
         }
         trace.y.push(&y);
         trace.u.push(&u);

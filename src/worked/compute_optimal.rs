@@ -154,19 +154,7 @@ fn plant_and_noise(inputs: &Inputs) -> Result<(Plant, NoiseIntensities), Compute
 pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let mut d = Derivation::new(title);
     if inputs.claim.what == Computation::NaturalFrequency {
-        let p = inputs
-            .desired()?
-            .rational()
-            .ok_or_else(|| failed("natural frequency of a rational polynomial only"))?;
-        let n = p.degree().unwrap_or(0).max(1);
-        d.push("desired", "observer polynomial", &p);
-        let w = p.coeff(0).to_f64().abs().powf(1.0 / n as f64);
-        let value = scalar(w, "(Π|λ_i|)^(1/n) = |p(0)|^(1/n)".into());
-        d.push("ω_n", "|p(0)|^(1/n)", &value);
-        return Ok(Computed {
-            value,
-            derivation: d,
-        });
+        return natural_frequency_claim(inputs, d);
     }
     let (plant, noise) = plant_and_noise(inputs)?;
     let (q, r, s) = plant.intensities(&noise);
@@ -199,68 +187,10 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
         }
         "robust" => {
             let poles = float_poles(inputs)?;
-            let r = robust_observer_gain(&plant.a, &plant.c, &poles)?;
-            rows_matrix(&r.gain)
+            rows_matrix(&robust_observer_gain(&plant.a, &plant.c, &poles)?.gain)
         }
-        "diagonal" => {
-            let text =
-                inputs.claim.poles.as_deref().ok_or_else(|| {
-                    input_error("poles", "the diagonal method needs poles, in order")
-                })?;
-            let poles = crate::syntax::parse_list::<Rational>(text)
-                .map_err(|e| input_error("poles", e.show_in(text)))?;
-            let a = inputs.numeric("A")?;
-            if poles.len() != a.rows() {
-                return Err(input_error(
-                    "poles",
-                    format!("{} poles for order {}", poles.len(), a.rows()),
-                ));
-            }
-            let m = Matrix::from_fn(a.rows(), a.rows(), |i, j| {
-                if i == j {
-                    poles[i].clone()
-                } else {
-                    Rational::from_integer(0.into())
-                }
-            });
-            let l = gain_for_observer_matrix(&a, &inputs.numeric("C")?, &m)?;
-            d.push("L", "(A − diag(poles)) C⁻¹, exact", &l);
-            to_nalgebra(&l)
-        }
-        "weighted" => {
-            let (out, state) = match (
-                inputs.claim.derivative_output,
-                inputs.claim.derivative_state,
-            ) {
-                (Some(o), Some(s)) if o >= 1 && s >= 1 => (o - 1, s - 1),
-                _ => return Err(input_error(
-                    "derivative_output",
-                    "the weighted method needs derivative_output and derivative_state (1-based)",
-                )),
-            };
-            let desired = inputs
-                .desired()?
-                .rational()
-                .ok_or_else(|| failed("the weighted method needs rational poles"))?;
-            let w = weighted_design(
-                &inputs.numeric("A")?,
-                &inputs.numeric("B")?,
-                &inputs.numeric("C")?,
-                &inputs.numeric("D")?,
-                &desired,
-                &inputs.numeric("input_noise")?,
-                &inputs.numeric("output_noise")?,
-                out,
-                state,
-                1001,
-            )?;
-            d.push(
-                "w",
-                "weight minimising trace Σ (grid of 1001 points, golden section)",
-                &Words(format!("{} ≈ {:.6}", w.weight, w.weight_f64)),
-            );
-            rows_matrix(&w.gain)
-        }
+        "diagonal" => diagonal_gain(inputs, &mut d)?,
+        "weighted" => weighted_gain(inputs, &mut d)?,
         other => {
             return Err(input_error(
                 "method",
@@ -278,33 +208,125 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
             "natural frequency (Π|λ_i|)^(1/n) of the Kalman poles".into(),
         )
     } else {
-        let (sigma, residual) = error_covariance(&plant, &noise, &l)?;
-        d.push(
-            "Σ",
-            "(A − LC)Σ + Σ(A − LC)ᵀ + (B − LD)C_U(B − LD)ᵀ + L C_Y Lᵀ = 0",
-            &float_matrix(&sigma),
-        );
-        d.push(
-            "residual",
-            "relative Lyapunov residual",
-            &Words(format!("{residual:.2e}")),
-        );
-        d.push(
-            "trace Σ",
-            "variance of the error, summed over states",
-            &scalar(sigma.trace(), String::new()),
-        );
-        scalar(
-            sigma.trace().sqrt(),
-            "RMS estimation error √(trace Σ), noise covariances read as white-noise intensities"
-                .into(),
-        )
+        error_rms(&plant, &noise, &l, &mut d)?
     };
     d.push("result", "", &value);
     Ok(Computed {
         value,
         derivation: d,
     })
+}
+
+/// `ω_n = |p(0)|^(1/n)` of the desired polynomial.
+fn natural_frequency_claim(inputs: &Inputs, mut d: Derivation) -> Result<Computed, ComputeError> {
+    let p = inputs
+        .desired()?
+        .rational()
+        .ok_or_else(|| failed("natural frequency of a rational polynomial only"))?;
+    let n = p.degree().unwrap_or(0).max(1);
+    d.push("desired", "observer polynomial", &p);
+    let w = p.coeff(0).to_f64().abs().powf(1.0 / n as f64);
+    let value = scalar(w, "(Π|λ_i|)^(1/n) = |p(0)|^(1/n)".into());
+    d.push("ω_n", "|p(0)|^(1/n)", &value);
+    Ok(Computed {
+        value,
+        derivation: d,
+    })
+}
+
+/// `L = (A − diag(poles)) C⁻¹`, exact: the observer matrix diagonal, poles in the given order.
+fn diagonal_gain(inputs: &Inputs, d: &mut Derivation) -> Result<DMatrix<f64>, ComputeError> {
+    let text = inputs
+        .claim
+        .poles
+        .as_deref()
+        .ok_or_else(|| input_error("poles", "the diagonal method needs poles, in order"))?;
+    let poles = crate::syntax::parse_list::<Rational>(text)
+        .map_err(|e| input_error("poles", e.show_in(text)))?;
+    let a = inputs.numeric("A")?;
+    if poles.len() != a.rows() {
+        return Err(input_error(
+            "poles",
+            format!("{} poles for order {}", poles.len(), a.rows()),
+        ));
+    }
+    let m = Matrix::from_fn(a.rows(), a.rows(), |i, j| {
+        if i == j {
+            poles[i].clone()
+        } else {
+            Rational::from_integer(0.into())
+        }
+    });
+    let l = gain_for_observer_matrix(&a, &inputs.numeric("C")?, &m)?;
+    d.push("L", "(A − diag(poles)) C⁻¹, exact", &l);
+    Ok(to_nalgebra(&l))
+}
+
+/// Furlan's weighted-measurement observer: the weight minimising the error variance.
+fn weighted_gain(inputs: &Inputs, d: &mut Derivation) -> Result<DMatrix<f64>, ComputeError> {
+    let (out, state) = match (
+        inputs.claim.derivative_output,
+        inputs.claim.derivative_state,
+    ) {
+        (Some(o), Some(s)) if o >= 1 && s >= 1 => (o - 1, s - 1),
+        _ => {
+            return Err(input_error(
+                "derivative_output",
+                "the weighted method needs derivative_output and derivative_state (1-based)",
+            ))
+        }
+    };
+    let desired = inputs
+        .desired()?
+        .rational()
+        .ok_or_else(|| failed("the weighted method needs rational poles"))?;
+    let w = weighted_design(
+        &inputs.numeric("A")?,
+        &inputs.numeric("B")?,
+        &inputs.numeric("C")?,
+        &inputs.numeric("D")?,
+        &desired,
+        &inputs.numeric("input_noise")?,
+        &inputs.numeric("output_noise")?,
+        out,
+        state,
+        1001,
+    )?;
+    d.push(
+        "w",
+        "weight minimising trace Σ (grid of 1001 points, golden section)",
+        &Words(format!("{} ≈ {:.6}", w.weight, w.weight_f64)),
+    );
+    Ok(rows_matrix(&w.gain))
+}
+
+/// `√(trace Σ)` from the error covariance's Lyapunov equation, with its working.
+fn error_rms(
+    plant: &Plant,
+    noise: &NoiseIntensities,
+    l: &DMatrix<f64>,
+    d: &mut Derivation,
+) -> Result<Value, ComputeError> {
+    let (sigma, residual) = error_covariance(plant, noise, l)?;
+    d.push(
+        "Σ",
+        "(A − LC)Σ + Σ(A − LC)ᵀ + (B − LD)C_U(B − LD)ᵀ + L C_Y Lᵀ = 0",
+        &float_matrix(&sigma),
+    );
+    d.push(
+        "residual",
+        "relative Lyapunov residual",
+        &Words(format!("{residual:.2e}")),
+    );
+    d.push(
+        "trace Σ",
+        "variance of the error, summed over states",
+        &scalar(sigma.trace(), String::new()),
+    );
+    Ok(scalar(
+        sigma.trace().sqrt(),
+        "RMS estimation error √(trace Σ), noise covariances read as white-noise intensities".into(),
+    ))
 }
 
 fn rows_matrix(rows: &[Vec<f64>]) -> DMatrix<f64> {
