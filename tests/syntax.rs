@@ -158,3 +158,15 @@ fn symbolic_divisions_are_exact_or_refused_quickly() {
         .to_string();
     assert!(e.contains("term operations"), "{e}");
 }
+
+/// Powers over Q(√d) with irrational coefficients are bounded by the work of their last
+/// squaring (found by fuzzing: `(s + i − 2)^184` took 2 s); the powers a course uses pass.
+#[test]
+fn irrational_powers_are_bounded_by_their_work() {
+    use observer_workbench::syntax::parse_polynomial;
+    for ok in ["(s^2 + sqrt(2) s + 1)^3", "(s + 1 + i)^5", "(s + 1)^100"] {
+        assert!(parse_polynomial::<Quadratic>(ok, "s").is_ok(), "{ok}");
+    }
+    let e = parse_polynomial::<Quadratic>("(s + i - 2)^184", "s").unwrap_err();
+    assert!(e.to_string().contains("irrational coefficients"), "{e}");
+}

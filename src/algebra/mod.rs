@@ -20,7 +20,7 @@ mod scalars;
 
 pub use gcd::{fraction, gcd, lcm_of_denominators};
 pub(crate) use multivariate::latex_symbol;
-pub use multivariate::{Monomial, MultiPoly};
+pub use multivariate::{DivisionTooCostly, Monomial, MultiPoly};
 pub use num_bigint::BigInt;
 pub use quadratic::{Quadratic, QuadraticError};
 pub(crate) use scalars::latex_of_parts;

@@ -5,7 +5,7 @@
 //! * the characteristic polynomial of an integer matrix, by Hessenberg reduction mod p (O(n³)
 //!   per prime) and Chinese remaindering up to a Hadamard-type bound on the coefficients, so
 //!   the result is exact by construction;
-//! * linear systems and observer gains, whose size is not known in advance: residues are
+//! * linear systems (and, in [`crate::observer`], single-output observer gains), whose size is not known in advance: residues are
 //!   accumulated until rational reconstruction gives the same answer twice (output-sensitive),
 //!   and the answer is then *certified* exactly (`A·x = b`, or `det(sI − (A − KC)) = P(s)`), so a
 //!   wrong reconstruction can never be returned.
@@ -126,7 +126,7 @@ fn inv_mod(a: u64, p: u64) -> Option<u64> {
     (a % p != 0).then(|| pow_mod(a, p - 2, p))
 }
 
-fn int_mod(x: &BigInt, p: u64) -> u64 {
+pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     let r = (x % p).to_i64().unwrap_or(0);
     if r < 0 {
         (r + p as i64) as u64
@@ -373,7 +373,7 @@ fn map_primes<T: Send>(primes: &[u64], f: impl Fn(u64) -> T + Sync) -> Vec<T> {
 }
 
 /// An integer matrix scaled from a rational one, with entries mod p fast when they fit `i64`.
-struct IntMatrix {
+pub(crate) struct IntMatrix {
     rows: usize,
     cols: usize,
     small: Option<Vec<i64>>,
@@ -381,7 +381,7 @@ struct IntMatrix {
 }
 
 impl IntMatrix {
-    fn new(rows: usize, cols: usize, big: Vec<BigInt>) -> Self {
+    pub(crate) fn new(rows: usize, cols: usize, big: Vec<BigInt>) -> Self {
         let small = big.iter().map(ToPrimitive::to_i64).collect();
         IntMatrix {
             rows,
@@ -391,14 +391,14 @@ impl IntMatrix {
         }
     }
     /// Row-major residues.
-    fn residues(&self, p: u64) -> Vec<u64> {
+    pub(crate) fn residues(&self, p: u64) -> Vec<u64> {
         match &self.small {
             Some(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
             None => self.big.iter().map(|x| int_mod(x, p)).collect(),
         }
     }
     /// log2 of the Frobenius norm (an upper bound).
-    fn log2_norm(&self) -> f64 {
+    pub(crate) fn log2_norm(&self) -> f64 {
         let max_bits = self.big.iter().map(|x| x.bits()).max().unwrap_or(0) as f64;
         max_bits + 0.5 * ((self.rows * self.cols) as f64).log2()
     }
@@ -419,7 +419,7 @@ fn scaled_rows(a: &Matrix<Rational>) -> (IntMatrix, BigInt) {
 
 /// `u64` dot product mod p with one reduction per 4 terms (products of residues < 2⁶²).
 #[inline]
-fn dot(x: &[u64], y: &[u64], p: u64) -> u64 {
+pub(crate) fn dot(x: &[u64], y: &[u64], p: u64) -> u64 {
     let mut acc: u128 = 0;
     for (a, b) in x.iter().zip(y) {
         acc += (*a * *b) as u128;
@@ -429,7 +429,7 @@ fn dot(x: &[u64], y: &[u64], p: u64) -> u64 {
 
 /// LU-style elimination mod p of the n×n matrix `m` (row-major) with right-hand sides `rhs`
 /// (n×k, row-major): returns `(det mod p, solution mod p)`, or `None` when singular mod p.
-fn det_and_solve_mod(
+pub(crate) fn det_and_solve_mod(
     mut m: Vec<u64>,
     n: usize,
     mut rhs: Vec<u64>,
@@ -490,7 +490,7 @@ fn det_and_solve_mod(
 
 /// Chinese remaindering of `det` and `det · x` up to `bits`, then `x = (det·x)/det`.
 /// `residues(p)` gives `(det mod p, x mod p)` or `None` for a prime dividing `det`.
-fn lift_cramer(
+pub(crate) fn lift_cramer(
     len: usize,
     bits: u64,
     mut residues: impl FnMut(u64) -> Option<(u64, Vec<u64>)>,
@@ -629,110 +629,6 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
         .map(|v| crate::algebra::fraction(v, det.clone()))
         .collect();
     Some(Matrix::from_fn(n, k, |i, j| x[i * k + j].clone()))
-}
-
-/// The single-output observer gain `K = P(A) O_n⁻¹ e_n` (A − KC), exact.
-///
-/// With `A`, `c` scaled to integers (`Ã = dA`, `c̃ = ec`) and `Q = f·d^n P(s/d)` integral,
-/// `det(Õ)·Q(Ã) Õ⁻¹ e_n = Q(Ã)·adj(Õ) e_n` is an integer vector; it and `det Õ` are lifted
-/// by Chinese remaindering up to Hadamard bounds (exact by construction), and
-/// `K = e/(f d) · Q(Ã) Õ⁻¹ e_n`. `None` when `O_n` is singular (unobservable).
-pub fn ackermann_gain_rational(
-    a: &Matrix<Rational>,
-    c: &Matrix<Rational>,
-    desired: &[Rational],
-) -> Option<Matrix<Rational>> {
-    let n = a.rows();
-    if n == 0 || c.rows() != 1 || c.cols() != n || desired.len() != n + 1 {
-        return None;
-    }
-    let d = Rational::common_denominator(a.entries());
-    let e = Rational::common_denominator(c.row(0));
-    let at = IntMatrix::new(
-        n,
-        n,
-        (0..n)
-            .flat_map(|i| (0..n).map(move |j| (i, j)))
-            .map(|(i, j)| a.get(j, i).scale_to_integer(&d))
-            .collect(),
-    );
-    let ct = IntMatrix::new(
-        1,
-        n,
-        c.row(0).iter().map(|x| x.scale_to_integer(&e)).collect(),
-    );
-    // P̃(s) = d^n P(s/d): coefficient k times d^(n−k); then cleared of denominators by f.
-    let d_r = Rational::from(d.clone());
-    let scaled: Vec<Rational> = (0..=n)
-        .map(|k| desired[k].clone() * num_traits::pow(d_r.clone(), n - k))
-        .collect();
-    let f = Rational::common_denominator(&scaled);
-    let q: Vec<BigInt> = scaled.iter().map(|x| x.scale_to_integer(&f)).collect();
-    // Bounds: ‖c̃ Ã^k‖ ≤ ‖c̃‖ ‖Ã‖^k.
-    let la = at.log2_norm();
-    let lc = ct.log2_norm();
-    let det_bits: f64 = (0..n).map(|k| lc + k as f64 * la).sum();
-    let adj_bits: f64 = (0..n.saturating_sub(1))
-        .map(|k| lc + k as f64 * la)
-        .sum::<f64>()
-        + 0.5 * (n as f64).log2();
-    let poly_bits = q
-        .iter()
-        .enumerate()
-        .map(|(k, x)| x.bits() as f64 + k as f64 * la)
-        .fold(0.0f64, f64::max)
-        + ((n + 1) as f64).log2();
-    let bits = det_bits.max(adj_bits + poly_bits).ceil() as u64 + 2;
-    let (det, y) = lift_cramer(n, bits, |p| gain_residues(&at, &ct, &q, n, p))?;
-    if det.is_zero() {
-        return None;
-    }
-    // K = e/(f d) · Y / det, one reduction per entry
-    let denominator = f * d * &det;
-    Some(Matrix::column(
-        y.into_iter()
-            .map(|v| crate::algebra::fraction(v * &e, denominator.clone()))
-            .collect(),
-    ))
-}
-
-/// `(det O mod p, (Q(Ã) O⁻¹ e_n) mod p)` for one prime.
-fn gain_residues(
-    at: &IntMatrix,
-    ct: &IntMatrix,
-    q: &[BigInt],
-    n: usize,
-    p: u64,
-) -> Option<(u64, Vec<u64>)> {
-    {
-        let atp = at.residues(p); // row j of Aᵀ is column j of A
-        let cp = ct.residues(p);
-        // O mod p, rows c̃, c̃Ã, …: (rÃ)_j = r · (column j of Ã)
-        let mut o = Vec::with_capacity(n * n);
-        o.extend_from_slice(&cp);
-        for r in 1..n {
-            let last = o[(r - 1) * n..r * n].to_vec();
-            for j in 0..n {
-                o.push(dot(&last, &atp[j * n..(j + 1) * n], p));
-            }
-        }
-        let mut en = vec![0u64; n];
-        en[n - 1] = 1;
-        let (det, qn) = det_and_solve_mod(o, n, en, 1, p)?;
-        // Horner with Ã: acc ← Ã acc + q_k qn; Ã acc needs rows of Ã = columns of Aᵀ.
-        let a_rows: Vec<u64> = (0..n)
-            .flat_map(|i| (0..n).map(move |j| (i, j)))
-            .map(|(i, j)| atp[j * n + i])
-            .collect();
-        let qp: Vec<u64> = q.iter().map(|x| int_mod(x, p)).collect();
-        let mut acc = vec![0u64; n];
-        for &qk in qp.iter().rev() {
-            acc = (0..n)
-                .map(|i| (dot(&a_rows[i * n..(i + 1) * n], &acc, p) + qk * qn[i]) % p)
-                .collect();
-        }
-        Some((det, acc))
-    }
 }
 
 #[cfg(test)]

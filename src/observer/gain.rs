@@ -214,7 +214,7 @@ pub(crate) fn observer_polynomial<F: Field>(
 /// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC), for one output row `c`.
 ///
 /// Over the rationals from order [`linalg::MODULAR_FROM_ORDER`] on, the gain is computed by
-/// [`linalg::modular::ackermann_gain_rational`] (the same formula mod many primes, lifted
+/// [`super::ackermann_exact::ackermann_gain_rational`] (the same formula mod many primes, lifted
 /// exactly by Chinese remaindering up to Hadamard bounds) without ever forming `O_n`.
 ///
 /// # Example
@@ -249,7 +249,7 @@ pub fn ackermann_gain<F: Field>(
             linalg::as_rational(c),
             crate::linalg::from_rational::<Poly<Rational>, _>(desired.clone()),
         ) {
-            if let Some(k) = linalg::modular::ackermann_gain_rational(qa, qc, qp.coeffs())
+            if let Some(k) = super::ackermann_exact::ackermann_gain_rational(qa, qc, qp.coeffs())
                 .and_then(crate::linalg::from_rational::<Matrix<F>, _>)
             {
                 return Ok(k);

@@ -5,6 +5,7 @@
 //! (gain `K` or `G`), Stoustrup writes `A + LC` (gain `L`); [`ObserverGain`] carries its
 //! [`Convention`] and converts with one call.
 
+pub mod ackermann_exact;
 mod convention;
 pub mod dynamical_error;
 pub mod float_check;

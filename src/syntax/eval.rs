@@ -403,6 +403,30 @@ fn bound_rf_power<F: Field + FromExpr>(
     if estimate > MAX_VALUE_BITS {
         return Err(too_large(column, estimate));
     }
+    // Over Q(√d) with irrational coefficients every coefficient operation reduces fractions:
+    // the last squaring, with the work measure of a product (degree × coefficient bits), stays
+    // within the irrational budget (found by fuzzing: `(s + i − 2)^184` took 2 s)
+    let irrational = base
+        .numerator()
+        .coeffs()
+        .iter()
+        .chain(base.denominator().coeffs())
+        .any(|c| c.field_tag() != 0);
+    if irrational {
+        let degree = (degree(base) as u64).saturating_mul(exponent);
+        let work = degree
+            .saturating_mul(degree / 2 + 1)
+            .saturating_mul(estimate);
+        if work > MAX_RF_WORK / 10 {
+            return Err(SyntaxError::TooLarge {
+                column,
+                what: format!(
+                    "a power of degree {degree} with irrational coefficients of about {estimate} bits built here"
+                ),
+                limit: (MAX_RF_WORK / 10) as usize,
+            });
+        }
+    }
     Ok(())
 }
 
