@@ -15,6 +15,7 @@ use crate::linalg::{self, LinalgError, Matrix};
 use crate::observability::ObservabilityError;
 use crate::observer::{ackermann_gain, DesignError};
 use crate::poly::{Factored, Poly, RationalFunction};
+use crate::system::StateSpace;
 
 /// Why a control computation failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -47,6 +48,9 @@ pub enum ControlError {
         /// The uncontrollable eigenvalues, when known exactly.
         modes: Option<String>,
     },
+    /// The plant has a direct feedthrough, which the observer-based controller here leaves out.
+    #[error("the plant has a direct feedthrough D = {0}: the observer-based controller analysed here assumes D = 0")]
+    Feedthrough(String),
     /// `1 − K(s)G(s)` is identically zero.
     #[error("the loop 1 − K(s)G(s) is identically zero: the closed loop is not defined")]
     DegenerateLoop,
@@ -167,14 +171,16 @@ pub struct ObserverBasedControl {
 /// plant.
 ///
 /// # Errors
-/// [`ControlError`] for non-SISO plants or mismatched dimensions.
+/// [`ControlError`] for non-SISO plants, a plant with feedthrough, or mismatched dimensions.
 pub fn observer_based_control(
-    a: &Matrix<Rational>,
-    b: &Matrix<Rational>,
-    c: &Matrix<Rational>,
+    plant: &StateSpace<Rational>,
     f: &Matrix<Rational>,
     l: &Matrix<Rational>,
 ) -> Result<ObserverBasedControl, ControlError> {
+    let (a, b, c) = (plant.a(), plant.b(), plant.c());
+    if !plant.d().is_zero() {
+        return Err(ControlError::Feedthrough(plant.d().to_input()));
+    }
     if b.cols() != 1 || c.rows() != 1 {
         return Err(ControlError::NotSiso {
             what: "the controller transfer function",
@@ -250,14 +256,9 @@ mod tests {
     #[test]
     fn stoustrup_observer_based_control() {
         let m = |s: &str| parse_matrix::<Rational>(s).unwrap();
-        let r = observer_based_control(
-            &m("[2 -3; 4 -5]"),
-            &m("[2; 3]"),
-            &m("[-3 2]"),
-            &m("[42 -30]"),
-            &m("[-6; -12]"),
-        )
-        .unwrap();
+        let plant =
+            StateSpace::new(m("[2 -3; 4 -5]"), Some(m("[2; 3]")), m("[-3 2]"), None).unwrap();
+        let r = observer_based_control(&plant, &m("[42 -30]"), &m("[-6; -12]")).unwrap();
         assert!(r.separation_holds);
         assert_eq!(
             Factored::of(&r.closed_loop_polynomial).to_string(),

@@ -23,6 +23,7 @@ use observer_workbench::observer::search::Multistart;
 use observer_workbench::observer::weighted::{weighted_design, weighted_gain};
 use observer_workbench::poly::Poly;
 use observer_workbench::syntax::{evaluate_with, parse_matrix, parse_matrix_expressions};
+use observer_workbench::system::StateSpace;
 use proptest::prelude::*;
 
 fn m(s: &str) -> Matrix<Rational> {
@@ -261,7 +262,8 @@ fn furlan() -> [Matrix<Rational>; 6] {
 #[test]
 fn furlan_kalman_filter_and_weighted_observer() {
     let [a, b, c, d, cu, cy] = furlan();
-    let plant = Plant::from_exact(&a, &b, &c, &d);
+    let exact_plant = StateSpace::new(a.clone(), Some(b), c.clone(), Some(d)).unwrap();
+    let plant = Plant::from_exact(&exact_plant);
     let noise = NoiseIntensities::from_exact(&cu, &cy);
     let k = kalman_filter(&plant, &noise).unwrap();
     assert!(k.residual < 1e-12, "{}", k.residual);
@@ -278,7 +280,7 @@ fn furlan_kalman_filter_and_weighted_observer() {
     // printed 285 rad/s; the correlated-noise model gives 0.6 % more
     assert!((wn - 285.0).abs() / 285.0 < 0.01, "{wn}");
     let desired = Poly::from_roots(&[Rational::from_i64(-548), Rational::from_i64(-670)], "s");
-    let w = weighted_design(&a, &b, &c, &d, &desired, &cu, &cy, 1, 1, 1001).unwrap();
+    let w = weighted_design(&exact_plant, &desired, (&cu, &cy), (1, 1), 1001).unwrap();
     assert!(w.weight_f64 > 0.0 && w.weight_f64 < 1.0);
     // the search is worth it: better than either end of the interval, worse than Kalman
     assert!(w.variance < w.variance_at_ends.0 && w.variance < w.variance_at_ends.1);
@@ -295,20 +297,21 @@ fn furlan_kalman_filter_and_weighted_observer() {
     .unwrap();
     assert_eq!(cp, desired);
     // exact and float covariances agree
-    let exact = error_covariance_exact(&a, &b, &c, &d, &cu, &cy, &g).unwrap();
+    let exact = error_covariance_exact(&exact_plant, &cu, &cy, &g).unwrap();
     let (fl, _) = error_covariance(&plant, &noise, &to_nalgebra(&g)).unwrap();
     assert!((to_nalgebra(&exact) - &fl).norm() <= 1e-9 * fl.norm());
 }
 
 #[test]
 fn perfect_observer_robustness_of_example_1() {
-    let p = perfect_observer(
-        &m("[0 1 0; 0 0 1; -6 -11 -6]"),
-        &m("[3; 2; 1]"),
-        &m("[1 0 0]"),
+    let plant = StateSpace::new(
+        m("[0 1 0; 0 0 1; -6 -11 -6]"),
+        Some(m("[3; 2; 1]")),
+        m("[1 0 0]"),
         None,
     )
     .unwrap();
+    let p = perfect_observer(&plant).unwrap();
     let conds: Vec<String> = robustness_conditions(&p)
         .iter()
         .map(|c| c.to_string())

@@ -97,7 +97,8 @@ proptest! {
         let desired = DesiredPolynomial::from_poles(&poles).unwrap();
         let l = design(&a, &c, &desired, GainMethod::Ackermann, Convention::APlusLC).unwrap();
         let l = l.gain.matrix.map(|x| x.as_rational().unwrap().clone());
-        let r = observer_based_control(&a, &b, &c, &f, &l).unwrap();
+        let plant = observer_workbench::system::StateSpace::new(a, Some(b), c, None).unwrap();
+        let r = observer_based_control(&plant, &f, &l).unwrap();
         prop_assert!(r.separation_holds);
         prop_assert_eq!(r.feedback_polynomial, desired_f);
         prop_assert_eq!(r.closed_loop_polynomial.degree(), Some(2 * n));

@@ -6,6 +6,7 @@ use crate::algebra::Rational;
 use crate::control::{observer_based_control, state_feedback};
 use crate::observer::Convention;
 use crate::syntax::parse_polynomial;
+use crate::system::StateSpace;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 
@@ -59,7 +60,8 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
         (None, None) => bail!("give --f or --feedback-poly"),
     };
-    let r = observer_based_control(&a, &b, &c, &f, &l)?;
+    let plant = StateSpace::new(a, Some(b), c, None)?;
+    let r = observer_based_control(&plant, &f, &l)?;
     if args.json {
         print_json(&json!({
             "F": f.to_input(),

@@ -16,6 +16,7 @@ use crate::observer::robust::robust_observer_gain;
 use crate::observer::weighted::weighted_design;
 use crate::poly::Poly;
 use crate::syntax::parse_list;
+use crate::system::StateSpace;
 use anyhow::{anyhow, bail, Result};
 use nalgebra::{Complex, DMatrix};
 use serde_json::json;
@@ -97,10 +98,7 @@ fn require_covariance(flag: &str, m: &Matrix<Rational>) -> Result<()> {
 
 /// The exact plant and noise intensities, as read.
 struct Exact<'a> {
-    a: &'a Matrix<Rational>,
-    b: &'a Matrix<Rational>,
-    c: &'a Matrix<Rational>,
-    d: &'a Matrix<Rational>,
+    plant: &'a StateSpace<Rational>,
     cu: &'a Matrix<Rational>,
     cy: &'a Matrix<Rational>,
 }
@@ -114,7 +112,12 @@ fn pole_rows(
     plant: &Plant,
     table: &mut Vec<Row>,
 ) -> Result<()> {
-    let Exact { a, b, c, d, cu, cy } = *exact;
+    let Exact {
+        plant: exact_plant,
+        cu,
+        cy,
+    } = *exact;
+    let (a, c) = (exact_plant.a(), exact_plant.c());
     let poles =
         parse_list::<Rational>(ptext).map_err(|e| anyhow!("in --poles: {}", e.show_in(ptext)))?;
     if poles.len() != a.rows() {
@@ -169,7 +172,7 @@ fn pole_rows(
             bail!("in --derivative-output/--derivative-state: indices are 1-based");
         }
         let desired = Poly::from_roots(&poles, "s");
-        let w = weighted_design(a, b, c, d, &desired, cu, cy, o - 1, s - 1, args.grid)?;
+        let w = weighted_design(exact_plant, &desired, (cu, cy), (o - 1, s - 1), args.grid)?;
         table.push(Row {
             method: "weighted".into(),
             gain: DMatrix::from_fn(w.gain.len(), c.rows(), |i, j| w.gain[i][j]),
@@ -262,7 +265,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     {
         bail!("--derivative-output and --derivative-state compare observers with chosen poles: give --poles too");
     }
-    let plant = Plant::from_exact(&a, &b, &c, &d);
+    let exact_plant = StateSpace::new(a.clone(), Some(b.clone()), c.clone(), Some(d.clone()))?;
+    let plant = Plant::from_exact(&exact_plant);
     let noise = NoiseIntensities::from_exact(&cu, &cy);
     let k = kalman_filter(&plant, &noise)?;
     let kalman_gain = DMatrix::from_fn(k.gain.len(), c.rows(), |i, j| k.gain[i][j]);
@@ -285,10 +289,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     if let Some(ptext) = &args.poles {
         let exact = Exact {
-            a: &a,
-            b: &b,
-            c: &c,
-            d: &d,
+            plant: &exact_plant,
             cu: &cu,
             cy: &cy,
         };

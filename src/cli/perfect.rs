@@ -10,6 +10,7 @@ use crate::linalg::Matrix;
 use crate::observer::perfect::{
     perfect_observer, robustness_conditions, robustness_residuals, Reconstruction,
 };
+use crate::system::StateSpace;
 use anyhow::Result;
 use serde_json::json;
 
@@ -59,14 +60,16 @@ pub fn run(args: Args) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let (b, d) = args.inputs.parse()?;
     super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
-    let p = perfect_observer(&a, &b, &c, d.as_ref())?;
+    let plant = StateSpace::new(a.clone(), Some(b.clone()), c.clone(), d)?;
+    let p = perfect_observer(&plant)?;
     let conditions = robustness_conditions(&p);
     let changed = args.changed_a.is_some() || args.changed_b.is_some() || args.changed_c.is_some();
     let fit = if changed {
         let a2 = changed_matrix("--changed-a", args.changed_a.as_deref(), &a)?;
         let b2 = changed_matrix("--changed-b", args.changed_b.as_deref(), &b)?;
         let c2 = changed_matrix("--changed-c", args.changed_c.as_deref(), &c)?;
-        Some(robustness_residuals(&p, &a2, &b2, &c2, d.as_ref())?)
+        let changed_plant = StateSpace::new(a2, Some(b2), c2, Some(plant.d().clone()))?;
+        Some(robustness_residuals(&p, &changed_plant)?)
     } else {
         None
     };

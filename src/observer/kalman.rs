@@ -25,6 +25,7 @@ use crate::algebra::Field;
 use crate::linalg::float::eigenvalues;
 use crate::linalg::lyapunov::{lyapunov_exact, lyapunov_f64, LyapunovError};
 use crate::linalg::{LinalgError, Matrix};
+use crate::system::StateSpace;
 use nalgebra::{Complex, DMatrix};
 use serde::Serialize;
 
@@ -90,19 +91,14 @@ pub struct Plant {
 }
 
 impl Plant {
-    /// The f64 image of an exact plant `(A, B, C, D)` (shapes are checked where it is used).
-    pub fn from_exact(
-        a: &Matrix<crate::algebra::Rational>,
-        b: &Matrix<crate::algebra::Rational>,
-        c: &Matrix<crate::algebra::Rational>,
-        d: &Matrix<crate::algebra::Rational>,
-    ) -> Self {
+    /// The f64 image of an exact plant.
+    pub fn from_exact(plant: &StateSpace<crate::algebra::Rational>) -> Self {
         use crate::linalg::float::to_nalgebra;
         Plant {
-            a: to_nalgebra(a),
-            b: to_nalgebra(b),
-            c: to_nalgebra(c),
-            d: to_nalgebra(d),
+            a: to_nalgebra(plant.a()),
+            b: to_nalgebra(plant.b()),
+            c: to_nalgebra(plant.c()),
+            d: to_nalgebra(plant.d()),
         }
     }
     fn check(&self, noise: &NoiseIntensities) -> Result<(), KalmanError> {
@@ -179,18 +175,14 @@ pub fn error_covariance(
 ///
 /// # Errors
 /// [`KalmanError`] for bad shapes or when two eigenvalues of `A − LC` sum to zero.
-#[allow(clippy::too_many_arguments)]
 pub fn error_covariance_exact<F: Field>(
-    a: &Matrix<F>,
-    b: &Matrix<F>,
-    c: &Matrix<F>,
-    d: &Matrix<F>,
+    plant: &StateSpace<F>,
     input_noise: &Matrix<F>,
     output_noise: &Matrix<F>,
     l: &Matrix<F>,
 ) -> Result<Matrix<F>, KalmanError> {
-    let f = a.sub(&l.mul(c)?)?;
-    let g = b.sub(&l.mul(d)?)?;
+    let f = plant.a().sub(&l.mul(plant.c())?)?;
+    let g = plant.b().sub(&l.mul(plant.d())?)?;
     let w = g
         .mul(input_noise)?
         .mul(&g.transpose())?

@@ -21,6 +21,7 @@ use crate::derivation::{Derivation, Words};
 use crate::linalg::{self, Matrix};
 use crate::observability::{require_observable, ObservabilityError};
 use crate::poly::Poly;
+use crate::system::StateSpace;
 
 /// The coefficients `(U_k, Y_k)` of `u^(k)` and `y^(k)` in the reconstruction of `x̂`.
 pub type Term = (Matrix<Rational>, Matrix<Rational>);
@@ -58,24 +59,6 @@ pub enum PerfectObserverError {
         rank: usize,
         /// rows of C.
         rows: usize,
-    },
-    /// Shapes do not fit.
-    #[error(
-        "B has {b_rows} rows and D is {d_rows}×{d_cols}; need B with n = {n} rows and D {p}×{m}"
-    )]
-    Shape {
-        /// Rows of B.
-        b_rows: usize,
-        /// Rows of D.
-        d_rows: usize,
-        /// Columns of D.
-        d_cols: usize,
-        /// Order.
-        n: usize,
-        /// Outputs.
-        p: usize,
-        /// Inputs.
-        m: usize,
     },
     /// The pair is not observable: no perfect observer exists.
     #[error(transparent)]
@@ -137,33 +120,22 @@ fn observability_chains(
 /// use observer_workbench::algebra::Rational;
 /// use observer_workbench::observer::perfect::perfect_observer;
 /// use observer_workbench::syntax::parse_matrix;
+/// use observer_workbench::system::StateSpace;
 /// let m = |s: &str| parse_matrix::<Rational>(s).unwrap();
-/// let p = perfect_observer(&m("[0 1 0; 0 0 1; -6 -11 -6]"), &m("[3; 2; 1]"), &m("[1 0 0]"), None).unwrap();
+/// let plant = StateSpace::new(m("[0 1 0; 0 0 1; -6 -11 -6]"), Some(m("[3; 2; 1]")), m("[1 0 0]"), None).unwrap();
+/// let p = perfect_observer(&plant).unwrap();
 /// assert_eq!(p.f.to_input(), "[0, 1, 0; 0, 0, 1; 1, 0, 0]");
 /// assert_eq!(p.output_matrix.to_input(), "[0; 0; -1]");
 /// assert_eq!(p.pencil_determinant.to_string(), "-1");
 /// ```
 ///
 /// # Errors
-/// [`PerfectObserverError`] for an unobservable pair, dependent outputs or mismatched shapes.
+/// [`PerfectObserverError`] for an unobservable pair or dependent outputs.
 pub fn perfect_observer(
-    a: &Matrix<Rational>,
-    b: &Matrix<Rational>,
-    c: &Matrix<Rational>,
-    d: Option<&Matrix<Rational>>,
+    plant: &StateSpace<Rational>,
 ) -> Result<PerfectObserver, PerfectObserverError> {
-    let (n, m, p) = (a.rows(), b.cols(), c.rows());
-    let d = d.cloned().unwrap_or_else(|| Matrix::zeros(p, m));
-    if b.rows() != n || d.rows() != p || d.cols() != m {
-        return Err(PerfectObserverError::Shape {
-            b_rows: b.rows(),
-            d_rows: d.rows(),
-            d_cols: d.cols(),
-            n,
-            p,
-            m,
-        });
-    }
+    let (a, b, c, d) = (plant.a(), plant.b(), plant.c(), plant.d());
+    let (n, m, p) = (plant.order(), plant.inputs(), plant.outputs());
     let (t, indices) = observability_chains(a, c)?;
     let tb = t.mul(b)?;
     let ta = t.mul(a)?;
@@ -460,14 +432,9 @@ pub fn robustness_conditions(observer: &PerfectObserver) -> Vec<MultiPoly> {
 /// A dimension mismatch.
 pub fn robustness_residuals(
     observer: &PerfectObserver,
-    a: &Matrix<Rational>,
-    b: &Matrix<Rational>,
-    c: &Matrix<Rational>,
-    d: Option<&Matrix<Rational>>,
+    plant: &StateSpace<Rational>,
 ) -> Result<(Matrix<Rational>, Matrix<Rational>), linalg::LinalgError> {
-    let d = d
-        .cloned()
-        .unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
+    let (a, b, c, d) = (plant.a(), plant.b(), plant.c(), plant.d());
     let ra = observer
         .e
         .mul(a)?
@@ -477,7 +444,7 @@ pub fn robustness_residuals(
         .e
         .mul(b)?
         .sub(&observer.input_matrix)?
-        .sub(&observer.output_matrix.mul(&d)?)?;
+        .sub(&observer.output_matrix.mul(d)?)?;
     Ok((ra, rb))
 }
 
@@ -495,29 +462,31 @@ mod tests {
         let a = m("[0 1 0 0; -2 -3 1 0; 0 0 0 1; 1 0 -4 -1]");
         let b = m("[0; 1; 0; 2]");
         let c = m("[1 0 0 0; 0 0 1 0]");
-        let p = perfect_observer(&a, &b, &c, None).unwrap();
+        let plant = StateSpace::new(a, Some(b.clone()), c.clone(), None).unwrap();
+        let p = perfect_observer(&plant).unwrap();
         assert_eq!(p.indices, vec![2, 2]);
         assert_eq!(p.pencil_determinant.degree(), Some(0));
         assert!(!p.pencil_determinant.coeff(0).is_zero());
         // the plant itself satisfies the observer's equations
-        let (ra, rb) = robustness_residuals(&p, &a, &b, &c, None).unwrap();
+        let (ra, rb) = robustness_residuals(&p, &plant).unwrap();
         assert!(ra.is_zero() && rb.is_zero());
         // a change in a row the observer uses breaks it
-        let (ra, _) = robustness_residuals(
-            &p,
-            &m("[0 2 0 0; -2 -3 1 0; 0 0 0 1; 1 0 -4 -1]"),
-            &b,
-            &c,
+        let changed = StateSpace::new(
+            m("[0 2 0 0; -2 -3 1 0; 0 0 0 1; 1 0 -4 -1]"),
+            Some(b),
+            c,
             None,
         )
         .unwrap();
+        let (ra, _) = robustness_residuals(&p, &changed).unwrap();
         assert!(!ra.is_zero());
     }
 
     #[test]
     fn dependent_outputs_are_refused() {
-        let err =
-            perfect_observer(&m("[0 1; -1 0]"), &m("[0; 1]"), &m("[1 0; 2 0]"), None).unwrap_err();
+        let plant =
+            StateSpace::new(m("[0 1; -1 0]"), Some(m("[0; 1]")), m("[1 0; 2 0]"), None).unwrap();
+        let err = perfect_observer(&plant).unwrap_err();
         assert!(matches!(
             err,
             PerfectObserverError::DependentOutputs { rank: 1, rows: 2 }

@@ -20,6 +20,7 @@ use crate::algebra::{Field, Rational, ToF64};
 use crate::linalg::float::to_nalgebra;
 use crate::linalg::Matrix;
 use crate::poly::Poly;
+use crate::system::StateSpace;
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -103,20 +104,17 @@ pub struct WeightedDesign {
 ///
 /// # Errors
 /// [`WeightedError`] when no weight gives a stable observer, or for bad shapes.
-#[allow(clippy::too_many_arguments)]
+/// `noise` is `(C_U, C_Y)`; `measured` is `(the output measuring a derivative, the state whose
+/// derivative it measures)`, both 0-based.
 pub fn weighted_design(
-    a: &Matrix<Rational>,
-    b: &Matrix<Rational>,
-    c: &Matrix<Rational>,
-    d: &Matrix<Rational>,
+    exact: &StateSpace<Rational>,
     desired: &Poly<Rational>,
-    input_noise: &Matrix<Rational>,
-    output_noise: &Matrix<Rational>,
-    derivative_output: usize,
-    state: usize,
+    (input_noise, output_noise): (&Matrix<Rational>, &Matrix<Rational>),
+    (derivative_output, state): (usize, usize),
     grid: usize,
 ) -> Result<WeightedDesign, WeightedError> {
-    let plant = Plant::from_exact(a, b, c, d);
+    let (a, c) = (exact.a(), exact.c());
+    let plant = Plant::from_exact(exact);
     let noise = NoiseIntensities::from_exact(input_noise, output_noise);
     let (af, cf) = (a.map(|x| x.to_f64()), c.map(|x| x.to_f64()));
     let pf = desired.map(ToF64::to_f64);
@@ -149,7 +147,7 @@ pub fn weighted_design(
     let (w, _) = golden_section(variance, lo, hi, 1e-9);
     let w_exact = Rational::new(((w * 1e6).round() as i64).into(), 1_000_000.into());
     let g = weighted_gain(a, c, desired, derivative_output, state, w_exact.clone())?;
-    let sigma = error_covariance_exact(a, b, c, d, input_noise, output_noise, &g)?;
+    let sigma = error_covariance_exact(exact, input_noise, output_noise, &g)?;
     let sf = to_nalgebra(&sigma);
     let rows = |m: &DMatrix<f64>| -> Vec<Vec<f64>> {
         (0..m.nrows())

@@ -224,13 +224,7 @@ fn canonical_gain_claim(inputs: &Inputs, title: &str) -> Result<Computed, Comput
 /// Observer-based control: the closed loop's poles or polynomial, or a transfer function.
 fn closed_loop(inputs: &Inputs) -> Result<Computed, ComputeError> {
     let l = inputs.observer_gain_a_plus_lc()?;
-    let r = observer_based_control(
-        &inputs.numeric("A")?,
-        &inputs.numeric("B")?,
-        &inputs.numeric("C")?,
-        &inputs.numeric("feedback")?,
-        &l,
-    )?;
+    let r = observer_based_control(&inputs.plant()?, &inputs.numeric("feedback")?, &l)?;
     let value = match inputs.claim.what {
         Computation::ClosedLoopPoles => {
             Value::Roots(with_multiplicity(&exact_roots(&r.closed_loop_polynomial)))
@@ -272,17 +266,7 @@ fn observer_polynomial(inputs: &Inputs, title: &str) -> Result<Computed, Compute
 
 /// One matrix of the perfect observer, or its pencil's determinant.
 fn perfect(inputs: &Inputs) -> Result<Computed, ComputeError> {
-    let d = if inputs.has("D") {
-        Some(inputs.numeric("D")?)
-    } else {
-        None
-    };
-    let p = perfect_observer(
-        &inputs.numeric("A")?,
-        &inputs.numeric("B")?,
-        &inputs.numeric("C")?,
-        d.as_ref(),
-    )?;
+    let p = perfect_observer(&inputs.plant()?)?;
     let value = match inputs.claim.what {
         Computation::PerfectObserverE => Value::Matrix(lift(&p.e)),
         Computation::PerfectObserverF => Value::Matrix(lift(&p.f)),
@@ -455,13 +439,7 @@ fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
         }
         Identity::SeparationPrinciple => {
             let l = inputs.observer_gain_a_plus_lc()?;
-            let r = observer_based_control(
-                &a,
-                &inputs.numeric("B")?,
-                &inputs.numeric("C")?,
-                &inputs.numeric("feedback")?,
-                &l,
-            )?;
+            let r = observer_based_control(&inputs.plant()?, &inputs.numeric("feedback")?, &l)?;
             d.extend(r.derivation);
             r.separation_holds
         }

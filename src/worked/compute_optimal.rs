@@ -134,12 +134,7 @@ pub(super) fn dynamical_error(inputs: &Inputs, title: &str) -> Result<Computed, 
 }
 
 fn plant_and_noise(inputs: &Inputs) -> Result<(Plant, NoiseIntensities), ComputeError> {
-    let plant = Plant::from_exact(
-        &inputs.numeric("A")?,
-        &inputs.numeric("B")?,
-        &inputs.numeric("C")?,
-        &inputs.numeric("D")?,
-    );
+    let plant = Plant::from_exact(&inputs.plant()?);
     if !inputs.has("input_noise") {
         return Err(input_error("noise", "this claim needs a [noise] section"));
     }
@@ -280,18 +275,11 @@ fn weighted_gain(inputs: &Inputs, d: &mut Derivation) -> Result<DMatrix<f64>, Co
         .desired()?
         .rational()
         .ok_or_else(|| failed("the weighted method needs rational poles"))?;
-    let w = weighted_design(
-        &inputs.numeric("A")?,
-        &inputs.numeric("B")?,
-        &inputs.numeric("C")?,
-        &inputs.numeric("D")?,
-        &desired,
+    let noise = (
         &inputs.numeric("input_noise")?,
         &inputs.numeric("output_noise")?,
-        out,
-        state,
-        1001,
-    )?;
+    );
+    let w = weighted_design(&inputs.plant()?, &desired, noise, (out, state), 1001)?;
     d.push(
         "w",
         "weight minimising trace Σ (grid of 1001 points, golden section)",
@@ -367,17 +355,7 @@ pub(super) fn perfect_robustness(inputs: &Inputs, title: &str) -> Result<Compute
         claim: &plain,
         env: inputs.env,
     };
-    let d_sys = if system.has("D") {
-        Some(system.numeric("D")?)
-    } else {
-        None
-    };
-    let observer = perfect_observer(
-        &system.numeric("A")?,
-        &system.numeric("B")?,
-        &system.numeric("C")?,
-        d_sys.as_ref(),
-    )?;
+    let observer = perfect_observer(&system.plant()?)?;
     d.extend(observer.derivation.clone());
     let value = if inputs.claim.what == Computation::PerfectObserverRobustness {
         let conds = robustness_conditions(&observer);
@@ -389,12 +367,7 @@ pub(super) fn perfect_robustness(inputs: &Inputs, title: &str) -> Result<Compute
         );
         v
     } else {
-        let (a, b, c) = (
-            inputs.numeric("A")?,
-            inputs.numeric("B")?,
-            inputs.numeric("C")?,
-        );
-        let (ra, rb) = robustness_residuals(&observer, &a, &b, &c, None)?;
+        let (ra, rb) = robustness_residuals(&observer, &inputs.plant()?)?;
         d.push("E A' − F − G_y C'", "zero iff the state equations fit", &ra);
         d.push("E B' − G_u − G_y D'", "zero iff the input terms fit", &rb);
         Value::Bool(ra.is_zero() && rb.is_zero())

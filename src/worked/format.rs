@@ -54,6 +54,24 @@ pub struct SystemSpec {
     pub d: Option<String>,
 }
 
+impl SystemSpec {
+    /// The text of `A`, `B`, `C` or `D` for a claim or scenario whose own `A`, `B`, `C` are
+    /// `own` (written over these): its own matrix first, else this system's; `D` only with this
+    /// system's own `C` (a `C` of other outputs has no feedthrough here, so `D = 0`).
+    pub fn resolve<'a>(&'a self, own: [&'a Option<String>; 3], name: &str) -> Option<&'a str> {
+        let [a, b, c] = own;
+        let pick =
+            |own: &'a Option<String>, sys: &'a Option<String>| own.as_deref().or(sys.as_deref());
+        match name {
+            "A" => pick(a, &self.a),
+            "B" => pick(b, &self.b),
+            "C" => pick(c, &self.c),
+            "D" if c.is_none() => self.d.as_deref(),
+            _ => None,
+        }
+    }
+}
+
 /// White-noise intensities: on the measured input (`C_U`) and on the outputs (`C_Y`).
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]

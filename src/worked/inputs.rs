@@ -10,6 +10,7 @@ use crate::observer::{Convention, DesiredPolynomial, GainMethod, ObserverGain};
 use crate::syntax::{
     evaluate_with, parse_expression, parse_matrix_expressions, rational_function_with, Environment,
 };
+use crate::system::StateSpace;
 
 /// Why a claim could not be recomputed: a field of the file, symbols without values, or the
 /// computation's own typed error (its message unchanged).
@@ -56,6 +57,9 @@ pub enum ComputeError {
     /// The weighted-measurement design failed.
     #[error(transparent)]
     Weighted(#[from] crate::observer::weighted::WeightedError),
+    /// The plant's matrices do not fit together.
+    #[error(transparent)]
+    System(#[from] crate::system::SystemError),
     /// The computation failed otherwise (said in words).
     #[error("{0}")]
     Failed(String),
@@ -97,17 +101,16 @@ impl Inputs<'_> {
             ("output_noise", Some(n)) => return Some(&n.output),
             _ => {}
         }
-        let (claim, system) = match name {
-            "A" => (&self.claim.a, &self.file.system.a),
-            "B" => (&self.claim.b, &self.file.system.b),
-            "C" => (&self.claim.c, &self.file.system.c),
-            "D" => (&None, &self.file.system.d),
-            "gain" => (&self.claim.gain, &None),
-            "feedback" => (&self.claim.feedback, &None),
-            "weight" => (&self.claim.weight, &None),
-            _ => (&None, &None),
-        };
-        claim.as_deref().or(system.as_deref())
+        match name {
+            "A" | "B" | "C" | "D" => {
+                let own = [&self.claim.a, &self.claim.b, &self.claim.c];
+                self.file.system.resolve(own, name)
+            }
+            "gain" => self.claim.gain.as_deref(),
+            "feedback" => self.claim.feedback.as_deref(),
+            "weight" => self.claim.weight.as_deref(),
+            _ => None,
+        }
     }
 
     /// A matrix with symbols (those with values substituted).
@@ -127,6 +130,22 @@ impl Inputs<'_> {
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| input_error(name, e.show_in(text)))?;
         Matrix::from_rows(values).map_err(|e| input_error(name, e.to_string()))
+    }
+
+    /// The plant `(A, B, C, D)` the claim works on, exact and shape-checked (`D = 0` unless
+    /// `[system]` gives it with its own `C`).
+    pub fn plant(&self) -> Result<StateSpace<Rational>, ComputeError> {
+        let d = if self.has("D") {
+            Some(self.numeric("D")?)
+        } else {
+            None
+        };
+        Ok(StateSpace::new(
+            self.numeric("A")?,
+            Some(self.numeric("B")?),
+            self.numeric("C")?,
+            d,
+        )?)
     }
 
     /// A matrix of exact numbers; [`ComputeError::NeedsValues`] when symbols remain.

@@ -11,6 +11,7 @@ use crate::observer::perfect::perfect_observer;
 use crate::observer::Convention;
 use crate::simulation::{self, summarize, Integrator, Loop, Setup, StateSummary, Trace};
 use crate::syntax::{parse_matrix_with, parse_scalar, Environment};
+use crate::system::StateSpace;
 use nalgebra::DMatrix;
 use serde::Serialize;
 use std::path::Path;
@@ -214,20 +215,21 @@ impl ScenarioContext<'_> {
         &self,
     ) -> Result<(DMatrix<f64>, DMatrix<f64>, DMatrix<f64>, DMatrix<f64>), WorkedError> {
         let (sc, sys) = (self.sc, &self.ex.system);
-        let text = |over: &Option<String>, sys: &Option<String>, name: &str| {
-            over.clone().or_else(|| sys.clone()).ok_or_else(|| {
+        let own = [&sc.a, &sc.b, &sc.c];
+        let text = |name: &str| {
+            sys.resolve(own, name).ok_or_else(|| {
                 self.bad(
                     name,
                     format!("{name} is missing (in the scenario or [system])"),
                 )
             })
         };
-        let a = self.float(&text(&sc.a, &sys.a, "A")?, "A")?;
-        let b = self.float(&text(&sc.b, &sys.b, "B")?, "B")?;
-        let c = self.float(&text(&sc.c, &sys.c, "C")?, "C")?;
-        let d = match &sys.d {
-            Some(t) if sc.c.is_none() => self.float(t, "D")?,
-            _ => DMatrix::zeros(c.nrows(), b.ncols()),
+        let a = self.float(text("A")?, "A")?;
+        let b = self.float(text("B")?, "B")?;
+        let c = self.float(text("C")?, "C")?;
+        let d = match sys.resolve(own, "D") {
+            Some(t) => self.float(t, "D")?,
+            None => DMatrix::zeros(c.nrows(), b.ncols()),
         };
         Ok((a, b, c, d))
     }
@@ -384,13 +386,14 @@ impl ScenarioContext<'_> {
             .as_ref()
             .map(|t| exact_matrix(t, &self.env).map_err(|m| self.bad("D", m)))
             .transpose()?;
-        perfect_observer(
-            &sys(&system.a, "A")?,
-            &sys(&system.b, "B")?,
-            &sys(&system.c, "C")?,
-            d_sys.as_ref(),
+        let plant = StateSpace::new(
+            sys(&system.a, "A")?,
+            Some(sys(&system.b, "B")?),
+            sys(&system.c, "C")?,
+            d_sys,
         )
-        .map_err(|e| self.bad("perfect", e.to_string()))
+        .map_err(|e| self.bad("perfect", e.to_string()))?;
+        perfect_observer(&plant).map_err(|e| self.bad("perfect", e.to_string()))
     }
 }
 
