@@ -6,7 +6,7 @@
 
 use super::args::{json_matrix, print_json};
 use super::Outcome;
-use crate::algebra::{Quadratic, Rational};
+use crate::algebra::Rational;
 use crate::observer::float_check::{float_check, FloatCheck, FloatVerdict};
 use crate::observer::{design_with, Convention, DesiredPolynomial, Detail, GainMethod};
 use anyhow::{anyhow, bail, Result};
@@ -216,7 +216,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
-/// Several outputs: exact from one chosen output, or the robust float method.
+/// Several outputs: exact from one chosen output, or the robust float method
+/// ([`crate::observer::multi_output`] decides; this renders).
 fn multi_output(
     args: &Args,
     a: &crate::linalg::Matrix<Rational>,
@@ -225,20 +226,14 @@ fn multi_output(
     method: GainMethod,
     convention: Convention,
 ) -> Result<Outcome> {
-    let (n, p) = (a.rows(), c.rows());
+    use crate::observer::multi_output::{gain_from_output, robust_gain, MultiOutputError};
+    let p = c.rows();
     if let Some(k) = args.output {
-        if k == 0 || k > p {
-            bail!("in --output: output {k} does not exist (C has {p} rows; outputs are numbered from 1)");
-        }
-        let row = c.block(k - 1, k, 0, n);
-        let d = design_with(a, &row, desired, method, convention, args.detail())?;
-        let gain = crate::linalg::Matrix::from_fn(n, p, |i, j| {
-            if j == k - 1 {
-                d.gain.matrix.get(i, 0).clone()
-            } else {
-                Quadratic::rational(Rational::from(num_bigint::BigInt::from(0)))
-            }
-        });
+        let (gain, d) = gain_from_output(a, c, k, desired, method, convention, args.detail())
+            .map_err(|e| match e {
+                MultiOutputError::NoSuchOutput { .. } => anyhow!("in --output: {e}"),
+                e => e.into(),
+            })?;
         if args.json {
             print_json(&json!({
                 "gain": json_matrix(&gain),
@@ -258,36 +253,14 @@ fn multi_output(
         }
         return Ok(Outcome::Ok);
     }
-    // An unobservable pair is reported as such (with its modes), whatever the rank of C.
-    crate::observability::require_observable(a, c)?;
-    // Robust float placement (Kautsky–Nichols–Van Dooren) at the roots of the desired polynomial.
-    let poles: Vec<(f64, f64)> = match desired.rational() {
-        Some(p) => {
-            let roots = crate::poly::exact_roots(&p);
-            if roots.complete() {
-                roots
-                    .roots
-                    .iter()
-                    .flat_map(|(x, m)| std::iter::repeat_n(x.to_complex_f64(), *m as usize))
-                    .collect()
-            } else {
-                companion(&desired.float)
-            }
-        }
-        None => companion(&desired.float),
-    };
-    let af = crate::linalg::float::to_nalgebra(a);
-    let cf = crate::linalg::float::to_nalgebra(c);
-    let r = crate::observer::robust::robust_observer_gain(&af, &cf, &poles)?;
-    let sign = if convention == Convention::APlusLC {
-        -1.0
-    } else {
-        1.0
-    };
-    let gain: Vec<Vec<String>> = r
-        .gain
+    let (gain, r) = robust_gain(a, c, desired, convention).map_err(|e| match e {
+        // the observability error speaks for itself, as before
+        MultiOutputError::Observability(e) => anyhow::Error::from(e),
+        e => e.into(),
+    })?;
+    let gain: Vec<Vec<String>> = gain
         .iter()
-        .map(|row| row.iter().map(|x| format!("{:e}", sign * x)).collect())
+        .map(|row| row.iter().map(|x| format!("{x:e}")).collect())
         .collect();
     if args.json {
         print_json(&json!({
@@ -319,11 +292,4 @@ fn multi_output(
         outln!("  (float result; for an exact gain fix the free parameters, e.g. --output k)");
     }
     Ok(Outcome::Ok)
-}
-
-fn companion(p: &crate::poly::Poly<f64>) -> Vec<(f64, f64)> {
-    crate::observer::float_check::companion_roots(p)
-        .iter()
-        .map(|z| (z.re, z.im))
-        .collect()
 }

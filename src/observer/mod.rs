@@ -11,6 +11,7 @@ pub mod dynamical_error;
 pub mod float_check;
 mod gain;
 pub mod kalman;
+pub mod multi_output;
 pub mod optimal;
 pub mod partial;
 pub mod perfect;

@@ -107,6 +107,14 @@ fn radical(tag: i64) -> String {
     }
 }
 
+fn unknown_symbol(column: usize, name: &str, target: &str) -> SyntaxError {
+    SyntaxError::UnknownSymbol {
+        column,
+        name: name.into(),
+        target: target.into(),
+    }
+}
+
 fn not_allowed(column: usize, what: impl Into<String>, target: &str) -> SyntaxError {
     SyntaxError::NotAllowed {
         column,
@@ -136,8 +144,7 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
         ExprKind::Number(r) => T::from_rational(r.clone()),
         ExprKind::Symbol(name) => match ctx.env.and_then(|e| e.get(name)) {
             Some(v) => T::from_rational(v.clone()),
-            None => T::symbol(name)
-                .ok_or_else(|| not_allowed(c, format!("the symbol '{name}'"), T::TARGET))?,
+            None => T::symbol(name).ok_or_else(|| unknown_symbol(c, name, T::TARGET))?,
         },
         ExprKind::ImaginaryUnit => {
             T::imaginary_unit().ok_or_else(|| not_allowed(c, "the imaginary unit i", T::TARGET))?
@@ -278,6 +285,12 @@ fn rational_argument(arg: &Expr) -> Result<Rational, SyntaxError> {
         SyntaxError::NotAllowed { column, what, .. } => not_allowed(
             column,
             what,
+            "a square root's argument (it must be a rational number)",
+        ),
+        // a square root's argument is read without the symbols' values: no value can help
+        SyntaxError::UnknownSymbol { column, name, .. } => not_allowed(
+            column,
+            format!("the symbol '{name}'"),
             "a square root's argument (it must be a rational number)",
         ),
         other => other,
@@ -489,11 +502,7 @@ fn rf<F: Field + FromExpr>(
             constant(scalar::<F>(e, ctx)?)
         }
         ExprKind::Symbol(name) => {
-            return Err(not_allowed(
-                c,
-                format!("the symbol '{name}'"),
-                &format!("a function of {var}"),
-            ))
+            return Err(unknown_symbol(c, name, &format!("a function of {var}")))
         }
         ExprKind::Number(_) | ExprKind::ImaginaryUnit | ExprKind::Sqrt(_) => {
             constant(scalar::<F>(e, ctx)?)

@@ -61,6 +61,17 @@ pub enum SyntaxError {
         /// What was being read.
         target: String,
     },
+    /// A symbol without a value where a value is needed (a caller may supply one: the worked
+    /// examples sample free symbols).
+    #[error("column {column}: the symbol '{name}' is not allowed in {target}")]
+    UnknownSymbol {
+        /// 1-based column.
+        column: usize,
+        /// The symbol.
+        name: String,
+        /// What was being read.
+        target: String,
+    },
     /// Division by zero.
     #[error("column {column}: division by zero")]
     DivisionByZero {
@@ -98,6 +109,7 @@ impl SyntaxError {
             SyntaxError::Empty { .. } => None,
             SyntaxError::Unexpected { column, .. }
             | SyntaxError::NotAllowed { column, .. }
+            | SyntaxError::UnknownSymbol { column, .. }
             | SyntaxError::DivisionByZero { column }
             | SyntaxError::TooLarge { column, .. }
             | SyntaxError::RaggedRows { column, .. } => Some(*column),

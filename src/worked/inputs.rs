@@ -262,15 +262,12 @@ pub(crate) fn symbol_or_input(
     text: &str,
     e: crate::syntax::SyntaxError,
 ) -> ComputeError {
-    if let crate::syntax::SyntaxError::NotAllowed { what, .. } = &e {
-        if let Some(name) = what
-            .strip_prefix("the symbol '")
-            .and_then(|s| s.strip_suffix('\''))
-        {
-            return ComputeError::NeedsValues(vec![name.to_string()]);
+    match e {
+        crate::syntax::SyntaxError::UnknownSymbol { name, .. } => {
+            ComputeError::NeedsValues(vec![name])
         }
+        e => input_error(field, e.show_in(text)),
     }
-    input_error(field, e.show_in(text))
 }
 
 pub(crate) fn to_numeric(m: &Matrix<MultiPoly>) -> Result<Matrix<Rational>, ComputeError> {
