@@ -65,6 +65,15 @@ pub enum ComputeError {
     Failed(String),
 }
 
+impl ComputeError {
+    /// Whether the computation itself failed (a singular matrix, an unobservable pair…), as
+    /// opposed to a malformed field or symbols without values: at sampled symbol values, such a
+    /// failure may belong to the point, not to the claim.
+    pub fn is_failure(&self) -> bool {
+        !matches!(self, ComputeError::Input { .. } | ComputeError::NeedsValues(_))
+    }
+}
+
 pub(crate) fn failed(e: impl std::fmt::Display) -> ComputeError {
     ComputeError::Failed(e.to_string())
 }

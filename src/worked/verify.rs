@@ -356,7 +356,8 @@ fn check(
                     }
                 }
             }
-            Err(ComputeError::Failed(_)) if !sampled.is_empty() => {
+            // singular at this point (a sampled value hit a pole): try other values
+            Err(e) if !sampled.is_empty() && e.is_failure() => {
                 for n in &sampled {
                     let v = sampler.value(n);
                     env0.insert(n.clone(), v);
