@@ -174,14 +174,9 @@ pub fn run(args: Args) -> Result<Outcome> {
                     .as_ref()
                     .and_then(|f| f.float_gain.clone())
                     .unwrap_or_default();
-                let sign = if convention == Convention::APlusLC {
-                    -1.0
-                } else {
-                    1.0
-                };
                 out["gain"] = json!(f
                     .iter()
-                    .map(|x| vec![format!("{:e}", sign * x)])
+                    .map(|x| vec![format!("{:e}", convention.sign() * x)])
                     .collect::<Vec<_>>());
                 out["observer_polynomial"] = json!(desired.float.to_input());
                 out["inexact_reason"] = json!(desired.inexact_reason);

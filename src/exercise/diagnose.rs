@@ -10,7 +10,7 @@ use super::Mistake;
 use crate::algebra::{Quadratic, Rational};
 use crate::linalg::{characteristic_polynomial, Matrix};
 use crate::observer::float_check::companion_roots;
-use crate::observer::{Convention, DesiredPolynomial};
+use crate::observer::{Convention, DesiredPolynomial, ObserverGain};
 use crate::poly::Poly;
 use crate::syntax::{evaluate_with, parse_matrix_expressions};
 use crate::worked::{compare, ClaimSpec, Computation, Identity, Inputs, Value};
@@ -385,10 +385,12 @@ pub fn placed_polynomial(
     if k.rows() != a.rows() || k.cols() != c.rows() {
         return None;
     }
-    let obs = match convention(part) {
-        Convention::AMinusKC => a.sub(&k.mul(&c).ok()?).ok()?,
-        Convention::APlusLC => a.add(&k.mul(&c).ok()?).ok()?,
-    };
+    let obs = ObserverGain {
+        matrix: k,
+        convention: convention(part),
+    }
+    .observer_matrix(&a, &c)
+    .ok()?;
     let p = characteristic_polynomial(&obs, "s").ok()?;
     let pf = p.map(|x| x.to_complex_f64().0);
     let zs = companion_roots(&pf);

@@ -28,6 +28,14 @@ impl Convention {
             Convention::APlusLC => "L",
         }
     }
+    /// The factor taking `K` of `A − KC` to this convention's gain: 1, or −1 for `L = −K`
+    /// (for float gains; exact ones convert with [`ObserverGain::to_convention`]).
+    pub fn sign(self) -> f64 {
+        match self {
+            Convention::AMinusKC => 1.0,
+            Convention::APlusLC => -1.0,
+        }
+    }
     /// Parses `a-kc` / `a+lc` (case and spaces ignored).
     pub fn parse(s: &str) -> Option<Self> {
         let t: String = s

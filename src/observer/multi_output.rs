@@ -123,15 +123,10 @@ pub fn robust_gain(
         &to_nalgebra(c),
         &desired_poles_f64(desired),
     )?;
-    let sign = if convention == Convention::APlusLC {
-        -1.0
-    } else {
-        1.0
-    };
     let gain = r
         .gain
         .iter()
-        .map(|row| row.iter().map(|x| sign * x).collect())
+        .map(|row| row.iter().map(|x| convention.sign() * x).collect())
         .collect();
     Ok((gain, r))
 }

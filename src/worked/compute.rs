@@ -247,12 +247,12 @@ fn closed_loop(inputs: &Inputs) -> Result<Computed, ComputeError> {
 fn observer_polynomial(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let var = inputs.var();
     let a = inputs.symbolic("A")?;
-    let gc = inputs.symbolic("gain")?.mul(&inputs.symbolic("C")?)?;
     let convention = inputs.convention(Convention::AMinusKC)?;
-    let obs = match convention {
-        Convention::AMinusKC => a.sub(&gc),
-        Convention::APlusLC => a.add(&gc),
-    }?;
+    let gain = ObserverGain {
+        matrix: inputs.symbolic("gain")?,
+        convention,
+    };
+    let obs = gain.observer_matrix(&a, &inputs.symbolic("C")?)?;
     let p = symbolic_charpoly(&obs, &var)?;
     let mut d = Derivation::new(title);
     d.push("observer matrix", &convention.to_string(), &obs);

@@ -70,7 +70,10 @@ impl ComputeError {
     /// opposed to a malformed field or symbols without values: at sampled symbol values, such a
     /// failure may belong to the point, not to the claim.
     pub fn is_failure(&self) -> bool {
-        !matches!(self, ComputeError::Input { .. } | ComputeError::NeedsValues(_))
+        !matches!(
+            self,
+            ComputeError::Input { .. } | ComputeError::NeedsValues(_)
+        )
     }
 }
 

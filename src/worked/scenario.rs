@@ -254,11 +254,8 @@ impl ScenarioContext<'_> {
         } else {
             return Err(self.bad("gain", "give gain, gain_claim or perfect = true".into()));
         };
-        let gain = if convention == Convention::APlusLC {
-            -gain
-        } else {
-            gain
-        };
+        // the loop is simulated with A − KC
+        let gain = gain * convention.sign();
         Ok((gain, observer))
     }
 
@@ -303,11 +300,7 @@ impl ScenarioContext<'_> {
             .as_deref()
             .and_then(Convention::parse)
             .unwrap_or(Convention::AMinusKC);
-        let g = if claim_convention == Convention::APlusLC {
-            -g
-        } else {
-            g
-        };
+        let g = g * claim_convention.sign();
         let shown = g
             .transpose()
             .iter()
