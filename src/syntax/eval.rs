@@ -395,6 +395,10 @@ fn bound_degree(column: usize, degree: usize) -> Result<(), SyntaxError> {
 /// 10 with 60-bit coefficients: about 12 000).
 const MAX_RF_WORK: u64 = 50_000;
 
+/// The most bits a power of a polynomial read from input may hold, all coefficients together
+/// (degree 100 with 2 000-bit coefficients).
+const MAX_POWER_BITS: u64 = 200_000;
+
 /// A power of a transfer function multiplies the size of its coefficients by the exponent: the
 /// largest coefficient of the base times the exponent stays within
 /// [`MAX_VALUE_BITS`], the bound on any number built while reading (found by fuzzing:
@@ -416,6 +420,19 @@ fn bound_rf_power<F: Field + FromExpr>(
     if estimate > MAX_VALUE_BITS {
         return Err(too_large(column, estimate));
     }
+    // all the coefficients together: the last squaring multiplies every pair of them (found by
+    // fuzzing: `(26^19 s + 25^21)^110`, 111 coefficients of 11 000 bits, took a second)
+    let degree = (degree(base) as u64).saturating_mul(exponent);
+    let total = degree.saturating_add(1).saturating_mul(estimate);
+    if total > MAX_POWER_BITS {
+        return Err(SyntaxError::TooLarge {
+            column,
+            what: format!(
+                "a power of degree {degree} with coefficients of about {estimate} bits built here"
+            ),
+            limit: MAX_POWER_BITS as usize,
+        });
+    }
     // Over Q(√d) with irrational coefficients every coefficient operation reduces fractions:
     // the last squaring, with the work measure of a product (degree × coefficient bits), stays
     // within the irrational budget (found by fuzzing: `(s + i − 2)^184` took 2 s)
@@ -426,7 +443,6 @@ fn bound_rf_power<F: Field + FromExpr>(
         .chain(base.denominator().coeffs())
         .any(|c| c.field_tag() != 0);
     if irrational {
-        let degree = (degree(base) as u64).saturating_mul(exponent);
         let work = degree
             .saturating_mul(degree / 2 + 1)
             .saturating_mul(estimate);
