@@ -152,3 +152,58 @@ fn malformed_example_files_name_file_line_and_field() {
     assert!(stderr.contains("bad.toml:4"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The graded verdicts: a value within its documented tolerance holds approximately, outside it
+/// is a mismatch; an undefined print is unreproducible unless one of its readings reproduces it
+/// (then the file should record that reading); a claim documents at most one of the three.
+#[test]
+fn approximate_and_unreproducible_verdicts_are_checked() {
+    use observer_workbench::worked::{parse_example, Verdict};
+    let head = "id = \"g\"\ntitle = \"t\"\ndocument = \"d\"\n[system]\nA = \"[0 1; -6 -5]\"\n";
+    let claim = |printed: &str, extra: &str| {
+        format!(
+            "{head}[[claims]]\nid = \"w\"\nsource = \"s\"\nwhat = \"natural_frequency\"\npoles = \"-2, -3\"\nprinted = \"{printed}\"\n{extra}"
+        )
+    };
+    let verdict = |text: String| {
+        let ex = parse_example("g.toml", &text).unwrap();
+        let r = verify_example(Path::new("g.toml"), &ex, &text).unwrap();
+        (r.claims[0].verdict, r.claims[0].explanation.clone())
+    };
+    // ω_n = √6 = 2.449…
+    let approx = "[claims.approximate]\ntolerance = \"3%\"\nkind = \"design_target\"\nreason = \"aimed at 2.5\"\n";
+    let (v, why) = verdict(claim("2.5", approx));
+    assert_eq!(v, Verdict::HoldsApproximately, "{why}");
+    assert!(why.contains("off by 0.0505 (2.02% of the print)"), "{why}");
+    let (v, why) = verdict(claim("2.6", approx));
+    assert_eq!(v, Verdict::Mismatch, "{why}");
+    let (v, _) = verdict(claim("2.449", approx));
+    assert_eq!(
+        v,
+        Verdict::Mismatch,
+        "an approximation documented on a print that holds"
+    );
+    // 6 is the product of the poles' moduli, not ω_n: a reading that reproduces it
+    let undefined = |what: &str| {
+        format!("[claims.unreproducible]\nundefined = \"the frequency\"\n[[claims.unreproducible.readings]]\nreading = \"r\"\nwhat = \"{what}\"\n")
+    };
+    let (v, why) = verdict(claim("7", &undefined("natural_frequency")));
+    assert_eq!(v, Verdict::Unreproducible, "{why}");
+    assert!(
+        why.contains("Readings: as recorded (natural_frequency)"),
+        "{why}"
+    );
+    let (v, why) = verdict(claim("2.449", &undefined("natural_frequency")));
+    assert_eq!(v, Verdict::Mismatch, "{why}");
+    assert!(
+        why.contains("an undefined print is documented, but the print holds"),
+        "{why}"
+    );
+    // two documentations at once, and a malformed tolerance, are refused where they are written
+    let both = format!("{approx}[claims.erratum]\nexplanation = \"e\"\ncorrected = \"2.449\"\n");
+    let e = parse_example("g.toml", &claim("2.5", &both)).unwrap_err();
+    assert!(e.message.contains("at most one"), "{e}");
+    let bad = approx.replace("3%", "-3%");
+    let e = parse_example("g.toml", &claim("2.5", &bad)).unwrap_err();
+    assert_eq!(e.field, "claims.w.tolerance", "{e}");
+}

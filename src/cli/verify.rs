@@ -66,10 +66,12 @@ pub fn run(args: Args) -> Result<Outcome> {
             }
         }
         outln!(
-            "{} examples: {} claims hold, {} documented errata (each explanation checked), {} mismatches",
+            "{} examples: {} claims hold, {} hold approximately (within a documented tolerance), {} documented errata (each explanation checked), {} unreproducible (undefined in the document; every reading computed), {} mismatches",
             reports.len(),
             summary.holds,
+            summary.holds_approximately,
             summary.erratum,
+            summary.unreproducible,
             summary.mismatch
         );
     }

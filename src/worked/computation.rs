@@ -75,8 +75,10 @@ named_enum! {
         KalmanBandwidth = "kalman_bandwidth",
         /// Natural frequency of a pole pair.
         NaturalFrequency = "natural_frequency",
-        /// RMS of the estimation error in simulation.
+        /// Steady-state RMS of the estimation error, `√(trace Σ)`.
         EstimationErrorRms = "estimation_error_rms",
+        /// Steady-state variance of the estimation error, `trace Σ`.
+        EstimationErrorVariance = "estimation_error_variance",
         /// Robustness conditions of the perfect observer.
         PerfectObserverRobustness = "perfect_observer_robustness",
         /// Whether the perfect observer still fits a changed plant.

@@ -115,9 +115,10 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
         C::DynamicalErrorCost | C::MinimalDynamicalErrorCost => {
             optimal::dynamical_error(inputs, &title)
         }
-        C::KalmanBandwidth | C::NaturalFrequency | C::EstimationErrorRms => {
-            optimal::noise(inputs, &title)
-        }
+        C::KalmanBandwidth
+        | C::NaturalFrequency
+        | C::EstimationErrorRms
+        | C::EstimationErrorVariance => optimal::noise(inputs, &title),
         C::PerfectObserverRobustness | C::PerfectObserverFits => {
             optimal::perfect_robustness(inputs, &title)
         }

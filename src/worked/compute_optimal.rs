@@ -145,7 +145,7 @@ fn plant_and_noise(inputs: &Inputs) -> Result<(Plant, NoiseIntensities), Compute
     Ok((plant, noise))
 }
 
-/// `kalman_bandwidth`, `natural_frequency`, `estimation_error_rms`.
+/// `kalman_bandwidth`, `natural_frequency`, `estimation_error_rms`, `estimation_error_variance`.
 pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let mut d = Derivation::new(title);
     if inputs.claim.what == Computation::NaturalFrequency {
@@ -203,7 +203,8 @@ pub(super) fn noise(inputs: &Inputs, title: &str) -> Result<Computed, ComputeErr
             "natural frequency (Π|λ_i|)^(1/n) of the Kalman poles".into(),
         )
     } else {
-        error_rms(&plant, &noise, &l, &mut d)?
+        let variance = inputs.claim.what == Computation::EstimationErrorVariance;
+        error_statistic(&plant, &noise, &l, variance, &mut d)?
     };
     d.push("result", "", &value);
     Ok(Computed {
@@ -288,11 +289,13 @@ fn weighted_gain(inputs: &Inputs, d: &mut Derivation) -> Result<DMatrix<f64>, Co
     Ok(rows_matrix(&w.gain))
 }
 
-/// `√(trace Σ)` from the error covariance's Lyapunov equation, with its working.
-fn error_rms(
+/// `√(trace Σ)` (or `trace Σ` when `variance`) from the error covariance's Lyapunov equation,
+/// with its working.
+fn error_statistic(
     plant: &Plant,
     noise: &NoiseIntensities,
     l: &DMatrix<f64>,
+    variance: bool,
     d: &mut Derivation,
 ) -> Result<Value, ComputeError> {
     let (sigma, residual) = error_covariance(plant, noise, l)?;
@@ -311,6 +314,13 @@ fn error_rms(
         "variance of the error, summed over states",
         &scalar(sigma.trace(), String::new()),
     );
+    if variance {
+        return Ok(scalar(
+            sigma.trace(),
+            "steady-state error variance trace Σ, noise covariances read as white-noise intensities"
+                .into(),
+        ));
+    }
     Ok(scalar(
         sigma.trace().sqrt(),
         "RMS estimation error √(trace Σ), noise covariances read as white-noise intensities".into(),

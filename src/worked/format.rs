@@ -1,6 +1,7 @@
 //! The worked-example file format (TOML), documented for teachers in
 //! `worked_examples/README.md`.
 
+use crate::names::named_enum;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
@@ -146,6 +147,80 @@ pub struct ClaimSpec {
     pub definitions: BTreeMap<String, String>,
     /// The documented erratum, when the print is wrong.
     pub erratum: Option<ErratumSpec>,
+    /// The print is a design target, a graph reading or a rounded value: it holds within a
+    /// stated tolerance, for a stated reason.
+    pub approximate: Option<ApproximateSpec>,
+    /// The document leaves undefined what the print is: each reading is computed and shown.
+    pub unreproducible: Option<UnreproducibleSpec>,
+}
+
+named_enum! {
+    /// Why a print may hold only approximately.
+    pub enum ApproximationKind ("kind of approximation") {
+        /// A target the design aims at ("poles selected for 600 rad/s").
+        DesignTarget = "design_target",
+        /// A value read off a figure.
+        GraphReading = "graph_reading",
+        /// A value rounded as the document says it rounds.
+        StatedRounding = "stated_rounding",
+        /// A value computed by a method the document does not state (its own numerics).
+        UnstatedMethod = "unstated_method",
+    }
+}
+
+impl ApproximationKind {
+    /// In words.
+    pub fn words(self) -> &'static str {
+        match self {
+            ApproximationKind::DesignTarget => "a design target",
+            ApproximationKind::GraphReading => "read off a figure",
+            ApproximationKind::StatedRounding => "rounded as stated",
+            ApproximationKind::UnstatedMethod => "computed by a method the document does not state",
+        }
+    }
+}
+
+/// A print that holds within a tolerance, for a reason.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ApproximateSpec {
+    /// Relative (`"1.5%"`) or absolute (`"0.5"`) tolerance on every entry.
+    pub tolerance: String,
+    /// Why an approximation is what the document means.
+    pub kind: ApproximationKind,
+    /// The reason, in our words.
+    pub reason: String,
+}
+
+/// A print the document does not define well enough to recompute.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnreproducibleSpec {
+    /// What the document leaves undefined.
+    pub undefined: String,
+    /// The reasonable readings, each computed.
+    #[serde(default)]
+    pub readings: Vec<ReadingSpec>,
+}
+
+/// One reading of an undefined print: the claim recomputed as another computation.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReadingSpec {
+    /// The reading, in our words.
+    pub reading: String,
+    /// The computation it amounts to (the claim's other fields kept).
+    pub what: super::Computation,
+}
+
+named_enum! {
+    /// How much an erratum matters.
+    pub enum Severity ("severity") {
+        /// A misprint that changes a result (a number, a sign, a matrix).
+        ChangesResult = "changes_result",
+        /// A notation or cross-reference slip: the result stands.
+        Notation = "notation",
+    }
 }
 
 /// A documented, checkable erratum.
@@ -154,6 +229,8 @@ pub struct ClaimSpec {
 pub struct ErratumSpec {
     /// What is wrong, in our words.
     pub explanation: String,
+    /// How much it matters (default: it changes a result).
+    pub severity: Option<Severity>,
     /// Parameter values with which the printed value is reproduced (the tool confirms).
     #[serde(default)]
     pub parameters: BTreeMap<String, String>,

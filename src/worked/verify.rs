@@ -1,11 +1,16 @@
-//! Verdicts: holds, documented erratum (checked), or mismatch.
+//! Verdicts: holds, holds approximately (within a documented tolerance, for a documented
+//! reason), documented erratum (checked), unreproducible (the document leaves the print
+//! undefined; every reading computed), or mismatch.
 
 use super::computation::Computation;
 use super::compute::compute;
-use super::format::{ClaimSpec, ErratumSpec, ExampleFile, PrintedRecord};
+use super::format::{
+    ApproximateSpec, ClaimSpec, ErratumSpec, ExampleFile, PrintedRecord, Severity,
+    UnreproducibleSpec,
+};
 use super::inputs::{ComputeError, Inputs};
-use super::value::{compare, Agreement};
-use crate::algebra::Rational;
+use super::value::{compare, Agreement, Value};
+use crate::algebra::{Rational, ToF64};
 use crate::derivation::Derivation;
 use crate::syntax::{evaluate_with, parse_expression, parse_scalar, Environment};
 use serde::Serialize;
@@ -17,8 +22,13 @@ use std::path::{Path, PathBuf};
 pub enum Verdict {
     /// The print is right (exactly, or to the precision printed).
     Holds,
+    /// The print is a design target, a graph reading or a rounded value, and the recomputed
+    /// value is within the tolerance the example states for it.
+    HoldsApproximately,
     /// The print is wrong, and the example documents why; the explanation was checked.
     Erratum,
+    /// The document leaves undefined what the print is; no reading reproduces it (each is shown).
+    Unreproducible,
     /// The print is wrong and unexplained (or the explanation does not check).
     Mismatch,
 }
@@ -28,8 +38,17 @@ impl Verdict {
     pub fn word(self) -> &'static str {
         match self {
             Verdict::Holds => "holds",
+            Verdict::HoldsApproximately => "holds approximately",
             Verdict::Erratum => "erratum",
+            Verdict::Unreproducible => "unreproducible",
             Verdict::Mismatch => "mismatch",
+        }
+    }
+    /// The value of `verdict` in `--json` (snake case).
+    pub fn key(self) -> &'static str {
+        match self {
+            Verdict::HoldsApproximately => "holds_approximately",
+            other => other.word(),
         }
     }
 }
@@ -52,6 +71,9 @@ pub struct ClaimReport {
     /// The computation's working.
     #[serde(skip)]
     pub derivation: Derivation,
+    /// For an erratum, how much it matters.
+    #[serde(skip)]
+    pub severity: Option<Severity>,
 }
 
 /// One example, verified.
@@ -76,8 +98,12 @@ pub struct ExampleReport {
 pub struct Summary {
     /// Claims that hold.
     pub holds: usize,
+    /// Claims that hold within a documented tolerance.
+    pub holds_approximately: usize,
     /// Documented errata.
     pub erratum: usize,
+    /// Claims the documents leave undefined.
+    pub unreproducible: usize,
     /// Mismatches.
     pub mismatch: usize,
 }
@@ -89,7 +115,9 @@ impl Summary {
         for c in reports.iter().flat_map(|r| &r.claims) {
             match c.verdict {
                 Verdict::Holds => s.holds += 1,
+                Verdict::HoldsApproximately => s.holds_approximately += 1,
                 Verdict::Erratum => s.erratum += 1,
+                Verdict::Unreproducible => s.unreproducible += 1,
                 Verdict::Mismatch => s.mismatch += 1,
             }
         }
@@ -234,6 +262,26 @@ pub fn parse_example(file: &str, raw: &str) -> Result<ExampleFile, WorkedError> 
                 message: format!("claim id '{}' appears twice", c.id),
             });
         }
+        let bad = |field: &str, message: String| WorkedError {
+            file: file.clone(),
+            line: locate(&raw, Some(("id", &c.id)), field),
+            field: format!("claims.{}.{field}", c.id),
+            message,
+        };
+        let documented = [
+            c.erratum.is_some(),
+            c.approximate.is_some(),
+            c.unreproducible.is_some(),
+        ];
+        if documented.iter().filter(|&&d| d).count() > 1 {
+            return Err(bad(
+                "erratum",
+                "give at most one of erratum, approximate and unreproducible".into(),
+            ));
+        }
+        if let Some(a) = &c.approximate {
+            Tolerance::parse(&a.tolerance).map_err(|m| bad("tolerance", m))?;
+        }
     }
     Ok(ex)
 }
@@ -293,6 +341,8 @@ impl Sampler {
 /// The outcome of checking one printed text under one environment.
 struct Check {
     agreement: Agreement,
+    /// The recomputed value (at the first sample point, when symbols were sampled).
+    value: Option<Value>,
     recomputed: String,
     derivation: Derivation,
     sampled: Vec<String>,
@@ -337,6 +387,7 @@ fn check(
         Ok(Check {
             agreement,
             recomputed: computed.value.input(),
+            value: Some(computed.value),
             derivation: computed.derivation,
             sampled: Vec::new(),
         })
@@ -575,34 +626,237 @@ fn erratum_checks(
 
 /// The verdict on one claim and its explanation, from the recomputation.
 fn verdict(cx: &ClaimContext<'_>, primary: &Check) -> Result<(Verdict, String), WorkedError> {
-    Ok(match (&primary.agreement, &cx.claim.erratum) {
-        (a, None) if a.holds() => (Verdict::Holds, how(a, &primary.sampled)),
-        (a, Some(_)) if a.holds() => (
+    let claim = cx.claim;
+    let documented = [
+        claim.erratum.as_ref().map(|_| "an erratum"),
+        claim.approximate.as_ref().map(|_| "an approximation"),
+        claim.unreproducible.as_ref().map(|_| "an undefined print"),
+    ]
+    .into_iter()
+    .flatten()
+    .next();
+    let d = match &primary.agreement {
+        a if a.holds() => {
+            return Ok(match documented {
+                None => (Verdict::Holds, how(a, &primary.sampled)),
+                Some(what) => (
+                    Verdict::Mismatch,
+                    format!(
+                        "{what} is documented, but the print holds ({})",
+                        how(a, &primary.sampled)
+                    ),
+                ),
+            })
+        }
+        Agreement::Differs(d) => d,
+        Agreement::Exact | Agreement::Rounded { .. } => unreachable!("holds() covers them"),
+    };
+    if let Some(err) = &claim.erratum {
+        let (ok, checks) = erratum_checks(cx, err)?;
+        let text = format!(
+            "{} Printed vs recomputed: {d}. {}",
+            err.explanation.trim(),
+            checks.join("; ")
+        );
+        return Ok((
+            if ok {
+                Verdict::Erratum
+            } else {
+                Verdict::Mismatch
+            },
+            text,
+        ));
+    }
+    if let Some(spec) = &claim.approximate {
+        return Ok(approximate_verdict(cx, primary, spec, d));
+    }
+    if let Some(spec) = &claim.unreproducible {
+        return Ok(unreproducible_verdict(cx, primary, spec));
+    }
+    Ok((Verdict::Mismatch, d.clone()))
+}
+
+/// A tolerance on every entry: relative (`"1.5%"`) or absolute (`"0.5"`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Tolerance {
+    Relative(f64),
+    Absolute(f64),
+}
+
+impl Tolerance {
+    fn parse(text: &str) -> Result<Tolerance, String> {
+        let t = text.trim();
+        let (number, relative) = match t.strip_suffix('%') {
+            Some(n) => (n, true),
+            None => (t, false),
+        };
+        let x = parse_scalar::<Rational>(number.trim())
+            .map_err(|e| e.show_in(number))?
+            .to_f64();
+        if !(x.is_finite() && x > 0.0) {
+            return Err(format!("'{text}': a tolerance must be positive"));
+        }
+        Ok(if relative {
+            Tolerance::Relative(x / 100.0)
+        } else {
+            Tolerance::Absolute(x)
+        })
+    }
+    fn admits(self, (absolute, relative): (f64, f64)) -> bool {
+        match self {
+            Tolerance::Relative(r) => relative <= r,
+            Tolerance::Absolute(a) => absolute <= a,
+        }
+    }
+    fn show(self) -> String {
+        match self {
+            Tolerance::Relative(r) => format!("{}%", r * 100.0),
+            Tolerance::Absolute(a) => format!("{a}"),
+        }
+    }
+}
+
+/// The largest distance `(absolute, relative to the print)` between the print and the
+/// recomputed value, entry by entry (the nearest of the recomputed candidates), for numeric
+/// values; `None` for values that are not lists of numbers.
+fn deviation(value: &Value, printed: &str, env: &Environment) -> Option<(f64, f64)> {
+    let candidates: Vec<Vec<f64>> = match value {
+        Value::Approximate { candidates, .. } => candidates.clone(),
+        Value::Scalar(x) => vec![vec![x.to_complex_f64().0]],
+        Value::Matrix(m) => vec![m.entries().iter().map(|x| x.to_complex_f64().0).collect()],
+        _ => return None,
+    };
+    let rows = crate::syntax::parse_matrix_expressions(printed).ok()?;
+    let p: Vec<f64> = rows
+        .iter()
+        .flatten()
+        .map(|e| evaluate_with::<crate::algebra::Quadratic>(e, env).map(|x| x.to_complex_f64().0))
+        .collect::<Result<_, _>>()
+        .ok()?;
+    candidates
+        .iter()
+        .filter(|c| c.len() == p.len())
+        .map(|c| {
+            c.iter().zip(&p).fold((0.0f64, 0.0f64), |(a, r), (x, y)| {
+                let d = (x - y).abs();
+                (a.max(d), r.max(d / y.abs().max(f64::MIN_POSITIVE)))
+            })
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+}
+
+fn show_deviation((absolute, relative): (f64, f64)) -> String {
+    let absolute = if absolute != 0.0 && !(1e-3..1e6).contains(&absolute) {
+        format!("{absolute:.3e}")
+    } else {
+        format!("{absolute:.4}")
+    };
+    if relative < 10.0 {
+        format!("off by {absolute} ({:.2}% of the print)", relative * 100.0)
+    } else {
+        format!("off by {absolute} ({relative:.0} times the print)")
+    }
+}
+
+/// A print that should hold within a tolerance: holds approximately, or a mismatch.
+fn approximate_verdict(
+    cx: &ClaimContext<'_>,
+    primary: &Check,
+    spec: &ApproximateSpec,
+    differs: &str,
+) -> (Verdict, String) {
+    // the tolerance was checked when the file was read
+    let Ok(tolerance) = Tolerance::parse(&spec.tolerance) else {
+        return (
             Verdict::Mismatch,
+            format!("bad tolerance '{}'", spec.tolerance),
+        );
+    };
+    let found = primary
+        .value
+        .as_ref()
+        .and_then(|v| deviation(v, cx.asserted, cx.env));
+    let why = format!(
+        "the print is {}: {}",
+        spec.kind.words(),
+        spec.reason.trim().trim_end_matches('.')
+    );
+    match found {
+        Some(dev) if tolerance.admits(dev) => (
+            Verdict::HoldsApproximately,
             format!(
-                "an erratum is documented, but the print holds ({})",
-                how(a, &primary.sampled)
+                "within {} ({}); recomputed {}, {}",
+                tolerance.show(),
+                why,
+                primary.recomputed,
+                show_deviation(dev)
             ),
         ),
-        (Agreement::Differs(d), None) => (Verdict::Mismatch, d.clone()),
-        (Agreement::Differs(d), Some(err)) => {
-            let (ok, checks) = erratum_checks(cx, err)?;
-            let text = format!(
-                "{} Printed vs recomputed: {d}. {}",
-                err.explanation.trim(),
-                checks.join("; ")
-            );
-            (
-                if ok {
-                    Verdict::Erratum
-                } else {
-                    Verdict::Mismatch
-                },
-                text,
-            )
+        Some(dev) => (
+            Verdict::Mismatch,
+            format!(
+                "outside the documented tolerance {} ({}): {}",
+                tolerance.show(),
+                why,
+                show_deviation(dev)
+            ),
+        ),
+        None => (
+            Verdict::Mismatch,
+            format!("an approximation is documented, but the value is not numeric: {differs}"),
+        ),
+    }
+}
+
+/// A print the document leaves undefined: every reading computed; unreproducible unless one of
+/// them reproduces the print (then the claim should be recorded as that reading).
+fn unreproducible_verdict(
+    cx: &ClaimContext<'_>,
+    primary: &Check,
+    spec: &UnreproducibleSpec,
+) -> (Verdict, String) {
+    let describe = |c: &Check| match c
+        .value
+        .as_ref()
+        .and_then(|v| deviation(v, cx.asserted, cx.env))
+    {
+        Some(dev) => format!("{} ({})", c.recomputed, show_deviation(dev)),
+        None => c.recomputed.clone(),
+    };
+    let mut readings = vec![format!(
+        "as recorded ({}): {}",
+        cx.claim.what,
+        describe(primary)
+    )];
+    for r in &spec.readings {
+        let variant = ClaimSpec {
+            what: r.what,
+            ..cx.claim.clone()
+        };
+        match check(cx.ex, &variant, cx.asserted, cx.env) {
+            Ok(c) if c.agreement.holds() => {
+                return (
+                    Verdict::Mismatch,
+                    format!(
+                        "the reading '{}' ({}) reproduces the print {}: record the claim as that computation",
+                        r.reading,
+                        r.what,
+                        how(&c.agreement, &c.sampled)
+                    ),
+                )
+            }
+            Ok(c) => readings.push(format!("{} ({}): {}", r.reading, r.what, describe(&c))),
+            Err(e) => readings.push(format!("{} ({}): could not recompute: {e}", r.reading, r.what)),
         }
-        (Agreement::Exact | Agreement::Rounded { .. }, _) => unreachable!("handled above"),
-    })
+    }
+    (
+        Verdict::Unreproducible,
+        format!(
+            "the document does not define {}; no reading reproduces the print. Readings: {}",
+            spec.undefined.trim(),
+            readings.join("; ")
+        ),
+    )
 }
 
 /// Recomputes every claim of an example.
@@ -643,6 +897,7 @@ pub fn verify_example(
             }
             Err(e) => Check {
                 agreement: Agreement::Differs(format!("could not recompute: {e}")),
+                value: None,
                 recomputed: "—".into(),
                 derivation: Derivation::new(&claim.id),
                 sampled: Vec::new(),
@@ -661,6 +916,10 @@ pub fn verify_example(
                 format!("{explanation}. Note: {}", claim.note)
             },
             derivation: primary.derivation,
+            severity: claim
+                .erratum
+                .as_ref()
+                .map(|e| e.severity.unwrap_or(Severity::ChangesResult)),
         });
     }
     Ok(ExampleReport {
