@@ -180,3 +180,22 @@ fn powers_are_bounded_by_all_their_coefficients() {
     assert!(e.to_string().contains("a power of degree 110"), "{e}");
     assert!(parse_polynomial::<Rational>("(26^19 s + 25^21)^3", "s").is_ok());
 }
+
+/// One matrix, one quadratic field: `[sqrt(2); i]` is refused where the second field starts
+/// (found by fuzzing: such an answer matrix crashed the checker's characteristic polynomial).
+#[test]
+fn a_matrix_holds_one_quadratic_field() {
+    let e = parse_matrix::<Quadratic>("[sqrt(2) - 3; 4i]").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "column 16: i after √2 is not allowed in one matrix (only one quadratic field at a time)"
+    );
+    assert!(parse_matrix::<Quadratic>("[sqrt(2); 1 - sqrt(8)]").is_ok());
+    let e =
+        observer_workbench::syntax::parse_list::<Quadratic>("1 + i, 1 - i, sqrt(3)").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("√3 after i is not allowed in one list"),
+        "{e}"
+    );
+}

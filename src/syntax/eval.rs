@@ -99,6 +99,33 @@ impl Context<'_> {
     }
 }
 
+/// The entries of one matrix or list lie in one quadratic field: `[sqrt(2); i]` would make every
+/// later product mix `Q(√2)` with `Q(i)` (found by fuzzing: an answer matrix crashed the
+/// checker's characteristic polynomial). `entries` are `(column, value)`.
+pub(crate) fn one_field<'a, T: FromExpr + 'a>(
+    entries: impl IntoIterator<Item = (usize, &'a T)>,
+    target: &str,
+) -> Result<(), SyntaxError> {
+    let mut first: Option<i64> = None;
+    for (column, v) in entries {
+        let tag = v.field_tag();
+        if tag == 0 {
+            continue;
+        }
+        match first {
+            Some(t) if t != tag => {
+                return Err(SyntaxError::NotAllowed {
+                    column,
+                    what: format!("{} after {}", radical(tag), radical(t)),
+                    target: format!("{target} (only one quadratic field at a time)"),
+                })
+            }
+            _ => first = Some(tag),
+        }
+    }
+    Ok(())
+}
+
 fn radical(tag: i64) -> String {
     if tag == -1 {
         "i".into()

@@ -197,6 +197,7 @@ pub fn parse_matrix<T: FromExpr>(input: &str) -> Result<Matrix<T>, SyntaxError> 
         .iter()
         .map(|r| r.iter().map(T::from_expr).collect::<Result<Vec<T>, _>>())
         .collect::<Result<Vec<_>, _>>()?;
+    one_field_in_matrix(&rows, &values)?;
     Matrix::from_rows(values).map_err(|e| SyntaxError::TooLarge {
         column: 1,
         what: e.to_string(),
@@ -229,6 +230,7 @@ pub fn parse_matrix_with<T: FromExpr>(
                 .collect::<Result<Vec<T>, _>>()
         })
         .collect::<Result<Vec<_>, _>>()?;
+    one_field_in_matrix(&rows, &values)?;
     Matrix::from_rows(values).map_err(|e| SyntaxError::TooLarge {
         column: 1,
         what: e.to_string(),
@@ -242,7 +244,23 @@ pub fn parse_matrix_with<T: FromExpr>(
 /// [`SyntaxError`] naming the column.
 pub fn parse_list<T: FromExpr>(input: &str) -> Result<Vec<T>, SyntaxError> {
     let rows = parser::parse_matrix_rows(input)?;
-    rows.iter().flatten().map(T::from_expr).collect()
+    let values: Vec<T> = rows
+        .iter()
+        .flatten()
+        .map(T::from_expr)
+        .collect::<Result<_, _>>()?;
+    let columns = rows.iter().flatten().map(|e| e.column);
+    eval::one_field(columns.zip(&values), "one list")?;
+    Ok(values)
+}
+
+/// The entries of a matrix in one quadratic field (see [`eval::one_field`]).
+fn one_field_in_matrix<T: FromExpr>(
+    rows: &[Vec<parser::Expr>],
+    values: &[Vec<T>],
+) -> Result<(), SyntaxError> {
+    let columns = rows.iter().flatten().map(|e| e.column);
+    eval::one_field(columns.zip(values.iter().flatten()), "one matrix")
 }
 
 /// Parses a polynomial in `var` (`s^2 + 9s + 20`, `(s + 4)^3`).
