@@ -425,3 +425,23 @@ fn mistakes_found_by_computing() {
         assert_eq!(d.message.contains("Lemma 3.1"), cites, "{}", d.message);
     }
 }
+
+/// A polynomial answer may use the prompt's λ (the key computes in s) — and still be wrong
+/// when it is wrong.
+#[test]
+fn polynomial_answers_may_use_lambda() {
+    let st = key("stoustrup-pole-assignment");
+    let answers = |text: &str| AnswerFile {
+        answers: [("desired".to_string(), text.to_string())].into(),
+        ..AnswerFile::default()
+    };
+    let part = |text: &str| {
+        let r = check_answers(&st, &answers(text), "l");
+        let p = r.parts.iter().find(|p| p.id == "desired").unwrap().clone();
+        p.verdict
+    };
+    use observer_workbench::exercise::PartVerdict;
+    assert_eq!(part("(λ + 4)(λ + 5)"), PartVerdict::Correct);
+    assert_eq!(part("λ^2 + 9λ + 20"), PartVerdict::Correct);
+    assert_eq!(part("λ^2 + 9λ + 21"), PartVerdict::Wrong);
+}

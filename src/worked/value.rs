@@ -436,6 +436,9 @@ fn compare_symbolic_matrix(
     }))
 }
 
+/// The variables a characteristic polynomial is written in, in the documents and the course.
+const POLYNOMIAL_VARIABLES: [&str; 2] = ["s", "λ"];
+
 fn compare_polynomial(
     q: &Poly<Quadratic>,
     printed: &str,
@@ -444,7 +447,16 @@ fn compare_polynomial(
 ) -> Result<Agreement, String> {
     let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
     let e = parse_expression(printed).map_err(syntax)?;
-    let rf = rational_function_with::<Quadratic>(&e, q.var(), Some(env)).map_err(syntax)?;
+    // the polynomial's variable, or the other one the course writes (`s` for `λ` and back):
+    // a student answering with the prompt's λ is not wrong
+    let rf = match rational_function_with::<Quadratic>(&e, q.var(), Some(env)) {
+        Err(crate::syntax::SyntaxError::UnknownSymbol { name, .. })
+            if POLYNOMIAL_VARIABLES.contains(&name.as_str()) && name != q.var() =>
+        {
+            rational_function_with::<Quadratic>(&e, &name, Some(env)).map_err(syntax)?
+        }
+        r => r.map_err(syntax)?,
+    };
     if rf.denominator().degree() != Some(0) {
         return Err(format!(
             "the printed value {printed} is not a polynomial in {}",
