@@ -14,7 +14,8 @@ import shlex
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 CORPUS = ROOT / "fuzz" / "corpus"
 # the order of CLI_SUBCOMMANDS in src/fuzzing.rs: the cli target's first byte picks one
-SUBCOMMANDS = ["observe", "canonical", "gain", "control", "optimal", "kalman", "perfect", "exercise"]
+SUBCOMMANDS = ["observe", "canonical", "gain", "control", "optimal", "kalman", "perfect", "exercise",
+               "feedback"]
 
 
 def put(target, data):
@@ -59,6 +60,7 @@ def main():
         'perfect --a "[0 1; -2 -3]" --b "[0; 1]" --c "[1 0]" --changed-a "[0 1; -3 -3]"',
         'exercise new --kind pole-placement --order 3 --seed 11',
         'gain --a "[0 1 0; 0 0 1; -1 -2 -3]" --c "[1 0 0]" --butterworth 1/2 --json',
+        'feedback --a "[2 -3; 4 -5]" --b "[2; 3]" --poles "-4, -5" --convention u=fx',
     ]:
         args = shlex.split(line)
         put("cli", bytes([SUBCOMMANDS.index(args[0])]) + "\n".join(args[1:]).encode())

@@ -74,7 +74,7 @@ pub fn worked_example(data: &[u8]) {
 /// from its flags. Those that read and write files (`verify`, `simulate`, `check`, `grade`) take
 /// their hostile input through the file targets above; here they would touch the disk.
 #[cfg(feature = "cli")]
-pub const CLI_SUBCOMMANDS: [&str; 8] = [
+pub const CLI_SUBCOMMANDS: [&str; 9] = [
     "observe",
     "canonical",
     "gain",
@@ -83,6 +83,7 @@ pub const CLI_SUBCOMMANDS: [&str; 8] = [
     "kalman",
     "perfect",
     "exercise",
+    "feedback",
 ];
 
 /// The most work a campaign input may ask for by its counts: seeded starts of `optimal`

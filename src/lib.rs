@@ -92,6 +92,18 @@
 //! let f = state_feedback(&m("[0 1; 0 0]"), &m("[0; 1]"), &p).unwrap();
 //! assert_eq!(f.to_input(), "[-2, -2]"); // u = F x
 //! ```
+//! [`feedback`] — state feedback on its own, by duality, `u = F x` or `u = −K x` explicit.
+//! ```
+//! use observer_workbench::algebra::{Quadratic, Rational};
+//! use observer_workbench::feedback::{design_feedback, FeedbackConvention};
+//! use observer_workbench::observer::{DesiredPolynomial, Detail, GainMethod};
+//! use observer_workbench::syntax::{parse_list, parse_matrix};
+//! let m = |s: &str| parse_matrix::<Rational>(s).unwrap();
+//! let p = DesiredPolynomial::from_poles(&parse_list::<Quadratic>("-1, -1").unwrap()).unwrap();
+//! let d = design_feedback(&m("[0 1; 0 0]"), &m("[0; 1]"), &p, GainMethod::BassGura,
+//!     FeedbackConvention::UEqualsMinusKx, Detail::Summary).unwrap();
+//! assert_eq!(d.gain.to_input(), "[1, 2]"); // u = −[1 2] x: s² + 2s + 1
+//! ```
 //! [`derivation`] — the working of a result, rendered as text and LaTeX.
 //! ```
 //! use observer_workbench::algebra::Rational;
@@ -159,6 +171,7 @@ pub mod cli;
 pub mod control;
 pub mod derivation;
 pub mod exercise;
+pub mod feedback;
 pub mod fuzzing;
 pub mod linalg;
 pub mod observability;

@@ -633,3 +633,48 @@ fn refusals_name_the_flag_and_the_reason() {
     let (code, out, err) = owb(&kalman("[-1 0; 0 -1]", "[0 1]", "[1]", "[1]"));
     assert_eq!(code, 0, "{out}{err}");
 }
+
+/// `owb feedback`: Stoustrup's F (u = F x) and its K (u = −K x); an uncontrollable pair names its
+/// mode; several inputs are refused with the flag.
+#[test]
+fn feedback_in_both_conventions_and_its_refusals() {
+    let base = [
+        "feedback",
+        "--a",
+        "[2 -3; 4 -5]",
+        "--b",
+        "[2; 3]",
+        "--poles",
+        "-4, -5",
+    ];
+    let (code, out, err) = owb(&[&base[..], &["--convention", "u=fx", "--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["gain"], serde_json::json!([["42", "-30"]]));
+    assert_eq!(v["convention"], "u=fx");
+    assert_eq!(v["places_exactly"], true);
+    let (_, out, _) = owb(&[&base[..], &["--method", "bass-gura"]].concat());
+    assert!(out.contains("K = [-42, 30]"), "{out}");
+    let (code, _, err) = owb(&[
+        "feedback",
+        "--a",
+        "[1 0; 0 2]",
+        "--b",
+        "[1; 0]",
+        "--poles",
+        "-1, -2",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("uncontrollable eigenvalues 2"), "{err}");
+    let (code, _, err) = owb(&[
+        "feedback",
+        "--a",
+        "[0 1; 0 0]",
+        "--b",
+        "[0 1; 1 0]",
+        "--poles",
+        "-1, -2",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("in --b"), "{err}");
+}

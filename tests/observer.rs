@@ -104,3 +104,34 @@ proptest! {
         prop_assert_eq!(r.closed_loop_polynomial.degree(), Some(2 * n));
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// The state feedback designed on its own (by duality, every method) is the one the control
+    /// layer computes, places the desired polynomial exactly, and the two conventions differ by
+    /// a sign: for a controllable pair (Aᵀ, Cᵀ of an observable pair).
+    #[test]
+    fn feedback_by_duality_places_and_agrees(
+        ((a, c), p) in observable_pair(4).prop_flat_map(|(a, c)| {
+            let n = a.rows();
+            (Just((a, c)), poles(n))
+        })
+    ) {
+        use observer_workbench::feedback::{design_feedback, FeedbackConvention};
+        use observer_workbench::observer::Detail;
+        let (a, b) = (a.transpose(), c.transpose());
+        let q: Vec<_> = p.iter().map(|&x| Rational::from_i64(x)).collect();
+        let poly = Poly::from_roots(&q, "s");
+        let desired = DesiredPolynomial::from_poles(
+            &p.iter().map(|&x| observer_workbench::algebra::Quadratic::from_i64(x)).collect::<Vec<_>>(),
+        ).unwrap();
+        let f = state_feedback(&a, &b, &poly).unwrap();
+        for method in [GainMethod::Ackermann, GainMethod::BassGura, GainMethod::Canonical] {
+            let d = design_feedback(&a, &b, &desired, method, FeedbackConvention::UEqualsFx, Detail::Summary).unwrap();
+            prop_assert!(d.places_exactly());
+            prop_assert_eq!(d.gain.map(|x| x.as_rational().unwrap().clone()), f.clone());
+            let k = design_feedback(&a, &b, &desired, method, FeedbackConvention::UEqualsMinusKx, Detail::Summary).unwrap();
+            prop_assert_eq!(k.gain.neg(), d.gain);
+        }
+    }
+}

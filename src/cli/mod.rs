@@ -19,6 +19,7 @@ mod args;
 mod canonical;
 mod control;
 mod exercise;
+mod feedback;
 mod gain;
 mod kalman;
 mod observe;
@@ -54,6 +55,8 @@ pub enum Command {
     Canonical(canonical::Args),
     /// Observer gain for a desired polynomial, exact, with the float path checked.
     Gain(gain::Args),
+    /// State feedback on its own: controllability, the gain by duality (exact derivation), u = Fx or u = −Kx.
+    Feedback(feedback::Args),
     /// Observer-based control: separation principle, controller and closed-loop transfer functions.
     Control(control::Args),
     /// Multi-output gains chosen by optimality: minimum norm (J1) or minimal dynamical error (J2).
@@ -108,6 +111,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Observe(a) => observe::run(a),
         Command::Canonical(a) => canonical::run(a),
         Command::Gain(a) => gain::run(a),
+        Command::Feedback(a) => feedback::run(a),
         Command::Control(a) => control::run(a),
         Command::Optimal(a) => optimal::run(a),
         Command::Kalman(a) => kalman::run(a),
