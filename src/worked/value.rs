@@ -369,23 +369,26 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
     }
 }
 
+/// The printed text read as rows of values, symbols taken from `env` (errors shown in the text).
+fn printed_rows<T: crate::syntax::FromExpr>(
+    printed: &str,
+    env: &Environment,
+) -> Result<Vec<Vec<T>>, String> {
+    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+    let rows = parse_matrix_expressions(printed).map_err(syntax)?;
+    rows.iter()
+        .map(|r| r.iter().map(|e| evaluate_with::<T>(e, env)).collect())
+        .collect::<Result<_, _>>()
+        .map_err(syntax)
+}
+
 fn compare_matrix(
     m: &Matrix<Quadratic>,
     printed: &str,
     env: &Environment,
     digits: Option<i32>,
 ) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
-    let rows = parse_matrix_expressions(printed).map_err(syntax)?;
-    let p: Vec<Vec<Quadratic>> = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|e| evaluate_with::<Quadratic>(e, env))
-                .collect::<Result<_, _>>()
-        })
-        .collect::<Result<_, _>>()
-        .map_err(syntax)?;
+    let p: Vec<Vec<Quadratic>> = printed_rows(printed, env)?;
     let shape_ok = p.len() == m.rows() && p.iter().all(|r| r.len() == m.cols());
     if !shape_ok {
         return Ok(Agreement::Differs(format!(
@@ -418,17 +421,7 @@ fn compare_symbolic_matrix(
     printed: &str,
     env: &Environment,
 ) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
-    let rows = parse_matrix_expressions(printed).map_err(syntax)?;
-    let p: Vec<Vec<MultiPoly>> = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|e| evaluate_with::<MultiPoly>(e, env))
-                .collect::<Result<_, _>>()
-        })
-        .collect::<Result<_, _>>()
-        .map_err(syntax)?;
+    let p: Vec<Vec<MultiPoly>> = printed_rows(printed, env)?;
     let pm = Matrix::from_rows(p).map_err(|e| e.to_string())?;
     let ok = pm == *m;
     Ok(agreement(ok, None, || {
@@ -520,14 +513,7 @@ fn compare_roots(
     env: &Environment,
     digits: Option<i32>,
 ) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
-    let rows = parse_matrix_expressions(printed).map_err(syntax)?;
-    let mut p: Vec<Quadratic> = rows
-        .iter()
-        .flatten()
-        .map(|e| evaluate_with::<Quadratic>(e, env))
-        .collect::<Result<_, _>>()
-        .map_err(syntax)?;
+    let mut p: Vec<Quadratic> = printed_rows(printed, env)?.into_iter().flatten().collect();
     let mut unmatched = Vec::new();
     for x in r {
         match p.iter().position(|y| close(x, y, digits)) {
