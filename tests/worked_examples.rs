@@ -174,7 +174,10 @@ fn approximate_and_unreproducible_verdicts_are_checked() {
     let approx = "[claims.approximate]\ntolerance = \"3%\"\nkind = \"design_target\"\nreason = \"aimed at 2.5\"\n";
     let (v, why) = verdict(claim("2.5", approx));
     assert_eq!(v, Verdict::HoldsApproximately, "{why}");
-    assert!(why.contains("off by 0.0505 (2.02% of the print)"), "{why}");
+    // the deviation shown is |√6 − 2.5| and its share of the print
+    let off = 2.5 - 6f64.sqrt();
+    let shown = format!("off by {off:.4} ({:.2}% of the print)", off / 2.5 * 100.0);
+    assert!(why.contains(&shown), "{why}\n{shown}");
     let (v, why) = verdict(claim("2.6", approx));
     assert_eq!(v, Verdict::Mismatch, "{why}");
     let (v, _) = verdict(claim("2.449", approx));

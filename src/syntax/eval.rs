@@ -422,6 +422,19 @@ fn bound_degree(column: usize, degree: usize) -> Result<(), SyntaxError> {
 /// 10 with 60-bit coefficients: about 12 000).
 const MAX_RF_WORK: u64 = 50_000;
 
+/// Every coefficient of numerator and denominator.
+fn coefficients<F: Field>(r: &RationalFunction<F>) -> impl Iterator<Item = &F> {
+    r.numerator()
+        .coeffs()
+        .iter()
+        .chain(r.denominator().coeffs())
+}
+
+/// Whether a coefficient lies outside Q (in Q(√d), d ≠ 1).
+fn irrational<F: Field + FromExpr>(r: &RationalFunction<F>) -> bool {
+    coefficients(r).any(|c| c.field_tag() != 0)
+}
+
 /// The most bits a power of a polynomial read from input may hold, all coefficients together
 /// (degree 100 with 2 000-bit coefficients).
 const MAX_POWER_BITS: u64 = 200_000;
@@ -435,11 +448,7 @@ fn bound_rf_power<F: Field + FromExpr>(
     base: &RationalFunction<F>,
     exponent: u64,
 ) -> Result<(), SyntaxError> {
-    let largest = base
-        .numerator()
-        .coeffs()
-        .iter()
-        .chain(base.denominator().coeffs())
+    let largest = coefficients(base)
         .map(FromExpr::size_bits)
         .max()
         .unwrap_or(0);
@@ -463,13 +472,7 @@ fn bound_rf_power<F: Field + FromExpr>(
     // Over Q(√d) with irrational coefficients every coefficient operation reduces fractions:
     // the last squaring, with the work measure of a product (degree × coefficient bits), stays
     // within the irrational budget (found by fuzzing: `(s + i − 2)^184` took 2 s)
-    let irrational = base
-        .numerator()
-        .coeffs()
-        .iter()
-        .chain(base.denominator().coeffs())
-        .any(|c| c.field_tag() != 0);
-    if irrational {
+    if irrational(base) {
         let work = degree
             .saturating_mul(degree / 2 + 1)
             .saturating_mul(estimate);
@@ -491,23 +494,9 @@ fn bound_rf_work<F: Field + FromExpr>(
     a: &RationalFunction<F>,
     b: &RationalFunction<F>,
 ) -> Result<(), SyntaxError> {
-    let bits = |r: &RationalFunction<F>| -> u64 {
-        r.numerator()
-            .coeffs()
-            .iter()
-            .chain(r.denominator().coeffs())
-            .map(FromExpr::size_bits)
-            .sum()
-    };
+    let bits = |r: &RationalFunction<F>| -> u64 { coefficients(r).map(FromExpr::size_bits).sum() };
     // over Q(√d) with irrational coefficients the gcd is Euclid's, its remainders swelling:
     // a tenth of the budget (a Butterworth filter with √2 uses well under a thousand)
-    let irrational = |r: &RationalFunction<F>| {
-        r.numerator()
-            .coeffs()
-            .iter()
-            .chain(r.denominator().coeffs())
-            .any(|c| c.field_tag() != 0)
-    };
     let limit = if irrational(a) || irrational(b) {
         MAX_RF_WORK / 10
     } else {
