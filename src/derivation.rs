@@ -5,7 +5,7 @@ use crate::algebra::Ring;
 use crate::algebra::{Field, Rational};
 use crate::linalg::Matrix;
 use crate::poly::{Factored, Poly, RationalFunction};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Something a derivation step can show.
 pub trait Show {
@@ -100,7 +100,7 @@ impl Show for Words {
 }
 
 /// One step: a label, the formula it evaluates, and the value.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Step {
     /// Short name, e.g. `"O_n"` or `"K = T_o K_o"`.
     pub label: String,
@@ -129,7 +129,7 @@ impl Step {
 }
 
 /// A titled list of steps.
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct Derivation {
     /// What is derived.
     pub title: String,

@@ -70,21 +70,12 @@ pub fn worked_example(data: &[u8]) {
     let _ = crate::worked::parse_example("example.toml", &text);
 }
 
-/// The subcommands whose argument sets the `cli` target explores: every subcommand that computes
-/// from its flags. Those that read and write files (`verify`, `simulate`, `check`, `grade`) take
-/// their hostile input through the file targets above; here they would touch the disk.
+/// The subcommands whose argument sets the `cli` target explores: those that compute from their
+/// flags alone ([`crate::cli::IN_MEMORY_SUBCOMMANDS`]). Those that read and write files
+/// (`verify`, `simulate`, `check`, `grade`) take their hostile input through the file targets
+/// above; here they would touch the disk.
 #[cfg(feature = "cli")]
-pub const CLI_SUBCOMMANDS: [&str; 9] = [
-    "observe",
-    "canonical",
-    "gain",
-    "control",
-    "optimal",
-    "kalman",
-    "perfect",
-    "exercise",
-    "feedback",
-];
+pub use crate::cli::IN_MEMORY_SUBCOMMANDS as CLI_SUBCOMMANDS;
 
 /// The most work a campaign input may ask for by its counts: seeded starts of `optimal`
 /// (40 by default, each a full local optimisation of up to 20 000 evaluations of J2, up to

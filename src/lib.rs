@@ -166,7 +166,7 @@ pub mod algebra;
 #[cfg(feature = "cli")]
 pub mod book;
 pub mod canonical_form;
-#[cfg(feature = "cli")]
+#[cfg(feature = "commands")]
 pub mod cli;
 pub mod control;
 pub mod derivation;

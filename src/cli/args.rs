@@ -133,6 +133,7 @@ pub fn write_atomically_with(
     written
 }
 
+#[cfg(feature = "cli")]
 /// Refuses two output flags naming the same file (`--svg f --csv f` would keep only one).
 pub fn distinct_outputs(outputs: &[(&str, Option<&std::path::Path>)]) -> Result<()> {
     let named: Vec<(&str, &std::path::Path)> = outputs

@@ -25,7 +25,9 @@ pub struct CheckArgs {
 /// Arguments of `owb grade`.
 #[derive(clap::Args)]
 pub struct GradeArgs {
-    /// The exercise (id or file path).
+    /// The exercise (id or file path), or `variants`: each submission answers its own generated
+    /// exercise (its `exercise` id, as the course book's per-student variants write it), which
+    /// is regenerated, and must be the variant of the submission's `student`.
     exercise: String,
     /// The folder of submissions (*.toml, one per student).
     submissions: PathBuf,
@@ -59,8 +61,17 @@ struct NewArgs {
     #[arg(allow_hyphen_values = true, long, default_value = "2..3")]
     order: String,
     /// Seed.
+    #[arg(
+        allow_hyphen_values = true,
+        long,
+        required_unless_present = "student",
+        conflicts_with = "student"
+    )]
+    seed: Option<u64>,
+    /// A student's id instead of a seed: the student's own variant, the same one the course
+    /// book generates in the browser for this id (seed = FNV-1a of the id, lower-cased).
     #[arg(allow_hyphen_values = true, long)]
-    seed: u64,
+    student: Option<String>,
     /// a-kc (default) or a+lc.
     #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
     convention: String,
@@ -170,9 +181,55 @@ struct Graded {
 
 /// Grades one submission: a file that cannot be read, or answers another exercise, is an
 /// `invalid` row (never skipped); otherwise one row per part.
-fn grade_one(exercise: &str, key: &AnswerKey, file: &Path, tally: &mut Tally) -> Graded {
+/// What a class answers: one exercise, or each student their own generated variant.
+enum Target {
+    One { id: String, key: Box<AnswerKey> },
+    Variants,
+}
+
+/// The key of the variant a submission answers: its `exercise` id regenerated, refused unless it
+/// is the variant of the submission's `student`.
+fn variant_key(answers: &crate::exercise::AnswerFile) -> std::result::Result<AnswerKey, String> {
+    use crate::exercise::generate::student_seed;
+    let id = answers
+        .exercise
+        .as_deref()
+        .ok_or("a variant's answers name their exercise (exercise = \"generated-…\")")?;
+    let student = answers
+        .student
+        .as_deref()
+        .ok_or("a variant's answers name their student (student = \"…\")")?;
+    let settings =
+        Settings::from_id(id).ok_or_else(|| format!("'{id}' is not a generated exercise's id"))?;
+    if settings.seed != student_seed(student) {
+        let theirs = Settings::for_student(
+            student,
+            settings.min_order,
+            settings.max_order,
+            &settings.convention,
+        );
+        return Err(format!(
+            "exercise '{id}' is not the variant of student '{student}' (theirs is '{}')",
+            theirs.id()
+        ));
+    }
+    let text = pole_placement(&settings).map_err(|e| e.to_string())?;
+    let ex: ExerciseFile = toml::from_str(&text).map_err(|e| e.to_string())?;
+    answer_key(id, &ex).map_err(|e| e.to_string())
+}
+
+fn grade_one(target: &Target, file: &Path, tally: &mut Tally) -> Graded {
     tally.students += 1;
-    let total: f64 = key.parts.iter().map(|p| p.spec.points).sum();
+    // the points possible (unknown for a variant that cannot be regenerated)
+    let total = match target {
+        Target::One { key, .. } => key
+            .parts
+            .iter()
+            .map(|p| p.spec.points)
+            .sum::<f64>()
+            .to_string(),
+        Target::Variants => String::new(),
+    };
     let invalid = |student: &str, why: &str| {
         format!(
             "{},{},,invalid,,0,{},{}\n",
@@ -193,14 +250,32 @@ fn grade_one(exercise: &str, key: &AnswerKey, file: &Path, tally: &mut Tally) ->
         Ok((answers, _)) => answers,
     };
     let student = student_name(file, answers.student.as_deref());
-    if let Some(id) = answers.exercise.as_ref().filter(|id| **id != exercise) {
+    let refused = |tally: &mut Tally, why: &str| {
         tally.invalid += 1;
-        let why = format!("answers for exercise '{id}', not '{exercise}'");
-        return Graded {
-            lines: vec![invalid(&student, &why)],
+        Graded {
+            lines: vec![invalid(&student, why)],
             feedback: None,
-        };
-    }
+        }
+    };
+    let variant;
+    let key = match target {
+        Target::One { id: exercise, key } => {
+            if let Some(id) = answers.exercise.as_ref().filter(|id| *id != exercise) {
+                return refused(
+                    tally,
+                    &format!("answers for exercise '{id}', not '{exercise}'"),
+                );
+            }
+            key
+        }
+        Target::Variants => match variant_key(&answers) {
+            Ok(k) => {
+                variant = k;
+                &variant
+            }
+            Err(why) => return refused(tally, &why),
+        },
+    };
     let report = check_answers(key, &answers, &student);
     tally.perfect += usize::from(report.all_correct());
     let lines = report
@@ -232,7 +307,15 @@ fn grade_one(exercise: &str, key: &AnswerKey, file: &Path, tally: &mut Tally) ->
 }
 
 pub fn grade(args: GradeArgs) -> Result<Outcome> {
-    let (ex, key) = key_of(&args.exercise)?;
+    let target = if args.exercise == "variants" {
+        Target::Variants
+    } else {
+        let (ex, key) = key_of(&args.exercise)?;
+        Target::One {
+            id: ex.id,
+            key: Box::new(key),
+        }
+    };
     let mut files: Vec<PathBuf> = std::fs::read_dir(&args.submissions)
         .with_context(|| format!("reading {}", args.submissions.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -264,17 +347,13 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
     }
     // One submission at a time, each row streamed to the report: memory stays that of one
     // submission, whatever the class size. A progress bar on a terminal only (not in CI logs).
-    let progress = indicatif::ProgressBar::new(files.len() as u64);
-    progress.set_style(
-        indicatif::ProgressStyle::with_template("grading {pos}/{len} {wide_bar} {eta}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
+    let progress = super::progress::Progress::new("grading", files.len());
     let mut tally = Tally::default();
     let mut feedback_error = None;
     write_atomically_with(&args.csv, |out| {
         out.write_all(b"student,file,part,verdict,mistake,score,points,feedback\n")?;
         for file in &files {
-            let rows = grade_one(&ex.id, &key, file, &mut tally);
+            let rows = grade_one(&target, file, &mut tally);
             for row in &rows.lines {
                 out.write_all(row.as_bytes())?;
             }
@@ -289,12 +368,12 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
                     ));
                 }
             }
-            progress.inc(1);
+            progress.inc();
         }
         Ok(())
     })
     .map_err(|e| feedback_error.take().unwrap_or(e))?;
-    progress.finish_and_clear();
+    progress.finish();
     let Tally {
         students,
         invalid,
@@ -302,7 +381,10 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
     } = tally;
     outln!(
         "{students} submissions graded for {}: {perfect} fully correct, {invalid} invalid (reported in {}); report written to {}",
-        ex.id,
+        match &target {
+            Target::One { id, .. } => id.as_str(),
+            Target::Variants => "their own variants",
+        },
         args.csv.display(),
         args.csv.display()
     );
@@ -326,12 +408,16 @@ pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
                 lo.map_err(|e| anyhow!("in --order: '{}': {e} (give N or N..M)", a.order))?,
                 hi.map_err(|e| anyhow!("in --order: '{}': {e} (give N or N..M)", a.order))?,
             );
-            let text = pole_placement(&Settings {
-                min_order: lo,
-                max_order: hi,
-                seed: a.seed,
-                convention: a.convention.clone(),
-            })?;
+            let settings = match (&a.student, a.seed) {
+                (Some(student), _) => Settings::for_student(student, lo, hi, &a.convention),
+                (None, seed) => Settings {
+                    min_order: lo,
+                    max_order: hi,
+                    seed: seed.unwrap_or_default(),
+                    convention: a.convention.clone(),
+                },
+            };
+            let text = pole_placement(&settings)?;
             // the key is computed, never typed: fail here if it cannot be
             let ex: ExerciseFile =
                 toml::from_str(&text).context("the generated exercise does not parse (a bug)")?;

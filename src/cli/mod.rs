@@ -25,6 +25,8 @@ mod kalman;
 mod observe;
 mod optimal;
 mod perfect;
+mod progress;
+#[cfg(feature = "cli")]
 mod simulate;
 mod verify;
 
@@ -66,6 +68,7 @@ pub enum Command {
     /// Perfect (descriptor) observer: construction, reconstruction formula, robustness conditions.
     Perfect(perfect::Args),
     /// Simulate a worked example's scenarios (its figures): SVG, CSV and the figures' claims checked.
+    #[cfg(feature = "cli")]
     Simulate(simulate::Args),
     /// Check a student's answers to an exercise: per part ✔/✘ with the mistake named.
     Check(exercise::CheckArgs),
@@ -74,6 +77,20 @@ pub enum Command {
     /// Exercises: generate new ones.
     Exercise(exercise::ExerciseArgs),
 }
+
+/// The subcommands that compute from their flags alone, reading and writing no file (but
+/// `exercise new --out`): what the browser runs and what the CLI fuzz target explores.
+pub const IN_MEMORY_SUBCOMMANDS: [&str; 9] = [
+    "observe",
+    "canonical",
+    "gain",
+    "control",
+    "optimal",
+    "kalman",
+    "perfect",
+    "exercise",
+    "feedback",
+];
 
 /// What a subcommand reports back.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -116,6 +133,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Optimal(a) => optimal::run(a),
         Command::Kalman(a) => kalman::run(a),
         Command::Perfect(a) => perfect::run(a),
+        #[cfg(feature = "cli")]
         Command::Simulate(a) => simulate::run(a),
         Command::Check(a) => exercise::check(a),
         Command::Grade(a) => exercise::grade(a),

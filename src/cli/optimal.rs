@@ -91,17 +91,6 @@ fn scatter(
         .collect()
 }
 
-/// A progress bar over the seeded starts, drawn on a terminal's stderr only (hidden in pipes
-/// and CI logs): thousands of starts take minutes.
-fn starts_bar(starts: usize) -> indicatif::ProgressBar {
-    let bar = indicatif::ProgressBar::new(starts as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("seeded starts {pos}/{len} {wide_bar} {eta}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar
-}
-
 /// A validated `owb optimal` request.
 struct Request {
     a: Matrix<Rational>,
@@ -178,13 +167,13 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
     let Request { a, c, p, .. } = req;
     let n = a.rows();
     let cons = pole_placement_constraints(a, c, p)?;
-    let bar = starts_bar(args.starts);
-    let tell = || bar.inc(1);
+    let bar = super::progress::Progress::new("seeded starts", args.starts);
+    let tell = || bar.inc();
     let r = minimum_norm_gain(
         &cons,
         Multistart::new(args.starts, args.seed).reporting(&tell),
     );
-    bar.finish_and_clear();
+    bar.finish();
     text.push_str(&format!(
             "Minimum-norm gain: minimise J1 = Σ k_i² subject to det(sI − (A − GC)) = {p}\n  constraints (G = [k1 k{}…] column by column):\n",
             n + 1
@@ -229,8 +218,8 @@ fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             c.rows()
         );
     }
-    let bar = starts_bar(args.starts);
-    let tell = || bar.inc(1);
+    let bar = super::progress::Progress::new("seeded starts", args.starts);
+    let tell = || bar.inc();
     let r = minimal_dynamical_error(
         a,
         c,
@@ -239,7 +228,7 @@ fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
         args.placed_output - 1,
         Multistart::new(args.starts, args.seed).reporting(&tell),
     );
-    bar.finish_and_clear();
+    bar.finish();
     let r = r?;
     let g = DMatrix::from_row_slice(r.rows, r.cols, &r.best.gain);
     text.push_str(&format!(

@@ -191,3 +191,31 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
         unknown_answers,
     }
 }
+
+/// Checks answers given as text: the exercise file's and the answer file's contents, each
+/// named for error messages. The path the course book takes in the browser (no files there);
+/// `owb check` reads the same two files and runs the same functions.
+///
+/// # Errors
+/// [`ExerciseError`] for an unreadable exercise or answer file, a key that cannot be computed,
+/// or answers written for another exercise.
+pub fn check_text(
+    exercise: (&str, &str),
+    answers: (&str, &str),
+) -> Result<Report, super::ExerciseError> {
+    let (ex_name, ex_raw) = exercise;
+    let (ans_name, ans_raw) = answers;
+    let ex = super::format::parse_exercise(std::path::Path::new(ex_name), ex_raw)?;
+    let key = super::answer_key(ex_name, &ex)?;
+    let answers = super::format::parse_answers(std::path::Path::new(ans_name), ans_raw)?;
+    if let Some(id) = answers.exercise.as_ref().filter(|id| **id != ex.id) {
+        return Err(super::ExerciseError {
+            file: ans_name.to_string(),
+            line: crate::worked::locate(ans_raw, None, "exercise"),
+            field: "exercise".into(),
+            message: format!("these answers are for exercise '{id}', not '{}'", ex.id),
+        });
+    }
+    let student = answers.student.clone().unwrap_or_else(|| "student".into());
+    Ok(check_answers(&key, &answers, &student))
+}

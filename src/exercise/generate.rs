@@ -52,6 +52,70 @@ impl Settings {
     }
 }
 
+impl Settings {
+    /// A student's own variant: the seed is [`student_seed`] of the id, so the teacher
+    /// regenerates the same exercise from the student's id alone (`owb exercise new --student`).
+    pub fn for_student(
+        student: &str,
+        min_order: usize,
+        max_order: usize,
+        convention: &str,
+    ) -> Self {
+        Settings {
+            min_order,
+            max_order,
+            seed: student_seed(student),
+            convention: convention.to_string(),
+        }
+    }
+
+    /// The settings an id names ([`Settings::id`] read back), or `None` if it names no
+    /// generated exercise.
+    ///
+    /// ```
+    /// use observer_workbench::exercise::generate::Settings;
+    /// let s = Settings::from_id("generated-pole-placement-11-order-2-3-lc").unwrap();
+    /// assert_eq!((s.seed, s.min_order, s.max_order, s.convention.as_str()), (11, 2, 3, "a+lc"));
+    /// assert_eq!(s.id(), "generated-pole-placement-11-order-2-3-lc");
+    /// ```
+    pub fn from_id(id: &str) -> Option<Self> {
+        let rest = id.strip_prefix("generated-pole-placement-")?;
+        let (rest, convention) = match rest.strip_suffix("-lc") {
+            Some(r) => (r, "a+lc"),
+            None => (rest, "a-kc"),
+        };
+        let (seed, order) = rest.split_once("-order-")?;
+        let (lo, hi) = order.split_once('-').unwrap_or((order, order));
+        let s = Settings {
+            min_order: lo.parse().ok()?,
+            max_order: hi.parse().ok()?,
+            seed: seed.parse().ok()?,
+            convention: convention.to_string(),
+        };
+        // only the id's own spelling (no leading zeros, no `N-N` for one order)
+        (s.id() == id).then_some(s)
+    }
+}
+
+/// The seed of a student's own exercise: FNV-1a (64 bits) of the id with surrounding spaces
+/// removed and letters lower-cased, so "Alice " and "alice" get the same exercise. The browser
+/// (the course book) and `owb exercise new --student` compute it with this same function.
+///
+/// ```
+/// use observer_workbench::exercise::generate::student_seed;
+/// assert_eq!(student_seed(" Alice"), student_seed("alice"));
+/// assert_ne!(student_seed("alice"), student_seed("bob"));
+/// ```
+pub fn student_seed(student: &str) -> u64 {
+    student
+        .trim()
+        .to_lowercase()
+        .bytes()
+        .fold(0xcbf2_9ce4_8422_2325, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+}
+
 struct Rng(u64);
 
 impl Rng {

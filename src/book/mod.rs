@@ -6,12 +6,16 @@
 //! | `{{#owb verify-table EXAMPLE}}` | the example's claims: printed, recomputed, verdict |
 //! | `{{#owb derivation EXAMPLE CLAIM}}` | the claim's derivation in LaTeX (display math) |
 //! | `{{#owb figure EXAMPLE SCENARIO}}` | the simulated figure (inline SVG), its numbers and checked statements |
-//! | `{{#owb exercise ID}}` | an exercise's statement and parts, with how to check answers |
+//! | `{{#owb exercise ID}}` | an exercise's statement and parts, answer fields checked in the browser, and how to check answers with `owb check` |
+//! | `{{#owb variant}}` | a form giving each student their own generated exercise, checked in the browser |
+//! | `{{#owb playground}}` | the workbench in the page: gain, observability, canonical form, worked examples verified |
 //! | `{{#owb errata}}` | the errata found in the documents |
 //! | `{{#owb run ARGS…}}` | the output of `owb ARGS…` (quotes group words) |
 //!
 //! An unknown directive or a failing computation is an error naming the chapter and the
 //! directive, and fails the book build.
+
+pub mod widgets;
 
 use crate::exercise::{answer_key, load_exercise};
 use crate::simulation::plot::svg;
@@ -210,7 +214,7 @@ impl BookContext {
             .root
             .join("worked_examples/exercises")
             .join(format!("{id}.toml"));
-        let (ex, _) = load_exercise(&path).map_err(|e| e.to_string())?;
+        let (ex, raw) = load_exercise(&path).map_err(|e| e.to_string())?;
         // the key must be computable, or the exercise is not in the book
         let key = answer_key(&path.display().to_string(), &ex).map_err(|e| e.to_string())?;
         let mut out = format!(
@@ -234,7 +238,21 @@ impl BookContext {
             "\nWrite your answers in a TOML file (`[answers]` then `{} = \"…\"`, in the workbench's input syntax) and check them with `owb check {id} answers.toml`: the checker names the mistake when it recognises it.\n",
             key.parts.first().map_or("K", |p| p.spec.id.as_str())
         );
+        let _ = write!(out, "\n{}\n", widgets::exercise_form(id, &raw, &key));
         Ok(out)
+    }
+
+    fn playground(&self) -> Result<String, String> {
+        let dir = self.root.join("worked_examples");
+        let mut examples = Vec::new();
+        for f in load_folder(&dir).map_err(|e| e.to_string())? {
+            let (_, raw) = load_example(&f).map_err(|e| e.to_string())?;
+            let id = f
+                .file_stem()
+                .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+            examples.push((id, raw));
+        }
+        Ok(format!("\n{}\n", widgets::playground(&examples)))
     }
 
     fn errata(&self) -> Result<String, String> {
@@ -301,10 +319,12 @@ impl BookContext {
             "figure" => want(2).and_then(|()| self.figure(&rest[0], &rest[1])),
             "exercise" => want(1).and_then(|()| self.exercise(&rest[0])),
             "errata" => want(0).and_then(|()| self.errata()),
+            "variant" => want(0).map(|()| format!("\n{}\n", widgets::variant_form())),
+            "playground" => want(0).and_then(|()| self.playground()),
             "run" if !self.run_commands => Err("run directives are off here".into()),
             "run" => self.run(rest),
             other => Err(format!(
-                "unknown directive '{other}' (verify-table, derivation, figure, exercise, errata, run)"
+                "unknown directive '{other}' (verify-table, derivation, figure, exercise, variant, playground, errata, run)"
             )),
         }
     }

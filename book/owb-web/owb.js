@@ -1,0 +1,329 @@
+// The course book's interactive parts: answer fields under each exercise, each student's own
+// exercise, and the playground. The work is done by the workbench compiled to WebAssembly
+// (web/, built by web/build.sh into owb-web/); this script only reads fields, calls it and shows
+// what it returns. Math is typeset by KaTeX, shipped with the book (katex/katex.min.js).
+// Everything loads from the book's own folder: the module comes inlined in a classic script, so
+// the book also works opened as a local file.
+(function () {
+  "use strict";
+
+  var root = typeof path_to_root === "string" ? path_to_root : "";
+  var loading = null;
+
+  function script(src) {
+    return new Promise(function (resolve, reject) {
+      var s = document.createElement("script");
+      s.src = root + src;
+      s.onload = resolve;
+      s.onerror = function () {
+        reject(new Error("could not load " + src + " (build the book with web/build.sh first)"));
+      };
+      document.head.appendChild(s);
+    });
+  }
+
+  function decode(base64) {
+    var text = atob(base64);
+    var bytes = new Uint8Array(text.length);
+    for (var i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+    return bytes;
+  }
+
+  // The workbench, loaded once per page (a promise of wasm_bindgen's exports).
+  function workbench() {
+    if (!loading) {
+      loading = Promise.all([
+        script("owb-web/owb_web.js"),
+        script("owb-web/owb_web_wasm.js"),
+        script("katex/katex.min.js"),
+      ])
+        .then(function () {
+          var bytes = decode(window.OWB_WASM_BASE64);
+          return wasm_bindgen({ module_or_path: bytes });
+        })
+        .then(function () {
+          document.documentElement.setAttribute("data-owb-ready", wasm_bindgen.version());
+          return wasm_bindgen;
+        });
+    }
+    return loading;
+  }
+
+  function el(tag, cls, text) {
+    var e = document.createElement(tag);
+    if (cls) e.className = cls;
+    if (text !== undefined) e.textContent = text;
+    return e;
+  }
+
+  function math(target, latex, display) {
+    try {
+      katex.render(latex, target, { displayMode: !!display, throwOnError: false });
+    } catch (e) {
+      target.textContent = latex;
+    }
+  }
+
+  function tomlString(s) {
+    return '"' + s.replace(/\\/g, "\\\\").replace(/"/g, '\\"').replace(/\n/g, "\\n") + '"';
+  }
+
+  function shellWord(s) {
+    return /^[A-Za-z0-9_.,+\-\/=:]+$/.test(s) ? s : '"' + s.replace(/(["\\$`])/g, "\\$1") + '"';
+  }
+
+  // ---- exercises -------------------------------------------------------------------------
+
+  // The answers typed so far, as the answer file `owb check` reads.
+  function answerFile(form, student) {
+    var lines = ["exercise = " + tomlString(form.getAttribute("data-exercise-id"))];
+    if (student) lines.push("student = " + tomlString(student));
+    lines.push("", "[answers]");
+    form.querySelectorAll(".owb-part").forEach(function (part) {
+      var value = part.querySelector(".owb-answer").value.trim();
+      if (value) lines.push(part.getAttribute("data-part") + " = " + tomlString(value));
+    });
+    return lines.join("\n") + "\n";
+  }
+
+  function showFeedback(part, result, read) {
+    var box = part.querySelector(".owb-feedback");
+    var readBox = part.querySelector(".owb-read");
+    box.textContent = "";
+    readBox.textContent = "";
+    box.className = "owb-feedback";
+    if (!result) return;
+    box.classList.add(result.verdict === "correct" ? "owb-correct" : "owb-wrong");
+    var head = el("div", "owb-verdict");
+    var words = {
+      correct: "✔ correct",
+      wrong: "✘ not right",
+      missing: "✘ no answer",
+      unreadable: "✘ cannot be read",
+    }[result.verdict];
+    head.textContent = words + " (" + result.score + "/" + result.points + ")";
+    if (result.mistake) head.appendChild(el("span", "owb-mistake", " — mistake: " + result.mistake));
+    box.appendChild(head);
+    box.appendChild(el("div", "owb-feedback-text", result.feedback));
+    if (read) {
+      readBox.appendChild(el("span", "owb-read-label", "read as "));
+      var m = el("span");
+      math(m, read, false);
+      readBox.appendChild(m);
+    }
+  }
+
+  function check(form, exerciseToml, student) {
+    var score = form.querySelector(".owb-score");
+    var file = answerFile(form, student);
+    return workbench().then(function (owb) {
+      var started = performance.now();
+      var out = JSON.parse(owb.check(exerciseToml, file));
+      form.querySelectorAll(".owb-part").forEach(function (part) {
+        var id = part.getAttribute("data-part");
+        var answered = part.querySelector(".owb-answer").value.trim() !== "";
+        var result = out.report && answered
+          ? out.report.parts.find(function (p) { return p.id === id; })
+          : null;
+        showFeedback(part, result, out.read && out.read[id]);
+      });
+      if (out.error) {
+        score.textContent = out.error;
+        score.className = "owb-score owb-error";
+      } else {
+        var answered = out.report.parts.filter(function (p) { return p.verdict !== "missing"; });
+        score.className = "owb-score";
+        score.textContent = "score " + out.report.score + " / " + out.report.points +
+          " (" + answered.length + " of " + out.report.parts.length + " parts answered)";
+      }
+      form.setAttribute("data-check-ms", (performance.now() - started).toFixed(1));
+      form.setAttribute("data-checked", String(Number(form.getAttribute("data-checked") || 0) + 1));
+      return out;
+    }).catch(function (e) {
+      score.textContent = String(e.message || e);
+      score.className = "owb-score owb-error";
+    });
+  }
+
+  function wireExercise(form, exerciseToml, student) {
+    var fileBox = form.querySelector(".owb-answer-toml");
+    var refresh = function () {
+      if (fileBox) fileBox.textContent = answerFile(form, student);
+    };
+    refresh();
+    form.querySelectorAll(".owb-answer").forEach(function (input) {
+      input.addEventListener("input", refresh);
+      input.addEventListener("keydown", function (ev) {
+        if (ev.key === "Enter") {
+          ev.preventDefault();
+          check(form, exerciseToml, student);
+        }
+      });
+    });
+    form.querySelector(".owb-check").addEventListener("click", function () {
+      check(form, exerciseToml, student);
+    });
+  }
+
+  // ---- each student's own exercise ---------------------------------------------------------
+
+  function paragraphs(target, text) {
+    text.trim().split(/\n\s*\n/).forEach(function (block) {
+      var p = el("p");
+      block.split(/(\*\*[^*]+\*\*)/).forEach(function (piece) {
+        if (/^\*\*[^*]+\*\*$/.test(piece)) p.appendChild(el("strong", null, piece.slice(2, -2)));
+        else p.appendChild(document.createTextNode(piece));
+      });
+      target.appendChild(p);
+    });
+  }
+
+  function variantExercise(v, student) {
+    var form = el("div", "owb-exercise");
+    form.setAttribute("data-exercise-id", v.id);
+    v.parts.forEach(function (p) {
+      var part = el("div", "owb-part");
+      part.setAttribute("data-part", p.id);
+      var label = el("label");
+      var input = el("input", "owb-answer");
+      input.type = "text";
+      input.id = "owb-" + v.id + "-" + p.id;
+      input.spellcheck = false;
+      input.autocomplete = "off";
+      label.htmlFor = input.id;
+      label.appendChild(el("code", null, p.id));
+      label.appendChild(document.createTextNode(" — " + p.prompt + " "));
+      label.appendChild(el("span", "owb-points", "(" + p.points + " point" + (p.points === 1 ? "" : "s") + ")"));
+      part.appendChild(label);
+      part.appendChild(input);
+      part.appendChild(el("div", "owb-read"));
+      part.appendChild(el("div", "owb-feedback"));
+      form.appendChild(part);
+    });
+    var actions = el("div", "owb-actions");
+    var button = el("button", "owb-check", "Check");
+    button.type = "button";
+    actions.appendChild(button);
+    actions.appendChild(document.createTextNode(" "));
+    actions.appendChild(el("span", "owb-score"));
+    var save = el("button", "owb-download", "Save my answers");
+    save.type = "button";
+    actions.appendChild(document.createTextNode(" "));
+    actions.appendChild(save);
+    form.appendChild(actions);
+    var details = el("details", "owb-answer-file");
+    details.appendChild(el("summary", null, "Your answers as a file (hand this in)"));
+    var pre = el("pre");
+    pre.appendChild(el("code", "owb-answer-toml"));
+    details.appendChild(pre);
+    form.appendChild(details);
+    save.addEventListener("click", function () {
+      var blob = new Blob([answerFile(form, student)], { type: "text/plain" });
+      var a = document.createElement("a");
+      a.href = URL.createObjectURL(blob);
+      a.download = v.id + "-" + student.replace(/[^A-Za-z0-9_-]/g, "_") + ".toml";
+      document.body.appendChild(a);
+      a.click();
+      a.remove();
+    });
+    wireExercise(form, v.toml, student);
+    return form;
+  }
+
+  function wireVariant(box) {
+    var body = box.querySelector(".owb-variant-body");
+    box.querySelector(".owb-new-variant").addEventListener("click", function () {
+      var student = box.querySelector(".owb-student").value.trim();
+      var order = box.querySelector(".owb-order").value;
+      var convention = box.querySelector(".owb-convention").value;
+      workbench().then(function (owb) {
+        var v = JSON.parse(owb.variant(student, order, convention));
+        body.textContent = "";
+        if (v.error) {
+          body.appendChild(el("p", "owb-error", v.error));
+          return;
+        }
+        body.appendChild(el("h4", null, v.title + " — " + v.id));
+        paragraphs(body, v.statement);
+        var p = el("p", "owb-note");
+        p.appendChild(document.createTextNode("Your teacher regenerates this exercise with "));
+        p.appendChild(el("code", null, v.command));
+        p.appendChild(document.createTextNode(" and grades the saved answers with "));
+        p.appendChild(el("code", null, "owb grade variants SUBMISSIONS/ --csv report.csv"));
+        p.appendChild(document.createTextNode("."));
+        body.appendChild(p);
+        body.appendChild(variantExercise(v, student));
+        box.setAttribute("data-variant", v.id);
+      });
+    });
+  }
+
+  // ---- the playground -----------------------------------------------------------------------
+
+  function wirePlayground(box) {
+    var value = function (cls) { return box.querySelector(cls).value.trim(); };
+    var command = box.querySelector(".owb-command");
+    var mathBox = box.querySelector(".owb-math");
+    var output = box.querySelector(".owb-output");
+    box.querySelectorAll("button[data-run]").forEach(function (button) {
+      button.addEventListener("click", function () {
+        var sub = button.getAttribute("data-run");
+        var args = [sub, "--a", value(".owb-a"), "--c", value(".owb-c")];
+        if (sub === "gain") {
+          args.push(value(".owb-family"), value(".owb-desired"), "--method", value(".owb-method"),
+            "--convention", value(".owb-pconvention"));
+          if (box.querySelector(".owb-float").checked) args.push("--float");
+        }
+        workbench().then(function (owb) {
+          var started = performance.now();
+          var out = JSON.parse(owb.run(JSON.stringify(args)));
+          command.textContent = "owb " + args.map(shellWord).join(" ");
+          mathBox.textContent = "";
+          if (out.latex) math(mathBox, out.latex, true);
+          output.className = "owb-output" + (out.status === 2 || out.error ? " owb-error" : "");
+          var text = out.output || "";
+          if (out.error) {
+            text += "error: " + out.error + "\n";
+            (out.causes || []).forEach(function (c) { text += "  caused by: " + c + "\n"; });
+          }
+          output.textContent = text;
+          box.setAttribute("data-run-ms", (performance.now() - started).toFixed(1));
+          box.setAttribute("data-ran", String(Number(box.getAttribute("data-ran") || 0) + 1));
+        });
+      });
+    });
+    var select = box.querySelector(".owb-example");
+    var source = box.querySelector(".owb-example-toml");
+    var fill = function () {
+      var option = select.options[select.selectedIndex];
+      if (option) source.value = option.getAttribute("data-toml");
+    };
+    select.addEventListener("change", fill);
+    fill();
+    box.querySelector(".owb-verify").addEventListener("click", function () {
+      var result = box.querySelector(".owb-verify-output");
+      workbench().then(function (owb) {
+        var out = JSON.parse(owb.verify(select.value, source.value));
+        result.className = "owb-verify-output" + (out.error ? " owb-error" : "");
+        result.textContent = out.error ? "error: " + out.error : out.text;
+        box.setAttribute("data-verified", String(Number(box.getAttribute("data-verified") || 0) + 1));
+      });
+    });
+  }
+
+  function start() {
+    var forms = document.querySelectorAll(".owb-exercise[data-exercise]");
+    var variants = document.querySelectorAll(".owb-variant");
+    var playgrounds = document.querySelectorAll(".owb-playground");
+    forms.forEach(function (form) { wireExercise(form, form.getAttribute("data-exercise"), null); });
+    variants.forEach(wireVariant);
+    playgrounds.forEach(wirePlayground);
+    // load ahead, so the first click answers at once
+    if (forms.length + variants.length + playgrounds.length > 0) {
+      workbench().catch(function (e) { console.error(e); });
+    }
+  }
+
+  if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", start);
+  else start();
+})();
