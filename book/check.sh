@@ -28,5 +28,13 @@ grep -q 'L = \[-6; -12\]' gains.html || say "gains.html: Stoustrup's gain missin
 grep -q '<svg' polynomials.html || say "polynomials.html: figure missing"
 grep -q '286\.6' kalman.html || say "kalman.html: Kalman bandwidth missing"
 grep -q 'erratum' errata.html || say "errata.html: errata missing"
+# the workbench for the browser is shipped with the book, and every exercise has answer fields
+for f in owb-web/owb_web.js owb-web/owb_web_wasm.js katex/katex.min.js; do
+  [ -s "$f" ] || say "$f missing (web/build.sh, install-katex.sh)"
+done
+for page in $(grep -l 'Exercise: ' $pages); do
+  grep -q 'class="owb-exercise"' "$page" || say "$page: an exercise without answer fields"
+done
+grep -q 'class="owb-playground"' workbench.html || say "workbench.html: no playground"
 [ "$fail" = 0 ] && echo "book check: $(echo "$pages" | wc -w) pages, links resolve, math rendered offline, computed values present"
 exit "$fail"

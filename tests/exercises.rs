@@ -445,3 +445,91 @@ fn polynomial_answers_may_use_lambda() {
     assert_eq!(part("λ^2 + 9λ + 20"), PartVerdict::Correct);
     assert_eq!(part("λ^2 + 9λ + 21"), PartVerdict::Wrong);
 }
+
+/// Each student's own exercise: `--student` names the variant the course book generates for the
+/// id, and `owb grade variants` checks every submission against the variant its `exercise` id
+/// names — refusing one that belongs to another student, or names no generated exercise.
+#[test]
+fn student_variants_are_generated_and_graded_per_student() {
+    let dir = std::env::temp_dir().join(format!("owb-variants-{}", std::process::id()));
+    let subs = dir.join("subs");
+    std::fs::create_dir_all(&subs).unwrap();
+    let (code, key, err) = owb(&[
+        "exercise",
+        "new",
+        "--student",
+        "Ada",
+        "--order",
+        "2",
+        "--key",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let ada = Settings::for_student("ada", 2, 2, "a-kc");
+    assert!(key.contains(&format!("id = \"{}\"", ada.id())), "{key}");
+    let (_, by_seed, _) = owb(&[
+        "exercise",
+        "new",
+        "--seed",
+        &ada.seed.to_string(),
+        "--order",
+        "2",
+        "--key",
+    ]);
+    assert_eq!(key, by_seed, "--student is the seed of the id");
+    let (code, _, err) = owb(&["exercise", "new", "--student", "x", "--seed", "1"]);
+    assert_eq!(code, 2, "both a seed and a student: {err}");
+    // the right answers, from the computed key
+    let answers: Vec<String> = key
+        .lines()
+        .filter_map(|l| l.strip_prefix("# "))
+        .filter(|l| l.contains(" = \""))
+        .map(str::to_string)
+        .collect();
+    assert!(answers.len() >= 5, "{key}");
+    let file = |student: &str, exercise: &str| {
+        format!(
+            "exercise = \"{exercise}\"\nstudent = \"{student}\"\n[answers]\n{}\n",
+            answers.join("\n")
+        )
+    };
+    std::fs::write(subs.join("ada.toml"), file("ada", &ada.id())).unwrap();
+    std::fs::write(subs.join("eve.toml"), file("eve", &ada.id())).unwrap();
+    std::fs::write(
+        subs.join("bob.toml"),
+        file("bob", "stoustrup-pole-assignment"),
+    )
+    .unwrap();
+    let csv = dir.join("report.csv");
+    let (code, out, err) = owb(&[
+        "grade",
+        "variants",
+        subs.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("3 submissions graded for their own variants: 1 fully correct, 2 invalid"),
+        "{out}"
+    );
+    let report = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = report.lines().collect();
+    assert!(
+        rows.iter()
+            .filter(|r| r.starts_with("ada,"))
+            .all(|r| r.contains(",correct,")),
+        "{report}"
+    );
+    let theirs = Settings::for_student("eve", 2, 2, "a-kc").id();
+    assert!(
+        report.contains(&format!(
+            "is not the variant of student 'eve' (theirs is '{theirs}')"
+        )),
+        "{report}"
+    );
+    assert!(
+        report.contains("'stoustrup-pole-assignment' is not a generated exercise's id"),
+        "{report}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -102,7 +102,9 @@
       unreadable: "✘ cannot be read",
     }[result.verdict];
     head.textContent = words + " (" + result.score + "/" + result.points + ")";
-    if (result.mistake) head.appendChild(el("span", "owb-mistake", " — mistake: " + result.mistake));
+    // the feedback's first line names the mistake in words; its key is kept for scripts
+    if (result.mistake) box.setAttribute("data-mistake", result.mistake);
+    else box.removeAttribute("data-mistake");
     box.appendChild(head);
     box.appendChild(el("div", "owb-feedback-text", result.feedback));
     if (read) {

@@ -39,7 +39,7 @@ fn placeholder(input: &str) -> &'static str {
     let t = input.trim();
     if t.starts_with('[') {
         if t.contains(';') {
-            "a matrix, rows split by ; e.g. [1 2; 3 4] or [-6; -12]"
+            "a matrix, rows split by ; e.g. [1 2; 3 4], or a column [1; 2]"
         } else {
             "a row, e.g. [1 2]"
         }

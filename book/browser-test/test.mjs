@@ -1,0 +1,322 @@
+// The course book in a real browser: Debian's Chromium, driven by playwright-core (no browser
+// download). Opens the built book (book/book) from a local server and as a local file, types
+// right and typical wrong answers into an exercise and into a student's own variant, runs the
+// playground, and asserts that what the page shows equals what `owb check`, `owb gain`,
+// `owb observe` and `owb canonical` print for the same input. Fails on any console error, page
+// error or failed request. Writes screenshots to book/screenshots/ and the click-to-feedback
+// times to book/screenshots/timings.json.
+//
+// Run by book/browser-test/run.sh (which installs what it needs), after `mdbook build book`.
+import { chromium } from "playwright-core";
+import { execFileSync } from "node:child_process";
+import { createServer } from "node:http";
+import { readFileSync, mkdirSync, writeFileSync, mkdtempSync, existsSync, statSync } from "node:fs";
+import { join, extname, resolve, dirname } from "node:path";
+import { tmpdir } from "node:os";
+import { fileURLToPath, pathToFileURL } from "node:url";
+import assert from "node:assert/strict";
+
+const here = dirname(fileURLToPath(import.meta.url));
+const repo = resolve(here, "../..");
+const bookDir = join(repo, "book/book");
+const shots = join(repo, "book/screenshots");
+const owbBinary = join(repo, "target/release/owb");
+mkdirSync(shots, { recursive: true });
+const scratch = mkdtempSync(join(tmpdir(), "owb-browser-"));
+
+// ---- the command line, for comparison -------------------------------------------------------
+
+function owb(args, { allowFailure = false } = {}) {
+  try {
+    return execFileSync(owbBinary, args, { cwd: repo, encoding: "utf8" });
+  } catch (e) {
+    if (allowFailure && e.status === 1) return e.stdout;
+    throw new Error(`owb ${args.join(" ")} failed (${e.status}): ${e.stderr}`);
+  }
+}
+
+function owbCheck(exercise, answersToml) {
+  const file = join(scratch, `answers-${Math.random().toString(36).slice(2)}.toml`);
+  writeFileSync(file, answersToml);
+  return JSON.parse(owb(["check", exercise, file, "--json"], { allowFailure: true }));
+}
+
+// ---- a local static server for the built book ----------------------------------------------
+
+const types = {
+  ".html": "text/html; charset=utf-8", ".js": "text/javascript", ".css": "text/css",
+  ".wasm": "application/wasm", ".svg": "image/svg+xml", ".woff2": "font/woff2",
+  ".woff": "font/woff", ".ttf": "font/ttf", ".json": "application/json", ".png": "image/png",
+};
+const server = createServer((req, res) => {
+  const path = decodeURIComponent(new URL(req.url, "http://x").pathname);
+  let file = join(bookDir, path.endsWith("/") ? path + "index.html" : path);
+  if (!file.startsWith(bookDir) || !existsSync(file) || statSync(file).isDirectory()) {
+    res.writeHead(404);
+    res.end("not found");
+    return;
+  }
+  res.writeHead(200, { "content-type": types[extname(file)] || "application/octet-stream" });
+  res.end(readFileSync(file));
+});
+await new Promise((r) => server.listen(0, "127.0.0.1", r));
+const base = `http://127.0.0.1:${server.address().port}/`;
+
+// ---- the browser ----------------------------------------------------------------------------
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+  args: [
+    "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+  ],
+});
+const problems = [];
+const timings = {};
+let failures = 0;
+
+async function open(url, width = 1280) {
+  const page = await browser.newPage({ viewport: { width, height: 900 } });
+  page.on("console", (m) => {
+    if (m.type() === "error") problems.push(`${url}: console error: ${m.text()}`);
+  });
+  page.on("pageerror", (e) => problems.push(`${url}: page error: ${e.message}`));
+  page.on("requestfailed", (r) => problems.push(`${url}: request failed: ${r.url()} ${r.failure()?.errorText}`));
+  await page.goto(url);
+  await page.waitForFunction(() => document.documentElement.hasAttribute("data-owb-ready"), null, {
+    timeout: 30000,
+  });
+  return page;
+}
+
+async function test(name, body) {
+  try {
+    await body();
+    console.log(`ok   ${name}`);
+  } catch (e) {
+    failures += 1;
+    console.log(`FAIL ${name}\n${e.stack || e}`);
+  }
+}
+
+// Types the answers into a form, clicks Check, and returns, per answered part, what the page
+// shows, with the time from the click to the feedback in the page.
+async function answer(page, formSelector, answers) {
+  const form = page.locator(formSelector);
+  for (const input of await form.locator(".owb-answer").all()) await input.fill("");
+  for (const [part, value] of Object.entries(answers)) {
+    await form.locator(`.owb-part[data-part="${part}"] .owb-answer`).fill(value);
+  }
+  const ms = await form.evaluate((el) => new Promise((done) => {
+    const before = el.getAttribute("data-checked");
+    const t0 = performance.now();
+    const seen = new MutationObserver(() => {
+      if (el.getAttribute("data-checked") !== before) {
+        seen.disconnect();
+        done(performance.now() - t0);
+      }
+    });
+    seen.observe(el, { attributes: true });
+    el.querySelector(".owb-check").click();
+  }));
+  const shown = {};
+  for (const part of Object.keys(answers)) {
+    const p = form.locator(`.owb-part[data-part="${part}"]`);
+    const box = p.locator(".owb-feedback");
+    shown[part] = {
+      correct: (await box.getAttribute("class")).includes("owb-correct"),
+      verdict: await box.locator(".owb-verdict").textContent(),
+      feedback: await box.locator(".owb-feedback-text").textContent(),
+      mistake: await box.getAttribute("data-mistake"),
+      typeset: await p.locator(".owb-read .katex").count(),
+    };
+  }
+  const file = await form.locator(".owb-answer-toml").textContent();
+  return { shown, ms, file };
+}
+
+// The page's feedback against `owb check`'s JSON for the same answer file.
+function sameAsCli(shown, cli) {
+  for (const [part, s] of Object.entries(shown)) {
+    const c = cli.parts.find((p) => p.id === part);
+    assert.ok(c, `owb check has no part ${part}`);
+    assert.equal(s.feedback, c.feedback, `part ${part}: the page's feedback differs from owb check's`);
+    assert.equal(s.mistake, c.mistake, `part ${part}: mistake`);
+    assert.equal(s.correct, c.verdict === "correct", `part ${part}: verdict`);
+    assert.ok(s.verdict.includes(`(${c.score}/${c.points})`), `part ${part}: score ${s.verdict}`);
+  }
+}
+
+function negate(entry) {
+  const t = entry.trim();
+  return t.startsWith("-") ? t.slice(1) : "-" + t;
+}
+function negateMatrix(m) {
+  return m.replace(/[^\[\];\s,]+/g, (e) => negate(e));
+}
+function transpose(vector) {
+  return vector.replace(/;\s*/g, " ");
+}
+
+// ---- an exercise of the book (Stoustrup's pole assignment, in the gains chapter) ------------
+
+const stoustrup = "stoustrup-pole-assignment";
+const design = JSON.parse(owb(["gain", "--a", "[2 -3; 4 -5]", "--c", "[-3 2]", "--poles", "-4, -5",
+  "--convention", "a+lc", "--json"]));
+const rightL = "[" + design.gain.map((r) => r.join(" ")).join("; ") + "]";
+const desiredInLambda = design.observer_polynomial.replace(/s/g, "λ");
+const cases = {
+  right: { L: rightL, desired: desiredInLambda },
+  "sign convention": { L: negateMatrix(rightL) },
+  transposed: { L: transpose(rightL) },
+  "a slip": { L: rightL.replace(/\d+/, (d) => String(Number(d) + 1)) },
+  unreadable: { L: "[1 2", desired: "s^^2" },
+  "no answer but one": { O: "[1 2; 3 4]" },
+};
+
+await test("exercise: the page's feedback equals owb check's (served)", async () => {
+  const page = await open(base + "gains.html");
+  for (const [name, answers] of Object.entries(cases)) {
+    const { shown, ms, file } = await answer(page, `.owb-exercise[data-exercise-id="${stoustrup}"]`, answers);
+    (timings["exercise check, ms"] ||= []).push(Number(ms.toFixed(1)));
+    sameAsCli(shown, owbCheck(stoustrup, file));
+    if (name === "right") {
+      assert.ok(shown.L.correct && shown.desired.correct, `right answers: ${JSON.stringify(shown)}`);
+      assert.ok(shown.L.typeset > 0, "the answer as read is typeset");
+    } else if (name !== "no answer but one") {
+      assert.ok(!shown.L.correct, `${name}: ${JSON.stringify(shown.L)}`);
+    }
+    if (name === "sign convention") assert.equal(shown.L.mistake, "sign_convention");
+  }
+  await page.close();
+});
+
+await test("screenshots: an exercise with feedback and the playground, desktop and 390 px", async () => {
+  for (const width of [1280, 390]) {
+    const name = width === 390 ? "390px" : "desktop";
+    const page = await open(base + "gains.html", width);
+    const selector = `.owb-exercise[data-exercise-id="${stoustrup}"]`;
+    await answer(page, selector, { ...cases["sign convention"], desired: desiredInLambda });
+    await page.locator(selector).screenshot({ path: join(shots, `exercise-${name}.png`) });
+    await page.close();
+    const play = await open(base + "workbench.html", width);
+    const box = play.locator(".owb-playground");
+    await box.locator('button[data-run="gain"]').click();
+    await play.waitForFunction(() => document.querySelector(".owb-playground").hasAttribute("data-ran"));
+    await box.screenshot({ path: join(shots, `playground-${name}.png`) });
+    await play.close();
+  }
+});
+
+await test("exercise: the book opened as a local file (file://) checks too", async () => {
+  const page = await open(pathToFileURL(join(bookDir, "gains.html")).href);
+  const { shown, file } = await answer(page, `.owb-exercise[data-exercise-id="${stoustrup}"]`, cases.right);
+  assert.ok(shown.L.correct, JSON.stringify(shown));
+  sameAsCli(shown, owbCheck(stoustrup, file));
+  await page.close();
+});
+
+await test("every exercise in the book has answer fields that check", async () => {
+  for (const chapter of ["observability", "canonical-forms", "gains", "polynomials", "control",
+    "multi-output", "kalman", "perfect"]) {
+    const page = await open(base + chapter + ".html");
+    const forms = await page.locator(".owb-exercise[data-exercise]").all();
+    assert.ok(forms.length > 0, `${chapter}: no exercise form`);
+    for (const form of forms) {
+      const id = await form.getAttribute("data-exercise-id");
+      const first = await form.locator(".owb-part").first().getAttribute("data-part");
+      const { shown, file } = await answer(page, `.owb-exercise[data-exercise-id="${id}"]`, { [first]: "[1 2; 3 4]" });
+      sameAsCli(shown, owbCheck(id, file));
+    }
+    await page.close();
+  }
+});
+
+// ---- a student's own exercise ---------------------------------------------------------------
+
+await test("variant: a student's exercise, checked in the page and graded by owb grade variants", async () => {
+  const page = await open(base + "workbench.html");
+  const box = page.locator(".owb-variant");
+  await box.locator(".owb-student").fill("ada");
+  await box.locator(".owb-order").selectOption("3");
+  await box.locator(".owb-new-variant").click();
+  await page.waitForFunction(() => document.querySelector(".owb-variant").hasAttribute("data-variant"));
+  const id = await box.getAttribute("data-variant");
+  const exerciseFile = join(scratch, "ada.toml");
+  owb(["exercise", "new", "--student", "ada", "--order", "3", "--out", exerciseFile]);
+  const key = Object.fromEntries(owb(["exercise", "new", "--student", "ada", "--order", "3", "--key"])
+    .split("\n").filter((l) => l.startsWith("# ") && l.includes(" = \""))
+    .map((l) => { const m = l.match(/^# (\S+) = "(.*)"$/); return [m[1], m[2]]; }));
+  assert.ok(Object.keys(key).length >= 5, `the key: ${JSON.stringify(key)}`);
+  assert.ok(readFileSync(exerciseFile, "utf8").includes(`id = "${id}"`), "the same exercise");
+  const right = await answer(page, ".owb-variant .owb-exercise", key);
+  for (const [part, s] of Object.entries(right.shown)) assert.ok(s.correct, `${part}: ${JSON.stringify(s)}`);
+  sameAsCli(right.shown, owbCheck(exerciseFile, right.file));
+  assert.ok(right.file.includes('student = "ada"'));
+  const wrong = await answer(page, ".owb-variant .owb-exercise", { ...key, K: negateMatrix(key.K) });
+  assert.equal(wrong.shown.K.mistake, "sign_convention");
+  sameAsCli(wrong.shown, owbCheck(exerciseFile, wrong.file));
+  // the teacher grades the saved answers of the class
+  const submissions = join(scratch, "submissions");
+  mkdirSync(submissions, { recursive: true });
+  writeFileSync(join(submissions, "ada.toml"), right.file);
+  writeFileSync(join(submissions, "eve.toml"), right.file.replace('student = "ada"', 'student = "eve"'));
+  const csv = join(scratch, "report.csv");
+  owb(["grade", "variants", submissions, "--csv", csv]);
+  const rows = readFileSync(csv, "utf8").trim().split("\n");
+  assert.ok(rows.filter((r) => r.startsWith("ada,")).every((r) => r.includes(",correct,")), rows.join("\n"));
+  assert.ok(rows.some((r) => r.startsWith("eve,") && r.includes("not the variant of student 'eve'")), rows.join("\n"));
+  await box.screenshot({ path: join(shots, "variant-desktop.png") });
+  await page.close();
+});
+
+// ---- the playground -------------------------------------------------------------------------
+
+await test("playground: gain, observability and canonical form print what owb prints", async () => {
+  const page = await open(base + "workbench.html");
+  const box = page.locator(".owb-playground");
+  const a = await box.locator(".owb-a").inputValue();
+  const c = await box.locator(".owb-c").inputValue();
+  const desired = await box.locator(".owb-desired").inputValue();
+  const runs = {
+    gain: ["gain", "--a", a, "--c", c, "--poles", desired, "--method", "ackermann", "--convention", "a-kc", "--float"],
+    observe: ["observe", "--a", a, "--c", c],
+    canonical: ["canonical", "--a", a, "--c", c],
+  };
+  for (const [button, args] of Object.entries(runs)) {
+    const ran = await box.getAttribute("data-ran");
+    await box.locator(`button[data-run="${button}"]`).click();
+    await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-ran") !== r, ran);
+    assert.equal(await box.locator(".owb-output").textContent(), owb(args), `${button}: the page differs from owb`);
+    (timings["playground run, ms"] ||= []).push(Number(await box.getAttribute("data-run-ms")));
+    if (button === "gain") {
+      assert.ok((await box.locator(".owb-math .katex").count()) > 0, "the derivation is typeset");
+    }
+  }
+  // bad input: the workbench's error, in the page, no exception
+  await box.locator(".owb-a").fill("[1 2; 3]");
+  const ran = await box.getAttribute("data-ran");
+  await box.locator('button[data-run="gain"]').click();
+  await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-ran") !== r, ran);
+  assert.match(await box.locator(".owb-output").textContent(), /error: in --a/);
+  // a worked example verified in the page
+  await box.locator(".owb-example").selectOption("stoustrup-pole-assignment");
+  await box.locator(".owb-verify").click();
+  await page.waitForFunction(() => document.querySelector(".owb-playground").hasAttribute("data-verified"));
+  const table = await box.locator(".owb-verify-output").textContent();
+  assert.ok(table.includes("holds") && !table.includes("mismatch ✘"), table);
+  await page.close();
+});
+
+await browser.close();
+server.close();
+const median = (v) => [...v].sort((x, y) => x - y)[Math.floor(v.length / 2)];
+const summary = Object.fromEntries(Object.entries(timings).map(([k, v]) => [k, { runs: v, median: median(v), max: Math.max(...v) }]));
+writeFileSync(join(shots, "timings.json"), JSON.stringify(summary, null, 2) + "\n");
+console.log("click to feedback (ms):", JSON.stringify(summary));
+if (problems.length > 0) {
+  console.log("console errors, page errors or failed requests:\n" + problems.join("\n"));
+  failures += 1;
+}
+console.log(failures === 0 ? "browser tests: all passed" : `browser tests: ${failures} failed`);
+process.exit(failures === 0 ? 0 : 1);
