@@ -210,3 +210,53 @@ fn approximate_and_unreproducible_verdicts_are_checked() {
     let e = parse_example("g.toml", &claim("2.5", &bad)).unwrap_err();
     assert_eq!(e.field, "claims.w.tolerance", "{e}");
 }
+
+/// The sampled identities are proved over the rational functions of their symbols; a print that
+/// differs as a rational function is a mismatch said in those terms.
+#[test]
+fn symbolic_identities_are_proved_and_a_wrong_one_refuted() {
+    let src = folder().join("diruscio-butterworth.toml");
+    let text = std::fs::read_to_string(&src).unwrap();
+    let (ex, raw) = load_example(&src).unwrap();
+    let r = verify_example(&src, &ex, &raw).unwrap();
+    let proved: Vec<&str> = r
+        .claims
+        .iter()
+        .filter(|c| c.explanation.contains("proved as an identity"))
+        .map(|c| c.id.as_str())
+        .collect();
+    for id in [
+        "repeated-order-4",
+        "butterworth-order-2",
+        "butterworth-gain-order-3",
+    ] {
+        assert!(proved.contains(&id), "{id} not proved: {proved:?}");
+    }
+    let wrong = text.replacen(
+        "printed = \"[a1 + sqrt(2)/T; a2 + 1/T^2]\"",
+        "printed = \"[a1 + sqrt(2)/T; a2 + 2/T^2]\"",
+        1,
+    );
+    assert_ne!(text, wrong);
+    let dir = std::env::temp_dir().join(format!("owb-refuted-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("diruscio-butterworth.toml");
+    std::fs::write(&path, &wrong).unwrap();
+    let (ex, raw) = load_example(&path).unwrap();
+    let r = verify_example(&path, &ex, &raw).unwrap();
+    let bad: Vec<_> = r
+        .claims
+        .iter()
+        .filter(|c| c.verdict == Verdict::Mismatch)
+        .collect();
+    assert_eq!(bad.len(), 1);
+    assert_eq!(bad[0].id, "butterworth-gain-order-2");
+    assert!(
+        bad[0]
+            .explanation
+            .contains("as rational functions of T, a1, a2 the print differs"),
+        "{}",
+        bad[0].explanation
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -197,7 +197,7 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
 /// `owb check` reads the same two files and runs the same functions.
 ///
 /// # Errors
-/// [`ExerciseError`] for an unreadable exercise or answer file, a key that cannot be computed,
+/// [`ExerciseError`](super::ExerciseError) for an unreadable exercise or answer file, a key that cannot be computed,
 /// or answers written for another exercise.
 pub fn check_text(
     exercise: (&str, &str),

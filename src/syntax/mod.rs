@@ -15,7 +15,9 @@ mod eval;
 mod lexer;
 mod parser;
 
-pub use eval::{evaluate_with, rational_function_with, Environment, FromExpr, ParseValue};
+pub use eval::{
+    evaluate_with, rational_function_with, DivisionRefused, Environment, FromExpr, ParseValue,
+};
 pub use parser::{Expr, ExprKind};
 
 use crate::algebra::Field;

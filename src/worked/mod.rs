@@ -13,6 +13,7 @@ mod compute;
 mod compute_optimal;
 mod format;
 mod inputs;
+pub mod proof;
 mod report;
 mod scenario;
 mod value;

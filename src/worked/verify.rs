@@ -346,6 +346,20 @@ struct Check {
     recomputed: String,
     derivation: Derivation,
     sampled: Vec<String>,
+    /// For a sampled claim: whether it was also proved over the rational functions.
+    proof: ProofNote,
+}
+
+/// What stands behind a sampled claim's verdict.
+#[derive(Clone, Debug, Default)]
+enum ProofNote {
+    /// Not sampled: computed exactly at the claim's values.
+    #[default]
+    Exact,
+    /// Proved (or refuted) over the rational functions of the symbols.
+    Proved,
+    /// Only sampled, and why there is no proof.
+    Sampled(String),
 }
 
 /// Adds the claim's `where` definitions (evaluated in `env`) to `env`.
@@ -390,6 +404,7 @@ fn check(
             value: Some(computed.value),
             derivation: computed.derivation,
             sampled: Vec::new(),
+            proof: ProofNote::Exact,
         })
     };
     // Exact first; free symbols that a division needs are sampled.
@@ -439,11 +454,15 @@ fn check(
                 let point: Vec<String> =
                     sampled.iter().map(|n| format!("{n} = {}", e[n])).collect();
                 if !c.agreement.holds() {
-                    return Ok(Check {
-                        recomputed: format!("at {}: {}", point.join(", "), c.recomputed),
-                        sampled: sampled.clone(),
-                        ..c
-                    });
+                    return Ok(with_proof(
+                        Check {
+                            recomputed: format!("at {}: {}", point.join(", "), c.recomputed),
+                            sampled: sampled.clone(),
+                            ..c
+                        },
+                        &Inputs { file, claim, env },
+                        printed,
+                    ));
                 }
                 good += 1;
                 if first.is_none() {
@@ -469,14 +488,65 @@ fn check(
         }
     }
     match first {
-        Some(c) if good == SAMPLES => Ok(c),
+        Some(c) if good == SAMPLES => Ok(with_proof(c, &Inputs { file, claim, env }, printed)),
         _ => Err(ComputeError::Failed(format!(
             "could not find {SAMPLES} sample points where the computation is defined ({last_error})"
         ))),
     }
 }
 
-fn how(a: &Agreement, sampled: &[String]) -> String {
+/// A sampled check, proved or refuted over the rational functions of its symbols where the
+/// computation allows ([`super::proof`]); otherwise it says why it stays sampled.
+fn with_proof(c: Check, inputs: &Inputs<'_>, printed: &str) -> Check {
+    let proof = with_definitions(inputs.claim, inputs.env)
+        .and_then(|penv| super::proof::prove(inputs, printed, &penv));
+    let symbols = |p: &super::proof::Proof| {
+        if p.symbols.is_empty() {
+            c.sampled.join(", ")
+        } else {
+            p.symbols.join(", ")
+        }
+    };
+    match (proof, &c.agreement) {
+        (Err(why), _) => Check {
+            proof: ProofNote::Sampled(why),
+            ..c
+        },
+        (Ok(_), Agreement::Rounded { .. }) => Check {
+            proof: ProofNote::Sampled("the print is rounded, so it is no identity to prove".into()),
+            ..c
+        },
+        (Ok(p), Agreement::Exact) if p.holds => Check {
+            recomputed: format!(
+                "{} — proved over the rational functions of {} by {}; {}",
+                p.value,
+                symbols(&p),
+                p.method,
+                c.recomputed
+            ),
+            proof: ProofNote::Proved,
+            ..c
+        },
+        (Ok(p), a) => Check {
+            agreement: Agreement::Differs(format!(
+                "{}as rational functions of {} the print differs from {} ({})",
+                match a {
+                    Agreement::Differs(d) => format!("{d}; "),
+                    _ => String::new(),
+                },
+                symbols(&p),
+                p.value,
+                p.method
+            )),
+            recomputed: format!("{} — {}", p.value, c.recomputed),
+            proof: ProofNote::Proved,
+            ..c
+        },
+    }
+}
+
+fn how(a: &Agreement, c: &Check) -> String {
+    let sampled = &c.sampled;
     let base = match a {
         Agreement::Exact => "exactly".to_string(),
         Agreement::Rounded { digits } if *digits >= 0 => {
@@ -493,10 +563,17 @@ fn how(a: &Agreement, sampled: &[String]) -> String {
     if sampled.is_empty() {
         base
     } else {
-        format!(
-            "{base}, as an identity in {} (exact random-point test)",
-            sampled.join(", ")
-        )
+        match &c.proof {
+            ProofNote::Proved => format!(
+                "{base}, proved as an identity in {} (over the rational functions)",
+                sampled.join(", ")
+            ),
+            ProofNote::Sampled(why) => format!(
+                "{base}, as an identity in {} (exact at {SAMPLES} random rational points; not proved: {why})",
+                sampled.join(", ")
+            ),
+            ProofNote::Exact => base,
+        }
     }
 }
 
@@ -573,14 +650,14 @@ fn erratum_checks(
             Ok(c) if c.agreement.holds() => checks.push(format!(
                 "checked: with {} the print is reproduced {}",
                 list.join(", "),
-                how(&c.agreement, &c.sampled)
+                how(&c.agreement, &c)
             )),
             Ok(c) => {
                 ok = false;
                 checks.push(format!(
                     "NOT confirmed: with {} the print is still not reproduced ({})",
                     list.join(", "),
-                    how(&c.agreement, &c.sampled)
+                    how(&c.agreement, &c)
                 ));
             }
             Err(e) => {
@@ -593,13 +670,13 @@ fn erratum_checks(
         match check(ex, claim, corrected, env) {
             Ok(c) if c.agreement.holds() => checks.push(format!(
                 "checked: the corrected value {corrected} holds {}",
-                how(&c.agreement, &c.sampled)
+                how(&c.agreement, &c)
             )),
             Ok(c) => {
                 ok = false;
                 checks.push(format!(
                     "NOT confirmed: the corrected value {corrected} does not hold either ({})",
-                    how(&c.agreement, &c.sampled)
+                    how(&c.agreement, &c)
                 ));
             }
             Err(ComputeError::Input { message, .. }) => {
@@ -638,12 +715,12 @@ fn verdict(cx: &ClaimContext<'_>, primary: &Check) -> Result<(Verdict, String), 
     let d = match &primary.agreement {
         a if a.holds() => {
             return Ok(match documented {
-                None => (Verdict::Holds, how(a, &primary.sampled)),
+                None => (Verdict::Holds, how(a, primary)),
                 Some(what) => (
                     Verdict::Mismatch,
                     format!(
                         "{what} is documented, but the print holds ({})",
-                        how(a, &primary.sampled)
+                        how(a, primary)
                     ),
                 ),
             })
@@ -841,7 +918,7 @@ fn unreproducible_verdict(
                         "the reading '{}' ({}) reproduces the print {}: record the claim as that computation",
                         r.reading,
                         r.what,
-                        how(&c.agreement, &c.sampled)
+                        how(&c.agreement, &c)
                     ),
                 )
             }
@@ -901,6 +978,7 @@ pub fn verify_example(
                 recomputed: "—".into(),
                 derivation: Derivation::new(&claim.id),
                 sampled: Vec::new(),
+                proof: ProofNote::Exact,
             },
         };
         let (verdict, explanation) = verdict(&cx, &primary)?;

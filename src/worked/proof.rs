@@ -1,0 +1,762 @@
+//! Identities proved, not sampled. A claim whose computation needs values for its free symbols
+//! (a time constant `T` in a denominator, symbolic plant coefficients `a1, a2` under an inverse)
+//! is checked at random rational points by `verify`; a finite number of points is evidence, not
+//! proof. For the computations where the symbols can be carried through exactly, this module
+//! recomputes the claim over the field of rational functions Q(T, a, …) and compares it with the
+//! print there: equal as rational functions is a proof of the identity for every value of the
+//! symbols where both sides are defined.
+//!
+//! * A desired polynomial of a family with time constant `T` (repeated root, Butterworth,
+//!   Bessel): by the family's definition `P_T(s) = T⁻ⁿ P₁(T s)` (the poles of `P₁` scaled by
+//!   1/T), with `P₁` computed exactly by the workbench; given poles: `∏ (s − pᵢ)`.
+//! * A single-output observer gain: Ackermann's formula `K = P(A) O⁻¹ eₙ` over the rational
+//!   functions (the inverse by the adjugate from the Berkowitz characteristic polynomial of
+//!   `O`). Where `det O ≢ 0` the gain placing the poles is unique, so every method's gain is
+//!   this one. In Di Ruscio's canonical coordinates: `K_o = T_o⁻¹ K = Mᵀ O_n K`.
+//!
+//! * The gain methods agree (`K = T_o K_o = O_n⁻¹ M⁻ᵀ (c − a) = P(A) O_n⁻¹ eₙ`): with
+//!   `T_o = (Mᵀ O_n)⁻¹` all three are one vector exactly when `Mᵀ O_n K = c − a` for
+//!   Ackermann's `K`, which is checked over the rational functions.
+//!
+//! Other identities between procedures stay sampled, and the report says so.
+//!
+//! Numbers with a square root (`sqrt(2)`, `i`) are carried as a symbol `√d` reduced by
+//! `√d² = d`; one radicand per claim, so the normal form is unique and equality is exact.
+
+use super::inputs::Inputs;
+use crate::algebra::{MultiPoly, One, Quadratic, Rational, Ring, Zero};
+use crate::linalg::{berkowitz, Matrix};
+use crate::observer::{Convention, DesiredPolynomial};
+use crate::syntax::{evaluate_with, parse_expression, parse_matrix_expressions, Environment};
+use crate::syntax::{DivisionRefused, FromExpr};
+use std::fmt;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// A rational function `num / den` of the claim's symbols, with rational coefficients and at
+/// most one square root carried as the symbol `√d`. Not reduced by a gcd: equality is tested
+/// by cross-multiplication, which needs none.
+#[derive(Clone, Debug)]
+pub struct Fraction {
+    num: MultiPoly,
+    den: MultiPoly,
+}
+
+/// The symbol standing for `√d`.
+fn radical(d: i64) -> String {
+    format!("√{d}")
+}
+
+/// The radicand of a radical symbol.
+fn radicand(name: &str) -> Option<i64> {
+    name.strip_prefix('√')?.parse().ok()
+}
+
+/// `p` with every `√d^e` replaced by `d^(e div 2) √d^(e mod 2)`.
+fn reduce(p: MultiPoly) -> MultiPoly {
+    let mut p = p;
+    for name in p.variables() {
+        let Some(d) = radicand(&name) else { continue };
+        if p.degree_in(&name) < 2 {
+            continue;
+        }
+        let d = MultiPoly::constant(Rational::from_integer(d.into()));
+        let root = MultiPoly::var(&name);
+        let mut even = MultiPoly::zero();
+        let mut odd = MultiPoly::zero();
+        let mut power = MultiPoly::one();
+        for (k, c) in p.coefficients_in(&name).into_iter().enumerate() {
+            if k % 2 == 0 {
+                even = even + c * power.clone();
+            } else {
+                odd = odd + c * power.clone();
+                power = power * d.clone();
+            }
+        }
+        p = even + odd * root;
+    }
+    p
+}
+
+impl Fraction {
+    fn of(num: MultiPoly) -> Self {
+        Fraction {
+            num,
+            den: MultiPoly::one(),
+        }
+    }
+
+    /// `a + b√d`.
+    pub fn quadratic(q: &Quadratic) -> Self {
+        let a = MultiPoly::constant(q.rational_part().clone());
+        if q.radical_part().is_zero() {
+            return Fraction::of(a);
+        }
+        let b = MultiPoly::constant(q.radical_part().clone());
+        Fraction::of(a + b * MultiPoly::var(&radical(q.radicand())))
+    }
+
+    /// The symbol `name`.
+    pub fn symbol(name: &str) -> Self {
+        Fraction::of(MultiPoly::var(name))
+    }
+
+    /// `self / other`, or `None` when `other` is the zero function.
+    pub fn checked_div(&self, other: &Self) -> Option<Self> {
+        (!other.num.is_zero()).then(|| Fraction {
+            num: reduce(self.num.clone() * other.den.clone()),
+            den: reduce(self.den.clone() * other.num.clone()),
+        })
+    }
+
+    /// The radicands of the square roots it holds.
+    fn radicands(&self) -> Vec<i64> {
+        let mut r: Vec<i64> = self
+            .num
+            .variables()
+            .iter()
+            .chain(self.den.variables().iter())
+            .filter_map(|v| radicand(v))
+            .collect();
+        r.sort_unstable();
+        r.dedup();
+        r
+    }
+
+    /// The symbols it depends on (square roots excluded).
+    pub fn symbols(&self) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .num
+            .variables()
+            .into_iter()
+            .chain(self.den.variables())
+            .filter(|v| radicand(v).is_none())
+            .collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+
+    /// `self` with the symbol `name` replaced by `value`.
+    pub fn substitute(&self, name: &str, value: &Fraction) -> Fraction {
+        // N(p/q) = Σ n_j p^j q^(d-j) / q^d for N of degree d in `name`
+        let homogenised = |poly: &MultiPoly| -> (MultiPoly, usize) {
+            let parts = poly.coefficients_in(name);
+            let d = parts.len().saturating_sub(1);
+            let mut out = MultiPoly::zero();
+            for (j, c) in parts.into_iter().enumerate() {
+                let mut t = c;
+                for _ in 0..j {
+                    t = reduce(t * value.num.clone());
+                }
+                for _ in j..d {
+                    t = reduce(t * value.den.clone());
+                }
+                out = out + t;
+            }
+            (out, d)
+        };
+        let (num, dn) = homogenised(&self.num);
+        let (den, dd) = homogenised(&self.den);
+        let q = |k: usize| (0..k).fold(MultiPoly::one(), |acc, _| reduce(acc * value.den.clone()));
+        // (num / q^dn) / (den / q^dd)
+        Fraction {
+            num: reduce(num * q(dd)),
+            den: reduce(den * q(dn)),
+        }
+    }
+
+    /// The common monomial factor of numerator and denominator divided out, for showing.
+    fn cancelled(&self) -> Fraction {
+        let mut common: Option<Vec<(String, u32)>> = None;
+        for (m, _) in self.num.terms().chain(self.den.terms()) {
+            let here: Vec<(String, u32)> = m.factors().to_vec();
+            common = Some(match common {
+                None => here,
+                Some(c) => c
+                    .into_iter()
+                    .filter_map(|(v, e)| {
+                        let f = m.exponent(&v);
+                        (f > 0).then(|| (v, e.min(f)))
+                    })
+                    .collect(),
+            });
+        }
+        let common = common.unwrap_or_default();
+        if common.is_empty() {
+            return self.clone();
+        }
+        let divide = |p: &MultiPoly| -> MultiPoly {
+            p.terms()
+                .map(|(m, c)| {
+                    let mut t = MultiPoly::constant(c.clone());
+                    for (v, e) in m.factors() {
+                        let left = e - common.iter().find(|(w, _)| w == v).map_or(0, |(_, k)| *k);
+                        for _ in 0..left {
+                            t = t * MultiPoly::var(v);
+                        }
+                    }
+                    t
+                })
+                .fold(MultiPoly::zero(), |a, b| a + b)
+        };
+        Fraction {
+            num: divide(&self.num),
+            den: divide(&self.den),
+        }
+    }
+
+    /// The coefficients of `var` (lowest power first), when `var` does not occur in the
+    /// denominator.
+    fn coefficients_in(&self, var: &str) -> Option<Vec<Fraction>> {
+        (self.den.degree_in(var) == 0).then(|| {
+            self.num
+                .coefficients_in(var)
+                .into_iter()
+                .map(|c| Fraction {
+                    num: c,
+                    den: self.den.clone(),
+                })
+                .collect()
+        })
+    }
+}
+
+impl PartialEq for Fraction {
+    fn eq(&self, other: &Self) -> bool {
+        reduce(self.num.clone() * other.den.clone() - other.num.clone() * self.den.clone())
+            .is_zero()
+    }
+}
+
+/// A polynomial with its square-root symbols written as `sqrt(d)`.
+fn show(p: &MultiPoly) -> String {
+    let mut text = p.to_string();
+    for v in p.variables() {
+        if let Some(d) = radicand(&v) {
+            text = text.replace(&v, &format!("sqrt({d})"));
+        }
+    }
+    text
+}
+
+/// The term `c·n/m` of monomials, cancelled: `2/T`, `a1`, `-1/(a T^2)`.
+fn over(c: Rational, n: &crate::algebra::Monomial, m: &crate::algebra::Monomial) -> String {
+    let mut up = MultiPoly::constant(c);
+    let mut down = MultiPoly::one();
+    let mut names: Vec<&String> = n
+        .factors()
+        .iter()
+        .chain(m.factors())
+        .map(|(v, _)| v)
+        .collect();
+    names.sort();
+    names.dedup();
+    for v in names {
+        let (e, f) = (n.exponent(v), m.exponent(v));
+        for _ in f..e {
+            up = up * MultiPoly::var(v);
+        }
+        for _ in e..f {
+            down = down * MultiPoly::var(v);
+        }
+    }
+    let up = show(&up);
+    if down.as_constant().is_some() {
+        return up;
+    }
+    let down = show(&down);
+    let down = if down.contains(' ') {
+        format!("({down})")
+    } else {
+        down
+    };
+    match up.strip_prefix('-') {
+        Some(rest) if !rest.contains([' ', '+']) => format!("-{rest}/{down}"),
+        _ if up.contains(' ') => format!("({up})/{down}"),
+        _ => format!("{up}/{down}"),
+    }
+}
+
+impl fmt::Display for Fraction {
+    /// `num/den` with the common monomial factor cancelled; a constant denominator divided in;
+    /// a single-term denominator shown under each term of the numerator.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let c = self.cancelled();
+        if let Some(d) = c.den.as_constant() {
+            return write!(f, "{}", show(&(c.num * MultiPoly::constant(d.recip()))));
+        }
+        let mut den_terms = c.den.terms();
+        if let (Some((m, k)), None) = (den_terms.next(), den_terms.next()) {
+            let terms: Vec<String> = c.num.terms().map(|(n, a)| over(a / k, n, m)).collect();
+            return write!(f, "{}", terms.join(" + ").replace("+ -", "- "));
+        }
+        write!(f, "({}) / ({})", show(&c.num), show(&c.den))
+    }
+}
+
+impl Add for Fraction {
+    type Output = Fraction;
+    fn add(self, o: Fraction) -> Fraction {
+        if self.den == o.den {
+            return Fraction {
+                num: self.num + o.num,
+                den: self.den,
+            };
+        }
+        Fraction {
+            num: reduce(self.num * o.den.clone() + o.num * self.den.clone()),
+            den: reduce(self.den * o.den),
+        }
+    }
+}
+
+impl Sub for Fraction {
+    type Output = Fraction;
+    fn sub(self, o: Fraction) -> Fraction {
+        self + (-o)
+    }
+}
+
+impl Mul for Fraction {
+    type Output = Fraction;
+    fn mul(self, o: Fraction) -> Fraction {
+        Fraction {
+            num: reduce(self.num * o.num),
+            den: reduce(self.den * o.den),
+        }
+    }
+}
+
+impl Neg for Fraction {
+    type Output = Fraction;
+    fn neg(self) -> Fraction {
+        Fraction {
+            num: -self.num,
+            den: self.den,
+        }
+    }
+}
+
+impl Zero for Fraction {
+    fn zero() -> Self {
+        Fraction::of(MultiPoly::zero())
+    }
+    fn is_zero(&self) -> bool {
+        self.num.is_zero()
+    }
+}
+
+impl One for Fraction {
+    fn one() -> Self {
+        Fraction::of(MultiPoly::one())
+    }
+}
+
+impl Ring for Fraction {
+    fn from_i64(n: i64) -> Self {
+        Fraction::of(MultiPoly::from_i64(n))
+    }
+    fn to_latex(&self) -> String {
+        match self.den.as_constant() {
+            Some(c) if c.is_one() => self.num.to_latex(),
+            _ => format!(
+                "\\frac{{{}}}{{{}}}",
+                self.num.to_latex(),
+                self.den.to_latex()
+            ),
+        }
+    }
+    fn to_input(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl FromExpr for Fraction {
+    const TARGET: &'static str = "a rational function of the symbols";
+    fn from_rational(r: Rational) -> Self {
+        Fraction::of(MultiPoly::constant(r))
+    }
+    fn symbol(name: &str) -> Option<Self> {
+        Some(Fraction::symbol(name))
+    }
+    fn imaginary_unit() -> Option<Self> {
+        Some(Fraction::quadratic(&Quadratic::imaginary_unit()))
+    }
+    fn sqrt_of(r: &Rational) -> Result<Self, String> {
+        Quadratic::sqrt_of_rational(r)
+            .map(|q| Fraction::quadratic(&q))
+            .map_err(|e| e.to_string())
+    }
+    fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
+        self.checked_div(divisor).ok_or(DivisionRefused::ByZero)
+    }
+    fn size_bits(&self) -> u64 {
+        self.num.size_bits() + self.den.size_bits()
+    }
+    fn term_count(&self) -> u64 {
+        self.num.term_count().max(self.den.term_count())
+    }
+}
+
+/// A claim recomputed over the rational functions and compared with its print.
+#[derive(Clone, Debug)]
+pub struct Proof {
+    /// Whether the print equals the recomputation as rational functions.
+    pub holds: bool,
+    /// The symbols the identity is in.
+    pub symbols: Vec<String>,
+    /// The recomputed value, in input syntax.
+    pub value: String,
+    /// How it was recomputed (the formula).
+    pub method: &'static str,
+}
+
+/// Why a claim is not proved here (it stays sampled).
+pub type NoProof = String;
+
+/// Proves (or refutes) a sampled claim over the rational functions of its symbols: a desired
+/// polynomial or a single-output gain. `env` holds the values the claim fixes; `penv` the
+/// print's (with the claim's `where` definitions).
+///
+/// # Errors
+/// Why this claim's computation is not carried out symbolically here.
+pub fn prove(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proof, NoProof> {
+    use super::Computation as C;
+    match inputs.claim.what {
+        C::DesiredPolynomial => desired_claim(inputs, printed, penv),
+        C::Gain | C::CanonicalGain => gain_claim(inputs, printed, penv),
+        C::Identity if inputs.claim.identity == Some(super::Identity::GainMethodsAgree) => {
+            methods_agree_claim(inputs)
+        }
+        other => Err(format!("no symbolic recomputation of '{other}'")),
+    }
+}
+
+fn one_radicand(values: &[&Fraction]) -> Result<(), NoProof> {
+    let mut all: Vec<i64> = values.iter().flat_map(|v| v.radicands()).collect();
+    all.sort_unstable();
+    all.dedup();
+    if all.len() > 1 {
+        return Err(format!("square roots of {all:?} together"));
+    }
+    Ok(())
+}
+
+fn read(text: &str, env: &Environment) -> Result<Fraction, NoProof> {
+    let e = parse_expression(text).map_err(|e| e.show_in(text))?;
+    evaluate_with::<Fraction>(&e, env).map_err(|e| e.show_in(text))
+}
+
+/// The print's value with the claim's `where` definitions (`k2 = "-c2/a"`) substituted, as
+/// often as they refer to one another.
+fn with_definitions(v: Fraction, inputs: &Inputs, penv: &Environment) -> Result<Fraction, NoProof> {
+    let defs = &inputs.claim.definitions;
+    let mut v = v;
+    for _ in 0..=defs.len() {
+        for (name, text) in defs {
+            if penv.contains_key(name) || !v.symbols().contains(name) {
+                continue;
+            }
+            let d = read(text, penv).map_err(|e| format!("where.{name}: {e}"))?;
+            v = v.substitute(name, &d);
+        }
+    }
+    Ok(v)
+}
+
+/// The desired polynomial's coefficients (lowest power first) over the rational functions.
+fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof> {
+    let c = inputs.claim;
+    let env = inputs.env;
+    let scaled =
+        |t: &str, p1: Result<DesiredPolynomial, String>| -> Result<Vec<Fraction>, NoProof> {
+            // P_T(s) = T^-n P_1(T s): the coefficient of s^k is p_k T^(k - n)
+            let t = read(t, env)?;
+            let p1 = p1?.exact.ok_or("the family has no exact polynomial")?;
+            let inv = Fraction::one()
+                .checked_div(&t)
+                .ok_or("a zero time constant")?;
+            Ok((0..=n)
+                .map(|k| {
+                    let mut v = Fraction::quadratic(&p1.coeff(k));
+                    for _ in k..n {
+                        v = v * inv.clone();
+                    }
+                    v
+                })
+                .collect())
+        };
+    let one = Rational::one();
+    if let Some(t) = &c.repeated {
+        scaled(
+            t,
+            DesiredPolynomial::repeated(&one, n).map_err(|e| e.to_string()),
+        )
+    } else if let Some(t) = &c.butterworth {
+        scaled(
+            t,
+            DesiredPolynomial::butterworth(&one, n).map_err(|e| e.to_string()),
+        )
+    } else if let Some(t) = &c.bessel {
+        scaled(
+            t,
+            DesiredPolynomial::bessel(&one, n).map_err(|e| e.to_string()),
+        )
+    } else if let Some(p) = &c.poles {
+        let rows = parse_matrix_expressions(p).map_err(|e| e.show_in(p))?;
+        let poles: Vec<Fraction> = rows
+            .iter()
+            .flatten()
+            .map(|e| evaluate_with::<Fraction>(e, env).map_err(|e| e.show_in(p)))
+            .collect::<Result<_, _>>()?;
+        if poles.len() != n {
+            return Err(format!("{} poles for order {n}", poles.len()));
+        }
+        let mut coeffs = vec![Fraction::one()];
+        for p in &poles {
+            // multiply by (s - p)
+            let mut next = vec![Fraction::zero(); coeffs.len() + 1];
+            for (k, c) in coeffs.iter().enumerate() {
+                next[k + 1] = next[k + 1].clone() + c.clone();
+                next[k] = next[k].clone() - c.clone() * p.clone();
+            }
+            coeffs = next;
+        }
+        Ok(coeffs)
+    } else if let Some(p) = &c.poly {
+        let v = read(p, env)?;
+        let coeffs = v
+            .coefficients_in("s")
+            .ok_or("s in a denominator of the polynomial")?;
+        if coeffs.len() != n + 1 {
+            return Err(format!(
+                "a polynomial of degree {} for order {n}",
+                coeffs.len() - 1
+            ));
+        }
+        Ok(coeffs)
+    } else {
+        Err("no desired polynomial".into())
+    }
+}
+
+fn desired_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proof, NoProof> {
+    let n = inputs.order().map_err(|e| e.to_string())?;
+    let coeffs = symbolic_desired(inputs, n)?;
+    let var = inputs.var();
+    let x = Fraction::symbol(&var);
+    let mut value = Fraction::zero();
+    for c in coeffs.iter().rev() {
+        value = value * x.clone() + c.clone();
+    }
+    let print = with_definitions(read(printed, penv)?, inputs, penv)?;
+    one_radicand(&[&value, &print])?;
+    let mut symbols = value.symbols();
+    symbols.extend(print.symbols());
+    symbols.retain(|s| *s != var);
+    symbols.sort();
+    symbols.dedup();
+    Ok(Proof {
+        holds: value == print,
+        symbols,
+        value: value.to_string(),
+        method: "the family's definition P_T(s) = T⁻ⁿ P₁(T s), P₁ computed exactly",
+    })
+}
+
+/// `P(A) O⁻¹ eₙ` over the rational functions: Ackermann's formula.
+fn ackermann(
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    coeffs: &[Fraction],
+) -> Result<(Matrix<Fraction>, Matrix<Fraction>), NoProof> {
+    let n = a.rows();
+    let mut o = c.clone();
+    let mut row = c.clone();
+    for _ in 1..n {
+        row = row.mul(a).map_err(|e| e.to_string())?;
+        o = o.vstack(&row).map_err(|e| e.to_string())?;
+    }
+    // adj(O) from the characteristic polynomial s^n + p_{n-1} s^{n-1} + … + p_0 of O:
+    // O adj(O) = det(O) I with det O = (-1)^n p_0 and adj O = (-1)^(n-1) (O^(n-1) + … + p_1 I)
+    let chi = berkowitz(&o, "s").map_err(|e| e.to_string())?;
+    let p = chi.coeffs();
+    let sign = |k: usize| {
+        if k % 2 == 0 {
+            Fraction::one()
+        } else {
+            -Fraction::one()
+        }
+    };
+    let det = sign(n) * p[0].clone();
+    if det.is_zero() {
+        return Err("det O ≡ 0: not observable for any value of the symbols".into());
+    }
+    let mut adj = Matrix::identity(n);
+    for k in (1..n).rev() {
+        // Horner: adj = adj·O + p_k I, starting from I (the leading coefficient)
+        adj = adj.mul(&o).map_err(|e| e.to_string())?;
+        adj = adj
+            .add(&Matrix::identity(n).scale(&p[k]))
+            .map_err(|e| e.to_string())?;
+    }
+    let adj = adj.scale(&sign(n - 1));
+    let last = Matrix::from_fn(n, 1, |i, _| {
+        adj.get(i, n - 1)
+            .checked_div(&det)
+            .unwrap_or_else(Fraction::zero)
+    });
+    // P(A) by Horner
+    let mut pa = Matrix::zeros(n, n);
+    for c in coeffs.iter().rev() {
+        pa = pa.mul(a).map_err(|e| e.to_string())?;
+        pa = pa
+            .add(&Matrix::identity(n).scale(c))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok((pa.mul(&last).map_err(|e| e.to_string())?, o))
+}
+
+fn symbolic_matrix(inputs: &Inputs, name: &str) -> Result<Matrix<Fraction>, NoProof> {
+    let m = inputs.symbolic(name).map_err(|e| e.to_string())?;
+    Ok(m.map(|x| Fraction::of(x.clone())))
+}
+
+/// The gain in Di Ruscio's observer canonical coordinates: `K_o = T_o⁻¹ K = Mᵀ O_n K`, with
+/// `M` the upper-triangular Toeplitz matrix of the open-loop coefficients (eq. (18)).
+fn in_canonical_coordinates(
+    a: &Matrix<Fraction>,
+    o: &Matrix<Fraction>,
+    k: &Matrix<Fraction>,
+) -> Result<Matrix<Fraction>, NoProof> {
+    let n = a.rows();
+    let chi = berkowitz(a, "s").map_err(|e| e.to_string())?;
+    // a_k is the coefficient of s^(n−k)
+    let m = Matrix::from_fn(n, n, |i, j| {
+        if j >= i {
+            chi.coeff(n - (j - i))
+        } else {
+            Fraction::zero()
+        }
+    });
+    m.transpose()
+        .mul(o)
+        .and_then(|x| x.mul(k))
+        .map_err(|e| e.to_string())
+}
+
+fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
+    let a = symbolic_matrix(inputs, "A")?;
+    let c = symbolic_matrix(inputs, "C")?;
+    if c.rows() != 1 || !a.is_square() || c.cols() != a.rows() {
+        return Err("not a single-output pair".into());
+    }
+    let n = a.rows();
+    let desired = symbolic_desired(inputs, n)?;
+    let (k, o) = ackermann(&a, &c, &desired)?;
+    let k_o = in_canonical_coordinates(&a, &o, &k)?;
+    let chi = berkowitz(&a, "s").map_err(|e| e.to_string())?;
+    // c − a: the i-th entry is the difference of the coefficients of s^(n−i)
+    let c_minus_a: Vec<Fraction> = (1..=n)
+        .map(|i| desired[n - i].clone() - chi.coeff(n - i))
+        .collect();
+    let mut all: Vec<&Fraction> = k.entries().iter().collect();
+    all.extend(c_minus_a.iter());
+    one_radicand(&all)?;
+    let mut symbols: Vec<String> = all.iter().flat_map(|v| v.symbols()).collect();
+    symbols.sort();
+    symbols.dedup();
+    Ok(Proof {
+        holds: k_o.entries().iter().zip(&c_minus_a).all(|(x, y)| x == y),
+        symbols,
+        value: format!(
+            "K = [{}], Mᵀ O_n K = c − a = [{}]",
+            k.entries().iter().map(ToString::to_string).collect::<Vec<_>>().join("; "),
+            c_minus_a.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ")
+        ),
+        method: "Ackermann's K = P(A) O⁻¹ eₙ over the rational functions, then Mᵀ O_n K = c − a, so T_o K_o = O_n⁻¹ M⁻ᵀ (c − a) = K with T_o = (Mᵀ O_n)⁻¹",
+    })
+}
+
+fn gain_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proof, NoProof> {
+    let a = symbolic_matrix(inputs, "A")?;
+    let c = symbolic_matrix(inputs, "C")?;
+    if c.rows() != 1 || !a.is_square() || c.cols() != a.rows() {
+        return Err("not a single-output pair".into());
+    }
+    let coeffs = symbolic_desired(inputs, a.rows())?;
+    let (mut k, o) = ackermann(&a, &c, &coeffs)?;
+    let canonical = inputs.claim.what == super::Computation::CanonicalGain;
+    if canonical {
+        k = in_canonical_coordinates(&a, &o, &k)?;
+    }
+    if inputs
+        .convention(Convention::AMinusKC)
+        .map_err(|e| e.to_string())?
+        == Convention::APlusLC
+    {
+        k = k.neg();
+    }
+    let rows = parse_matrix_expressions(printed).map_err(|e| e.show_in(printed))?;
+    let print: Vec<Fraction> = rows
+        .iter()
+        .flatten()
+        .map(|e| {
+            let v = evaluate_with::<Fraction>(e, penv).map_err(|e| e.show_in(printed))?;
+            with_definitions(v, inputs, penv)
+        })
+        .collect::<Result<_, _>>()?;
+    let shape_ok = rows.len() == k.rows() && rows.iter().all(|r| r.len() == 1);
+    let mut all: Vec<&Fraction> = k.entries().iter().collect();
+    all.extend(print.iter());
+    one_radicand(&all)?;
+    let mut symbols: Vec<String> = all.iter().flat_map(|v| v.symbols()).collect();
+    symbols.sort();
+    symbols.dedup();
+    let holds = shape_ok && k.entries().iter().zip(&print).all(|(x, y)| x == y);
+    Ok(Proof {
+        holds,
+        symbols,
+        value: format!(
+            "[{}]",
+            k.entries()
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join("; ")
+        ),
+        method: if canonical {
+            "K_o = Mᵀ O_n K with Ackermann's K = P(A) O⁻¹ eₙ, over the rational functions (the gain is unique where det O ≠ 0)"
+        } else {
+            "Ackermann's formula K = P(A) O⁻¹ eₙ over the rational functions (the gain is unique where det O ≠ 0)"
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(text: &str) -> Fraction {
+        read(text, &Environment::new()).unwrap()
+    }
+
+    #[test]
+    fn equal_rational_functions_are_equal_and_others_are_not() {
+        assert_eq!(f("(T^2 - 1)/(T - 1)"), f("T + 1"));
+        assert_eq!(f("sqrt(2)*sqrt(2)/T"), f("2/T"));
+        assert_eq!(f("1/(a T^2) + 2/T"), f("(1 + 2 a T)/(a T^2)"));
+        assert_ne!(f("sqrt(2)/T"), f("1.4142/T"));
+        assert_ne!(f("1/(a T)"), f("1/(a T^2)"));
+        let k2 = f("-c2/a");
+        assert_eq!(f("c1 + a - k2").substitute("k2", &k2), f("c1 + a + c2/a"));
+        assert_eq!(
+            f("(a T^2 + sqrt(2) T)/T^3").to_string(),
+            "sqrt(2)/T^2 + a/T"
+        );
+        assert!(
+            read("T/(T - T)", &Environment::new()).is_err(),
+            "a zero denominator"
+        );
+    }
+}
