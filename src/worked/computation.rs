@@ -83,6 +83,9 @@ named_enum! {
         PerfectObserverRobustness = "perfect_observer_robustness",
         /// Whether the perfect observer still fits a changed plant.
         PerfectObserverFits = "perfect_observer_fits",
+        /// A printed matrix formula (`expression`, e.g. `Q T A T^-1`) evaluated as printed over
+        /// the claim's matrices (`[claims.matrices]`) and the system's.
+        MatrixExpression = "matrix_expression",
     }
 }
 

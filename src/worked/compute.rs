@@ -81,6 +81,13 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             simple(&title, Value::Polynomial(p.with_var(&inputs.var())))
         }
         C::CanonicalGain => canonical_gain_claim(inputs, &title),
+        C::MatrixExpression => {
+            let (m, derivation) = super::matrix_expression::evaluate(inputs, &title)?;
+            Ok(Computed {
+                value: Value::Matrix(lift(&m)),
+                derivation,
+            })
+        }
         C::Gain => {
             let desired = inputs.desired()?;
             let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);

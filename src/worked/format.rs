@@ -135,6 +135,11 @@ pub struct ClaimSpec {
     pub derivative_state: Option<usize>,
     /// A state-feedback row `F` (u = F x̂).
     pub feedback: Option<String>,
+    /// For `what = "matrix_expression"`: the formula as printed (`Q T A T^-1`).
+    pub expression: Option<String>,
+    /// Further named matrices the expression uses (`Q`, `T`), as printed.
+    #[serde(default)]
+    pub matrices: BTreeMap<String, String>,
     /// The variable of printed polynomials (default `s`, or `λ` when the print uses it).
     pub var: Option<String>,
     /// For `what = "identity"`: which identity.
@@ -236,6 +241,11 @@ pub struct ErratumSpec {
     pub parameters: BTreeMap<String, String>,
     /// The corrected value (the tool confirms that it holds).
     pub corrected: Option<String>,
+    /// Corrected input matrices (`[claims.erratum.matrices]`, replacing the claim's): the
+    /// misprint is in a matrix the formula uses, and with these the print is reproduced (the
+    /// tool confirms).
+    #[serde(default)]
+    pub matrices: BTreeMap<String, String>,
 }
 
 /// A printed value recorded for a later part of the workbench to verify.

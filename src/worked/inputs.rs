@@ -121,7 +121,7 @@ impl Inputs<'_> {
             "gain" => self.claim.gain.as_deref(),
             "feedback" => self.claim.feedback.as_deref(),
             "weight" => self.claim.weight.as_deref(),
-            _ => None,
+            other => self.claim.matrices.get(other).map(String::as_str),
         }
     }
 

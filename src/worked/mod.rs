@@ -13,6 +13,7 @@ mod compute;
 mod compute_optimal;
 mod format;
 mod inputs;
+mod matrix_expression;
 pub mod proof;
 mod report;
 mod scenario;

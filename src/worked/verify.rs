@@ -666,6 +666,34 @@ fn erratum_checks(
             }
         }
     }
+    if !err.matrices.is_empty() {
+        let mut fixed = claim.clone();
+        fixed.matrices.extend(err.matrices.clone());
+        let list: Vec<String> = err
+            .matrices
+            .iter()
+            .map(|(k, v)| format!("{k} = {v}"))
+            .collect();
+        match check(ex, &fixed, asserted, env) {
+            Ok(c) if c.agreement.holds() => checks.push(format!(
+                "checked: with {} the print is reproduced {}",
+                list.join(", "),
+                how(&c.agreement, &c)
+            )),
+            Ok(c) => {
+                ok = false;
+                checks.push(format!(
+                    "NOT confirmed: with {} the print is still not reproduced ({})",
+                    list.join(", "),
+                    how(&c.agreement, &c)
+                ));
+            }
+            Err(e) => {
+                ok = false;
+                checks.push(format!("NOT confirmed: {e}"));
+            }
+        }
+    }
     if let Some(corrected) = &err.corrected {
         match check(ex, claim, corrected, env) {
             Ok(c) if c.agreement.holds() => checks.push(format!(
@@ -696,7 +724,8 @@ fn erratum_checks(
     }
     if checks.is_empty() {
         ok = false;
-        checks.push("the erratum gives nothing to check (parameters or corrected)".into());
+        checks
+            .push("the erratum gives nothing to check (parameters, matrices or corrected)".into());
     }
     Ok((ok, checks))
 }
