@@ -2,7 +2,9 @@
 //!
 //! `--json` prints one object, kept stable for graders:
 //! `{"examples": [{"id", "document", "claims": [{"id", "source", "printed", "recomputed",
-//! "verdict", "explanation"}]}], "summary": {"holds", "erratum", "mismatch"}}`.
+//! "verdict", "explanation"}]}], "summary": {"holds", "erratum", "mismatch", …}}`, and, when the
+//! whole folder is verified, `"coverage": [{"document", "title", "statements", "recorded",
+//! "inputs", "not_checked": {reason: count}}]`.
 
 use super::args::print_json;
 use super::Outcome;
@@ -47,17 +49,32 @@ pub fn run(args: Args) -> Result<Outcome> {
         bail!("no worked examples (*.toml) in {}", dir.display());
     }
     let mut reports = Vec::new();
+    let mut files = Vec::new();
     for path in &selected {
         let (ex, raw) = load_example(path)?;
         reports.push(verify_example(path, &ex, &raw)?);
+        files.push(ex);
     }
     let summary = Summary::of(&reports);
+    // the documents' coverage, when the whole folder is verified
+    let coverage = if args.examples.is_empty() {
+        crate::worked::coverage::load(&dir)?
+            .iter()
+            .map(|(p, list)| crate::worked::coverage::check(p, list, &files))
+            .collect::<Result<Vec<_>, _>>()?
+    } else {
+        Vec::new()
+    };
     if let Some(path) = &args.errata {
         super::args::write_atomically(path, &errata_markdown(&reports))
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
-        print_json(&report_json(&reports));
+        let mut out = report_json(&reports);
+        if !coverage.is_empty() {
+            out["coverage"] = serde_json::to_value(&coverage)?;
+        }
+        print_json(&out);
     } else {
         for r in &reports {
             outln!("{}", render_table(r));
@@ -74,6 +91,12 @@ pub fn run(args: Args) -> Result<Outcome> {
             summary.unreproducible,
             summary.mismatch
         );
+        if !coverage.is_empty() {
+            outln!("Coverage of the documents (worked_examples/coverage/):");
+            for t in &coverage {
+                outln!("  {}", t.line());
+            }
+        }
     }
     Ok(if summary.mismatch > 0 {
         Outcome::Failed

@@ -9,6 +9,7 @@
 //! says so.
 
 mod computation;
+pub mod coverage;
 mod compute;
 mod compute_optimal;
 mod format;
