@@ -260,3 +260,49 @@ fn symbolic_identities_are_proved_and_a_wrong_one_refuted() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Every source document has a coverage list, every list fits the examples (its claims and
+/// figures exist and belong to the document, and every claim and figure is listed), and a list
+/// that names a missing claim, or leaves a claim out, is refused.
+#[test]
+fn coverage_lists_fit_the_examples_both_ways() {
+    use observer_workbench::worked::coverage;
+    let dir = folder();
+    let lists = coverage::load(&dir).unwrap();
+    let examples: Vec<_> = load_folder(&dir)
+        .unwrap()
+        .iter()
+        .map(|p| load_example(p).unwrap().0)
+        .collect();
+    let mut documents: Vec<&str> = examples.iter().map(|e| e.document.as_str()).collect();
+    documents.sort_unstable();
+    documents.dedup();
+    for d in &documents {
+        assert!(
+            lists.iter().any(|(_, l)| l.document == *d),
+            "no coverage list for {d}"
+        );
+    }
+    for (path, list) in &lists {
+        let t = coverage::check(path, list, &examples).unwrap();
+        assert_eq!(
+            t.statements,
+            t.recorded + t.inputs + t.not_checked.values().sum::<usize>()
+        );
+        assert!(t.recorded > 0, "{}", t.line());
+    }
+    // a dangling reference, and an example claim no statement lists
+    let (path, list) = &lists[0];
+    let mut broken = list.clone();
+    broken.statements[0].recorded = vec![format!("{}/no-such-claim", examples[0].id)];
+    broken.statements[0].not_checked = None;
+    broken.statements[0].input = None;
+    assert!(coverage::check(path, &broken, &examples).is_err());
+    let mut short = list.clone();
+    short.statements.retain(|s| s.recorded.is_empty());
+    let e = coverage::check(path, &short, &examples).unwrap_err();
+    assert!(
+        e.message.contains("no statement of the list records it"),
+        "{e}"
+    );
+}

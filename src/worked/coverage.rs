@@ -148,9 +148,9 @@ pub fn load(dir: &Path) -> Result<Vec<(PathBuf, CoverageFile)>, CoverageError> {
             };
             let raw = std::fs::read_to_string(&p).map_err(|e| error(e.to_string()))?;
             let file: CoverageFile = toml::from_str(&raw).map_err(|e| {
-                let line = e
-                    .span()
-                    .map_or(0, |s| raw[..s.start.min(raw.len())].matches('\n').count() + 1);
+                let line = e.span().map_or(0, |s| {
+                    raw[..s.start.min(raw.len())].matches('\n').count() + 1
+                });
                 error(format!("line {line}: {}", e.message()))
             })?;
             Ok((p, file))
@@ -217,7 +217,10 @@ pub fn check(
         }
         if let Some(ex) = &s.input {
             if !mine.iter().any(|e| e.id == *ex) {
-                return Err(error(format!("{at}: no example '{ex}' of {}", list.document)));
+                return Err(error(format!(
+                    "{at}: no example '{ex}' of {}",
+                    list.document
+                )));
             }
         }
         totals.recorded += usize::from(!s.recorded.is_empty());

@@ -9,9 +9,9 @@
 //! says so.
 
 mod computation;
-pub mod coverage;
 mod compute;
 mod compute_optimal;
+pub mod coverage;
 mod format;
 mod inputs;
 mod matrix_expression;
