@@ -10,6 +10,7 @@
 //! | `{{#owb variant}}` | a form giving each student their own generated exercise, checked in the browser |
 //! | `{{#owb playground}}` | the workbench in the page: gain, observability, canonical form, worked examples verified |
 //! | `{{#owb errata}}` | the errata found in the documents |
+//! | `{{#owb coverage}}` | every document's checkable statements, each with what checks it or why nothing does |
 //! | `{{#owb run ARGS…}}` | the output of `owb ARGS…` (quotes group words) |
 //!
 //! An unknown directive or a failing computation is an error naming the chapter and the
@@ -242,6 +243,53 @@ impl BookContext {
         Ok(out)
     }
 
+    /// Every document's coverage list: per statement, what checks it or why nothing does.
+    fn coverage(&self) -> Result<String, String> {
+        use crate::worked::coverage;
+        let dir = self.root.join("worked_examples");
+        let mut examples = Vec::new();
+        for f in load_folder(&dir).map_err(|e| e.to_string())? {
+            examples.push(load_example(&f).map_err(|e| e.to_string())?.0);
+        }
+        let mut out = String::new();
+        for (path, list) in coverage::load(&dir).map_err(|e| e.to_string())? {
+            let totals = coverage::check(&path, &list, &examples).map_err(|e| e.to_string())?;
+            let _ = write!(
+                out,
+                "\n## {}\n\n*{}* (`{}`)\n\n| where | statement | checked by |\n|---|---|---|\n",
+                cell(&list.title),
+                cell(&totals.counts()),
+                list.document
+            );
+            for st in &list.statements {
+                let by = if !st.recorded.is_empty() {
+                    st.recorded
+                        .iter()
+                        .map(|r| format!("`{r}`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                } else if let Some(ex) = &st.input {
+                    format!("input data of `{ex}`")
+                } else {
+                    st.not_checked
+                        .map_or_else(String::new, |w| format!("not checked: {}", w.word()))
+                };
+                let by = match &st.note {
+                    Some(n) => format!("{by} — {}", cell(n)),
+                    None => by,
+                };
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} |",
+                    cell(&st.location),
+                    cell(&st.statement),
+                    by
+                );
+            }
+        }
+        Ok(out)
+    }
+
     fn playground(&self) -> Result<String, String> {
         let dir = self.root.join("worked_examples");
         let mut examples = Vec::new();
@@ -321,10 +369,11 @@ impl BookContext {
             "errata" => want(0).and_then(|()| self.errata()),
             "variant" => want(0).map(|()| format!("\n{}\n", widgets::variant_form())),
             "playground" => want(0).and_then(|()| self.playground()),
+            "coverage" => want(0).and_then(|()| self.coverage()),
             "run" if !self.run_commands => Err("run directives are off here".into()),
             "run" => self.run(rest),
             other => Err(format!(
-                "unknown directive '{other}' (verify-table, derivation, figure, exercise, variant, playground, errata, run)"
+                "unknown directive '{other}' (verify-table, derivation, figure, exercise, variant, playground, coverage, errata, run)"
             )),
         }
     }

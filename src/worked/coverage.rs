@@ -33,6 +33,18 @@ pub enum NotChecked {
 }
 
 impl NotChecked {
+    /// In words, for one statement.
+    pub fn word(self) -> &'static str {
+        match self {
+            NotChecked::Definition => "a definition",
+            NotChecked::Qualitative => "a qualitative remark",
+            NotChecked::DerivationStep => "a derivation step",
+            NotChecked::CrossReference => "a cross-reference, read and judged",
+            NotChecked::Missing => "missing from the text",
+            NotChecked::NotYetRecorded => "checkable, not yet recorded",
+        }
+    }
+
     /// In words, for the totals.
     pub fn words(self) -> &'static str {
         match self {
@@ -98,6 +110,11 @@ pub struct Totals {
 impl Totals {
     /// One line: `Di Ruscio (…): 60 statements — 40 checked by claims or figures, …`.
     pub fn line(&self) -> String {
+        format!("{}: {}", self.title, self.counts())
+    }
+
+    /// The counts: `60 statements — 40 checked by claims or figures, …`.
+    pub fn counts(&self) -> String {
         let mut parts = vec![
             format!("{} checked by claims or figures", self.recorded),
             format!("{} input data", self.inputs),
@@ -105,12 +122,7 @@ impl Totals {
         for (why, n) in &self.not_checked {
             parts.push(format!("{n} {}", why.words()));
         }
-        format!(
-            "{}: {} statements — {}",
-            self.title,
-            self.statements,
-            parts.join(", ")
-        )
+        format!("{} statements — {}", self.statements, parts.join(", "))
     }
 }
 
