@@ -18,6 +18,7 @@ mod output;
 mod args;
 mod canonical;
 mod control;
+mod discrete;
 mod exercise;
 mod feedback;
 mod gain;
@@ -26,6 +27,7 @@ mod observe;
 mod optimal;
 mod perfect;
 mod progress;
+mod reduced;
 #[cfg(feature = "cli")]
 mod simulate;
 mod verify;
@@ -59,6 +61,14 @@ pub enum Command {
     Gain(gain::Args),
     /// State feedback on its own: controllability, the gain by duality (exact derivation), u = Fx or u = −Kx.
     Feedback(feedback::Args),
+    /// Discrete-time observer: prediction or current estimator, dead-beat, poles from z = e^(sT).
+    Discrete(discrete::Args),
+    /// A continuous plant sampled with a zero-order hold (exact for nilpotent A).
+    Zoh(discrete::ZohArgs),
+    /// Reduced-order observer (Gopinath): only the n − p unmeasured states, error polynomial of degree n − p.
+    Reduced(reduced::Args),
+    /// Observer for an unobservable pair: detectability, the observable part placed exactly, the fixed poles named.
+    Detectable(reduced::DetectableArgs),
     /// Observer-based control: separation principle, controller and closed-loop transfer functions.
     Control(control::Args),
     /// Multi-output gains chosen by optimality: minimum norm (J1) or minimal dynamical error (J2).
@@ -80,7 +90,7 @@ pub enum Command {
 
 /// The subcommands that compute from their flags alone, reading and writing no file (but
 /// `exercise new --out`): what the browser runs and what the CLI fuzz target explores.
-pub const IN_MEMORY_SUBCOMMANDS: [&str; 9] = [
+pub const IN_MEMORY_SUBCOMMANDS: [&str; 13] = [
     "observe",
     "canonical",
     "gain",
@@ -90,6 +100,10 @@ pub const IN_MEMORY_SUBCOMMANDS: [&str; 9] = [
     "perfect",
     "exercise",
     "feedback",
+    "discrete",
+    "zoh",
+    "reduced",
+    "detectable",
 ];
 
 /// What a subcommand reports back.
@@ -130,6 +144,10 @@ pub fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Gain(a) => gain::run(a),
         Command::Feedback(a) => feedback::run(a),
         Command::Control(a) => control::run(a),
+        Command::Discrete(a) => discrete::run(a),
+        Command::Zoh(a) => discrete::zoh(a),
+        Command::Reduced(a) => reduced::run(a),
+        Command::Detectable(a) => reduced::detectable(a),
         Command::Optimal(a) => optimal::run(a),
         Command::Kalman(a) => kalman::run(a),
         Command::Perfect(a) => perfect::run(a),

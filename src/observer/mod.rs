@@ -7,6 +7,8 @@
 
 pub mod ackermann_exact;
 mod convention;
+pub mod detectability;
+pub mod discrete;
 pub mod dynamical_error;
 pub mod float_check;
 mod gain;
@@ -16,6 +18,7 @@ pub mod optimal;
 pub mod partial;
 pub mod perfect;
 pub mod polynomial;
+pub mod reduced_order;
 pub mod robust;
 pub mod search;
 pub mod weighted;

@@ -51,6 +51,43 @@ pub fn is_hurwitz(p: &Poly<Rational>) -> bool {
     true
 }
 
+/// Whether every root of `p` lies strictly inside the unit circle (a stable discrete-time
+/// characteristic polynomial), decided exactly: the Möbius map z = (1 + w)/(1 − w) takes the
+/// open unit disc onto the open left half-plane, so `p` is Schur stable iff
+/// `q(w) = (1 − w)ⁿ p((1 + w)/(1 − w))` has degree n and is Hurwitz. (A root at z = −1 is what
+/// makes q lose degree; it is on the circle, so not stable.)
+///
+/// ```
+/// use observer_workbench::algebra::{Rational, Ring};
+/// use observer_workbench::poly::{is_schur, Poly};
+/// let p = |c: &[(i64, i64)]| Poly::from_descending(&c.iter().map(|&(n, d)| Rational::new(n.into(), d.into())).collect::<Vec<_>>(), "z");
+/// assert!(is_schur(&p(&[(1, 1), (0, 1), (0, 1)])));          // z^2: dead-beat
+/// assert!(is_schur(&p(&[(1, 1), (-1, 1), (1, 4)])));         // (z − 1/2)^2
+/// assert!(!is_schur(&p(&[(1, 1), (-1, 1)])));                // z − 1: on the circle
+/// assert!(!is_schur(&p(&[(1, 1), (1, 1)])));                 // z + 1: on the circle
+/// assert!(!is_schur(&p(&[(1, 1), (0, 1), (-9, 4)])));        // z^2 − 9/4: roots ±3/2
+/// ```
+pub fn is_schur(p: &Poly<Rational>) -> bool {
+    let Some(n) = p.degree() else {
+        return false;
+    };
+    let var = p.var().to_string();
+    let one_plus = Poly::new(vec![Rational::from_integer(1.into()); 2], &var);
+    let one_minus = Poly::new(
+        vec![
+            Rational::from_integer(1.into()),
+            Rational::from_integer((-1).into()),
+        ],
+        &var,
+    );
+    let mut q = Poly::zero(&var);
+    for k in 0..=n {
+        let term = (one_plus.pow(k as u32) * one_minus.pow((n - k) as u32)).scale(&p.coeff(k));
+        q = q + term;
+    }
+    q.degree() == Some(n) && is_hurwitz(&q)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

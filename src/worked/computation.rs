@@ -86,6 +86,30 @@ named_enum! {
         /// A printed matrix formula (`expression`, e.g. `Q T A T^-1`) evaluated as printed over
         /// the claim's matrices (`[claims.matrices]`) and the system's.
         MatrixExpression = "matrix_expression",
+        /// A discrete-time observer's prediction gain K (A − KC) for poles in z.
+        DiscreteGain = "discrete_gain",
+        /// The current (filtered) estimator's gain L_c = A⁻¹ K.
+        CurrentGain = "current_gain",
+        /// The discrete-time error polynomial det(zI − error matrix).
+        DiscreteErrorPolynomial = "discrete_error_polynomial",
+        /// Dead-beat: the number of steps after which the error is exactly zero.
+        DeadbeatSteps = "deadbeat_steps",
+        /// Zero-order hold: Φ = e^(AT) (exact for nilpotent A; `period`).
+        ZohPhi = "zoh_phi",
+        /// Zero-order hold: Γ = ∫₀ᵀ e^(Aτ) dτ B.
+        ZohGamma = "zoh_gamma",
+        /// Reduced-order observer (Gopinath): the gain L of A₂₂ − L A₁₂.
+        ReducedOrderGain = "reduced_order_gain",
+        /// Reduced-order observer: det(sI − (A₂₂ − L A₁₂)), degree n − p.
+        ReducedOrderErrorPolynomial = "reduced_order_error_polynomial",
+        /// Reduced-order observer: Σ D_y², how much measurement noise reaches x̂ directly.
+        ReducedOrderNoiseGain = "reduced_order_noise_gain",
+        /// Whether every unobservable mode is stable.
+        Detectable = "detectable",
+        /// The gain placing the observable part's poles (Kalman decomposition).
+        DetectableGain = "detectable_gain",
+        /// det(sI − (A − KC)) of that gain: the chosen poles times the fixed ones.
+        DetectableObserverPolynomial = "detectable_observer_polynomial",
     }
 }
 
@@ -125,6 +149,12 @@ impl Computation {
                 | PerfectObserverF
                 | PerfectObserverInputMatrix
                 | PerfectObserverOutputMatrix
+                | DiscreteGain
+                | DeadbeatSteps
+                | ReducedOrderGain
+                | ReducedOrderErrorPolynomial
+                | Detectable
+                | DetectableGain
         )
     }
 

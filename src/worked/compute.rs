@@ -129,6 +129,16 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
         C::PerfectObserverRobustness | C::PerfectObserverFits => {
             optimal::perfect_robustness(inputs, &title)
         }
+        C::DiscreteGain | C::CurrentGain | C::DiscreteErrorPolynomial | C::DeadbeatSteps => {
+            super::compute_course::discrete(inputs, &title)
+        }
+        C::ZohPhi | C::ZohGamma => super::compute_course::zoh(inputs, &title),
+        C::ReducedOrderGain | C::ReducedOrderErrorPolynomial | C::ReducedOrderNoiseGain => {
+            super::compute_course::reduced(inputs, &title)
+        }
+        C::Detectable | C::DetectableGain | C::DetectableObserverPolynomial => {
+            super::compute_course::detectable(inputs, &title)
+        }
     }
 }
 

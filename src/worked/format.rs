@@ -135,6 +135,10 @@ pub struct ClaimSpec {
     pub derivative_state: Option<usize>,
     /// A state-feedback row `F` (u = F x̂).
     pub feedback: Option<String>,
+    /// Discrete-time estimator: `prediction` (default) or `current`.
+    pub estimator: Option<String>,
+    /// Sampling period T (zero-order hold).
+    pub period: Option<String>,
     /// For `what = "matrix_expression"`: the formula as printed (`Q T A T^-1`).
     pub expression: Option<String>,
     /// Further named matrices the expression uses (`Q`, `T`), as printed.

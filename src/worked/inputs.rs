@@ -227,7 +227,12 @@ impl Inputs<'_> {
 
     /// The desired observer (or feedback) polynomial.
     pub fn desired(&self) -> Result<DesiredPolynomial, ComputeError> {
-        let n = self.order()?;
+        self.desired_of_order(self.order()?)
+    }
+
+    /// The desired polynomial of degree `n` (a reduced-order observer's n − p, the observable
+    /// part's rank).
+    pub fn desired_of_order(&self, n: usize) -> Result<DesiredPolynomial, ComputeError> {
         let c = self.claim;
         let r = if let Some(p) = &c.poles {
             let rows =

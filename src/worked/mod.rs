@@ -10,6 +10,7 @@
 
 mod computation;
 mod compute;
+mod compute_course;
 mod compute_optimal;
 pub mod coverage;
 mod format;

@@ -1,0 +1,326 @@
+//! `owb discrete` (a discrete-time observer: prediction or current estimator, dead-beat, poles
+//! from a continuous specification) and `owb zoh` (a continuous plant sampled with a
+//! zero-order hold).
+
+use super::args::{json_matrix, matrix, print_json, SystemPair};
+use super::Outcome;
+use crate::algebra::{Quadratic, Rational};
+use crate::observer::discrete::{
+    deadbeat_polynomial, discrete_observer, from_continuous_poles, map_pole, zero_order_hold,
+    Estimator, Sampled,
+};
+use crate::observer::float_check::float_check;
+use crate::observer::{Convention, DesiredPolynomial, Detail, GainMethod};
+use crate::syntax::{parse_list, parse_polynomial};
+use anyhow::{anyhow, bail, Result};
+use serde_json::json;
+
+/// Arguments of `owb discrete`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    system: SystemPair,
+    /// Desired observer poles in the z-plane, e.g. "1/2, 1/4" or "0.5+0.2i, 0.5-0.2i".
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
+    poles: Option<String>,
+    /// Desired observer polynomial in z, e.g. "z^2 - z + 1/4".
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
+    poly: Option<String>,
+    /// Dead-beat: every pole at z = 0 (the error is zero after at most n steps).
+    #[arg(long, group = "desired")]
+    deadbeat: bool,
+    /// Continuous-time poles s, mapped to z = e^(sT) with --period.
+    #[arg(allow_hyphen_values = true, long, group = "desired")]
+    continuous_poles: Option<String>,
+    /// The sampling period T (with --continuous-poles).
+    #[arg(allow_hyphen_values = true, long, value_name = "T")]
+    period: Option<String>,
+    /// prediction (default) or current (filtered: corrects x̂(k) with y(k)).
+    #[arg(allow_hyphen_values = true, long, default_value = "prediction")]
+    estimator: String,
+    /// ackermann (default), bass-gura or canonical.
+    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
+    method: String,
+    /// a-kc (default: A − KC) or a+lc (A + LC).
+    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
+    convention: String,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
+    if args.period.is_some() && args.continuous_poles.is_none() {
+        bail!("in --period: the period maps --continuous-poles; give them too");
+    }
+    Ok(if let Some(p) = &args.poles {
+        let poles =
+            parse_list::<Quadratic>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
+        if poles.len() != n {
+            bail!(
+                "in --poles: {} poles given, the system has order {n}",
+                poles.len()
+            );
+        }
+        DesiredPolynomial::from_poles(&poles)?
+    } else if let Some(p) = &args.poly {
+        let poly = parse_polynomial::<Quadratic>(&p.replace('z', "s"), "s")
+            .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
+        DesiredPolynomial::from_polynomial(poly, n)?
+    } else if args.deadbeat {
+        deadbeat_polynomial(n)
+    } else if let Some(p) = &args.continuous_poles {
+        let poles = parse_list::<Quadratic>(p)
+            .map_err(|e| anyhow!("in --continuous-poles: {}", e.show_in(p)))?;
+        if poles.len() != n {
+            bail!(
+                "in --continuous-poles: {} poles given, the system has order {n}",
+                poles.len()
+            );
+        }
+        let t = args
+            .period
+            .as_deref()
+            .ok_or_else(|| anyhow!("in --continuous-poles: give the sampling period --period T"))?;
+        let t = super::args::rational("--period", t)?;
+        from_continuous_poles(&poles, &t).map_err(|e| anyhow!("in --period: {e}"))?
+    } else {
+        bail!("give the desired polynomial in z: --poles, --poly, --deadbeat or --continuous-poles with --period")
+    })
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let (a, c) = args.system.parse()?;
+    if !a.is_square() || c.cols() != a.rows() {
+        bail!(
+            "in --a/--c: A must be square and C have as many columns (A {}×{}, C {}×{})",
+            a.rows(),
+            a.cols(),
+            c.rows(),
+            c.cols()
+        );
+    }
+    let method = GainMethod::parse(&args.method)
+        .filter(|m| *m != GainMethod::Lemma31)
+        .ok_or_else(|| {
+            anyhow!(
+                "in --method: unknown method '{}' (ackermann, bass-gura or canonical)",
+                args.method
+            )
+        })?;
+    let convention = Convention::parse(&args.convention).ok_or_else(|| {
+        anyhow!(
+            "in --convention: unknown convention '{}' (a-kc or a+lc)",
+            args.convention
+        )
+    })?;
+    let estimator = Estimator::parse(&args.estimator).ok_or_else(|| {
+        anyhow!(
+            "in --estimator: unknown estimator '{}' (prediction or current)",
+            args.estimator
+        )
+    })?;
+    let desired = desired(&args, a.rows())?;
+    if desired.exact.is_none() {
+        return float_only(&args, &a, &c, &desired, convention);
+    }
+    let d = discrete_observer(
+        &a,
+        &c,
+        &desired,
+        method,
+        convention,
+        estimator,
+        Detail::Full,
+    )?;
+    let letter = convention.letter();
+    let polynomial = d.error_polynomial.to_input();
+    if args.json {
+        let mut out = json!({
+            "estimator": estimator.flag(),
+            "convention": convention.flag(),
+            "method": method.flag(),
+            "gain": json_matrix(&d.design.gain.matrix),
+            "error_polynomial": polynomial,
+            "schur_stable": d.stable,
+            "deadbeat_steps": d.nilpotent_index,
+            "error_matrix": json_matrix(&d.error_matrix),
+            "steps": serde_json::to_value(&d.derivation.steps)?,
+        });
+        if let Some(l) = &d.current_gain {
+            out["current_gain"] = json_matrix(l);
+        }
+        print_json(&out);
+        return Ok(Outcome::Ok);
+    }
+    out!("{}", d.derivation.render());
+    outln!(
+        "Result (discrete time, {} estimator, {convention} convention, {method} method):",
+        estimator.flag()
+    );
+    outln!(
+        "  {letter} = {} (prediction gain)",
+        d.design.gain.matrix.to_input()
+    );
+    if let Some(l) = &d.current_gain {
+        outln!("  {letter}_c = {} (current estimator: x̂(k) = x̄(k) + {letter}_c (y(k) − C x̄(k)) in the A − KC sign)", l.to_input());
+    }
+    outln!(
+        "  error polynomial det(zI − {}) = {}",
+        if estimator == Estimator::Current {
+            "(A − L_c C A)"
+        } else {
+            "(A − KC)"
+        },
+        d.error_polynomial
+    );
+    match d.stable {
+        Some(true) => outln!("  every root strictly inside the unit circle (exact test): the estimation error decays"),
+        Some(false) => outln!("  NOT every root inside the unit circle (exact test): the estimation error does not decay"),
+        None => outln!("  stability not decided exactly (irrational coefficients)"),
+    }
+    if let Some(k) = d.nilpotent_index {
+        outln!("  dead-beat: the error matrix is nilpotent, (error matrix)^{k} = 0 exactly, so e({k}) = 0 for every initial error");
+    }
+    Ok(Outcome::Ok)
+}
+
+/// Poles mapped from continuous time are known in f64 only: the gain by the float path, checked.
+fn float_only(
+    args: &Args,
+    a: &crate::linalg::Matrix<Rational>,
+    c: &crate::linalg::Matrix<Rational>,
+    desired: &DesiredPolynomial,
+    convention: Convention,
+) -> Result<Outcome> {
+    if c.rows() != 1 {
+        bail!("in --c: the float path designs single-output observers");
+    }
+    let poles = args.continuous_poles.as_deref().unwrap_or_default();
+    let s = parse_list::<Quadratic>(poles).map_err(|e| anyhow!("in --continuous-poles: {e}"))?;
+    let t = super::args::rational("--period", args.period.as_deref().unwrap_or("0"))?;
+    let z: Vec<(f64, f64)> = s.iter().map(|p| map_pole(p, &t)).collect();
+    let check = float_check(a, c, &desired.float, None, None, 1e-6);
+    let gain: Vec<f64> = check
+        .float_gain
+        .clone()
+        .unwrap_or_default()
+        .iter()
+        .map(|x| convention.sign() * x)
+        .collect();
+    if args.json {
+        print_json(&json!({
+            "convention": convention.flag(),
+            "exact": false,
+            "z_poles": z.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
+            "error_polynomial": desired.float.to_input(),
+            "gain": gain.iter().map(|x| vec![format!("{x:e}")]).collect::<Vec<_>>(),
+            "inexact_reason": desired.inexact_reason,
+            "float": serde_json::to_value(&check)?,
+        }));
+        return Ok(Outcome::Ok);
+    }
+    outln!("Poles mapped from continuous time, z = e^(sT), T = {t}:");
+    for (p, (re, im)) in s.iter().zip(&z) {
+        outln!(
+            "  s = {p}  →  z = {re:.12} {} {:.12}i",
+            if *im < 0.0 { "−" } else { "+" },
+            im.abs()
+        );
+    }
+    outln!("  {}", desired.inexact_reason.clone().unwrap_or_default());
+    outln!(
+        "  desired polynomial (f64): {}",
+        desired.float.to_string().replace('s', "z")
+    );
+    let letter = convention.letter();
+    let list: Vec<String> = gain.iter().map(|x| format!("{x:.10e}")).collect();
+    outln!(
+        "  {letter} (f64, prediction estimator) = [{}]",
+        list.join("; ")
+    );
+    outln!(
+        "  largest distance of the placed poles from the mapped ones = {:.3e}",
+        check.max_pole_distance
+    );
+    if check.verdict == crate::observer::float_check::FloatVerdict::Reliable {
+        outln!("  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
+    } else {
+        outln!("  verdict: {}", check.verdict.explain());
+    }
+    Ok(Outcome::Ok)
+}
+
+/// Arguments of `owb zoh`.
+#[derive(clap::Args)]
+pub struct ZohArgs {
+    /// The continuous system matrix A.
+    #[arg(allow_hyphen_values = true, long)]
+    a: String,
+    /// The input matrix B.
+    #[arg(allow_hyphen_values = true, long)]
+    b: String,
+    /// The sampling period T.
+    #[arg(allow_hyphen_values = true, long, value_name = "T")]
+    period: String,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn zoh(args: ZohArgs) -> Result<Outcome> {
+    let a = matrix::<Rational>("--a", &args.a)?;
+    let b = matrix::<Rational>("--b", &args.b)?;
+    let t = super::args::rational("--period", &args.period)?;
+    let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
+    let rows = |m: &[Vec<f64>]| -> Vec<Vec<String>> {
+        m.iter()
+            .map(|r| r.iter().map(|x| format!("{x:e}")).collect())
+            .collect()
+    };
+    match (&s, args.json) {
+        (Sampled::Exact { phi, gamma, index }, true) => print_json(&json!({
+            "exact": true, "phi": json_matrix(phi), "gamma": json_matrix(gamma), "nilpotent_index": index,
+        })),
+        (
+            Sampled::Float {
+                phi,
+                gamma,
+                error_estimate,
+            },
+            true,
+        ) => print_json(&json!({
+            "exact": false, "phi": rows(phi), "gamma": rows(gamma), "error_estimate": error_estimate,
+        })),
+        (Sampled::Exact { phi, gamma, index }, false) => {
+            outln!("Zero-order hold, T = {t}: exact (A is nilpotent, A^{index} = 0, so e^(AT) = Σ_(k<{index}) (AT)^k/k!)");
+            outln!("  Φ = e^(AT) = {}", phi.to_input());
+            outln!("  Γ = ∫_0^T e^(Aτ) dτ B = {}", gamma.to_input());
+        }
+        (
+            Sampled::Float {
+                phi,
+                gamma,
+                error_estimate,
+            },
+            false,
+        ) => {
+            outln!("Zero-order hold, T = {t}: f64 (A is not nilpotent; e^(λT) is transcendental for rational λT ≠ 0)");
+            let show = |m: &[Vec<f64>]| {
+                m.iter()
+                    .map(|r| {
+                        r.iter()
+                            .map(|x| format!("{x:.12e}"))
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    })
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            };
+            outln!("  Φ = e^(AT) ≈ [{}]", show(phi));
+            outln!("  Γ = ∫_0^T e^(Aτ) dτ B ≈ [{}]", show(gamma));
+            outln!("  two independent evaluations (Padé, scaled Taylor) differ by at most {error_estimate:.3e}");
+        }
+    }
+    Ok(Outcome::Ok)
+}

@@ -1,0 +1,183 @@
+//! `owb reduced` (a reduced-order observer, Gopinath's construction) and `owb detectable` (an
+//! observer for the observable part of an unobservable pair, with the fixed modes named).
+
+use super::args::{json_matrix, matrix, print_json, SystemPair};
+use super::Outcome;
+use crate::algebra::Rational;
+use crate::observer::detectability::detectable_design;
+use crate::observer::reduced_order::reduced_order_observer;
+use crate::observer::{Convention, GainMethod};
+use anyhow::{anyhow, Result};
+use serde_json::json;
+
+fn method(m: &str) -> Result<GainMethod> {
+    GainMethod::parse(m)
+        .filter(|m| *m != GainMethod::Lemma31)
+        .ok_or_else(|| {
+            anyhow!("in --method: unknown method '{m}' (ackermann, bass-gura or canonical)")
+        })
+}
+
+fn convention(c: &str) -> Result<Convention> {
+    Convention::parse(c)
+        .ok_or_else(|| anyhow!("in --convention: unknown convention '{c}' (a-kc or a+lc)"))
+}
+
+/// Arguments of `owb reduced`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    system: SystemPair,
+    /// The input matrix B (optional: gives the observer's input term H).
+    #[arg(allow_hyphen_values = true, long)]
+    b: Option<String>,
+    /// The error polynomial, of degree n − p (the unmeasured states).
+    #[command(flatten)]
+    desired: super::args::DesiredArgs,
+    /// ackermann (default), bass-gura or canonical.
+    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
+    method: String,
+    /// a-kc (default: A₂₂ − L A₁₂) or a+lc (A₂₂ + L A₁₂).
+    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
+    convention: String,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let (a, c) = args.system.parse()?;
+    let b = args
+        .b
+        .as_deref()
+        .map(|t| matrix::<Rational>("--b", t))
+        .transpose()?;
+    super::args::check_plant(&a, b.as_ref(), &c, None)?;
+    let (method, convention) = (method(&args.method)?, convention(&args.convention)?);
+    let order = a.rows().saturating_sub(c.rows());
+    let desired = args.desired.parse(order)?;
+    let r = reduced_order_observer(&a, b.as_ref(), &c, &desired, method)?;
+    let sign = |m: &crate::linalg::Matrix<crate::algebra::Quadratic>| {
+        if convention == Convention::AMinusKC {
+            m.clone()
+        } else {
+            m.neg()
+        }
+    };
+    if args.json {
+        let mut out = json!({
+            "convention": convention.flag(),
+            "method": method.flag(),
+            "q": json_matrix(&r.q),
+            "gain": json_matrix(&sign(&r.l)),
+            "f": json_matrix(&r.f),
+            "g": json_matrix(&r.g),
+            "direct": json_matrix(&r.direct),
+            "from_w": json_matrix(&r.from_w),
+            "error_polynomial": r.error_polynomial.to_input(),
+            "noise_gain": crate::algebra::Ring::to_input(&r.noise_gain),
+            "output": r.output.map(|k| k + 1),
+            "steps": serde_json::to_value(&r.derivation.steps)?,
+        });
+        if let Some(h) = &r.h {
+            out["h"] = json_matrix(h);
+        }
+        print_json(&out);
+        return Ok(Outcome::Ok);
+    }
+    out!("{}", r.derivation.render());
+    let letter = if convention == Convention::AMinusKC {
+        "L (A₂₂ − L A₁₂)"
+    } else {
+        "L (A₂₂ + L A₁₂)"
+    };
+    outln!("Result (reduced-order observer of order {order}, {method} method):");
+    outln!("  {letter} = {}", sign(&r.l).to_input());
+    if let Some(k) = r.output {
+        outln!("  designed with output {} (the row of A₁₂ that observes the unmeasured states); the other columns of L are zero", k + 1);
+    }
+    outln!(
+        "  ẇ = F w + G y{}, x̂ = D_y y + M w, w = z₂ − L y",
+        if r.h.is_some() { " + H u" } else { "" }
+    );
+    outln!("  error polynomial det(sI − F) = {} (degree {order}; the full-order observer's has degree {})", r.error_polynomial, a.rows());
+    outln!(
+        "  measurement noise: y reaches x̂ directly through D_y, Σ D_y² = {} (the full-order observer filters y: no direct term)",
+        r.noise_gain
+    );
+    Ok(Outcome::Ok)
+}
+
+/// Arguments of `owb detectable`.
+#[derive(clap::Args)]
+pub struct DetectableArgs {
+    #[command(flatten)]
+    system: SystemPair,
+    /// The polynomial of the observable part, of degree r = rank O_n.
+    #[command(flatten)]
+    desired: super::args::DesiredArgs,
+    /// ackermann (default), bass-gura or canonical.
+    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
+    method: String,
+    /// a-kc (default) or a+lc.
+    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
+    convention: String,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn detectable(args: DetectableArgs) -> Result<Outcome> {
+    let (a, c) = args.system.parse()?;
+    super::args::check_plant(&a, None, &c, None)?;
+    let (method, convention) = (method(&args.method)?, convention(&args.convention)?);
+    let rank = crate::observability::observability_report(&a, &c)?.rank;
+    let desired = args.desired.parse(rank)?;
+    let d = detectable_design(&a, &c, &desired, method, convention)?;
+    let fixed = d.report.unobservable_eigenvalues.render();
+    if args.json {
+        print_json(&json!({
+            "convention": convention.flag(),
+            "method": method.flag(),
+            "rank": rank,
+            "order": a.rows(),
+            "detectable": d.detectable,
+            "fixed_poles": fixed,
+            "unobservable_polynomial": d.report.unobservable_polynomial.to_input(),
+            "t": json_matrix(&d.t),
+            "decomposed_a": json_matrix(&d.a_decomposed),
+            "gain": json_matrix(&d.gain),
+            "observer_polynomial": d.observer_polynomial.to_input(),
+            "polynomial_checks": d.polynomial_checks(),
+            "steps": serde_json::to_value(&d.derivation.steps)?,
+        }));
+        return Ok(Outcome::Ok);
+    }
+    out!("{}", d.derivation.render());
+    outln!("Result ({convention} convention, {method} method):");
+    outln!(
+        "  rank O_n = {rank} of {}: {} observable mode(s) placed, {} fixed",
+        a.rows(),
+        rank,
+        a.rows() - rank
+    );
+    outln!("  fixed (unobservable) poles: {fixed}");
+    outln!("  {} = {}", convention.letter(), d.gain.to_input());
+    outln!(
+        "  observer polynomial = {} = desired × det(sI − A_uu): {}",
+        d.observer_polynomial,
+        if d.polynomial_checks() {
+            "checked exactly"
+        } else {
+            "NOT equal"
+        }
+    );
+    if d.detectable {
+        outln!("  detectable: every unobservable mode is stable, so this observer's error decays");
+    } else {
+        outln!(
+            "  NOT detectable: an unobservable mode is not stable; no gain makes the error decay"
+        );
+    }
+    Ok(Outcome::Ok)
+}

@@ -1,0 +1,391 @@
+//! Discrete-time observers, exact. For x(k+1) = A x(k) + B u(k), y(k) = C x(k) the observer
+//! gain formulas are those of continuous time (Di Ruscio §2.2: only where the poles go changes,
+//! inside the unit circle instead of the left half-plane), so the design reuses
+//! [`design_with`](super::design_with) on the polynomial in z, and adds what is particular to
+//! sampled systems:
+//!
+//! * the **prediction** estimator x̄(k+1) = A x̄(k) + B u(k) + K (y(k) − C x̄(k)), error matrix
+//!   A − KC, and the **current** (filtered) estimator x̂(k) = x̄(k) + L_c (y(k) − C x̄(k)),
+//!   x̄(k+1) = A x̂(k) + B u(k), whose error matrix is A − L_c C A; with L_c = A⁻¹ K both have
+//!   the same error polynomial (A must be invertible);
+//! * the **dead-beat** observer, all poles at z = 0: the error matrix is nilpotent, so the error
+//!   is exactly zero after at most n steps — proved here by computing its powers exactly;
+//! * stability decided exactly (every root inside the unit circle, [`is_schur`]);
+//! * poles from a continuous-time specification, z = e^(sT), and a continuous plant sampled
+//!   with a zero-order hold ([`zero_order_hold`]): exact where the exponential is a polynomial
+//!   (s = 0, a nilpotent A), otherwise in f64 with an error estimate — e^(λT) is transcendental
+//!   for every rational λT ≠ 0 (Lindemann), so no exact field holds it.
+
+use super::{design_with, Convention, DesignError, Detail, GainMethod, ObserverDesign};
+use super::{DesiredPolynomial, PolynomialFamily};
+use crate::algebra::{Quadratic, Rational, Ring, Zero};
+use crate::derivation::Derivation;
+use crate::linalg::{self, LinalgError, Matrix};
+use crate::poly::{is_schur, Poly};
+
+/// Which discrete-time estimator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Estimator {
+    /// x̄(k+1) from y(k): the estimate of x(k) uses measurements up to k − 1.
+    Prediction,
+    /// x̂(k) corrected with y(k) itself.
+    Current,
+}
+
+impl Estimator {
+    /// `prediction` or `current`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "prediction" => Some(Estimator::Prediction),
+            "current" | "filtered" => Some(Estimator::Current),
+            _ => None,
+        }
+    }
+    /// The flag's value.
+    pub fn flag(self) -> &'static str {
+        match self {
+            Estimator::Prediction => "prediction",
+            Estimator::Current => "current",
+        }
+    }
+}
+
+/// Why no discrete-time observer could be designed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DiscreteError {
+    /// The gain design failed (unobservable pair, several outputs, bad polynomial).
+    #[error(transparent)]
+    Design(#[from] DesignError),
+    /// A matrix computation failed.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+    /// The current estimator needs A invertible.
+    #[error("the current estimator needs A invertible (L_c = A⁻¹ K); A is singular: use the prediction estimator")]
+    SingularA,
+    /// A sampling period must be positive.
+    #[error("the sampling period {0} must be positive")]
+    Period(String),
+    /// The matrices do not fit.
+    #[error("{0}")]
+    Shape(String),
+}
+
+/// A discrete-time observer, designed exactly.
+#[derive(Debug, Clone)]
+pub struct DiscreteObserver {
+    /// Which estimator.
+    pub estimator: Estimator,
+    /// The prediction gain K (A − KC), with its derivation; in the requested convention.
+    pub design: ObserverDesign,
+    /// The current estimator's gain L_c = A⁻¹ K (in the requested convention's sign).
+    pub current_gain: Option<Matrix<Quadratic>>,
+    /// The error matrix: A − KC (prediction) or A − L_c C A (current).
+    pub error_matrix: Matrix<Quadratic>,
+    /// det(zI − error matrix), recomputed.
+    pub error_polynomial: Poly<Quadratic>,
+    /// Every root strictly inside the unit circle (exact; `None` when the polynomial has
+    /// irrational coefficients).
+    pub stable: Option<bool>,
+    /// The smallest k with (error matrix)ᵏ = 0, when the matrix is nilpotent (dead-beat).
+    pub nilpotent_index: Option<usize>,
+    /// The steps (the gain's, then the estimator's and the proofs).
+    pub derivation: Derivation,
+}
+
+/// The dead-beat polynomial zⁿ.
+pub fn deadbeat_polynomial(n: usize) -> DesiredPolynomial {
+    // zⁿ: every pole at the origin (rational, so always exact)
+    let poles = vec![Quadratic::zero(); n];
+    DesiredPolynomial::from_poles(&poles).unwrap_or_else(|_| unreachable_zero(n))
+}
+
+fn unreachable_zero(n: usize) -> DesiredPolynomial {
+    let p = Poly::monomial(Quadratic::from_i64(1), n, "s");
+    DesiredPolynomial {
+        family: PolynomialFamily::Coefficients,
+        float: p.map(|_| 0.0),
+        exact: Some(p),
+        inexact_reason: None,
+    }
+}
+
+fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
+    m.map(|x| Quadratic::rational(x.clone()))
+}
+
+/// Designs a discrete-time observer for (A, C) with the desired polynomial in z.
+///
+/// # Errors
+/// [`DiscreteError`]: the design's own errors, and a singular A for the current estimator.
+pub fn discrete_observer(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &DesiredPolynomial,
+    method: GainMethod,
+    convention: Convention,
+    estimator: Estimator,
+    detail: Detail,
+) -> Result<DiscreteObserver, DiscreteError> {
+    // the polynomial in z, so the derivation speaks of z
+    let mut in_z = desired.clone();
+    in_z.exact = desired.exact.clone().map(|p| p.with_var("z"));
+    let design = design_with(a, c, &in_z, method, convention, detail)?;
+    let mut derivation = design.derivation.clone();
+    // the gain's steps speak of s; in discrete time the variable is z
+    for step in &mut derivation.steps {
+        if step.label.starts_with("det(sI") || step.label.starts_with("P(s)") {
+            step.label = step.label.replace("sI", "zI").replace("P(s)", "P(z)");
+            for v in [&mut step.text, &mut step.latex, &mut step.input] {
+                // the variable only: `sqrt` keeps its s
+                *v = v
+                    .replace("sqrt", "\u{1}")
+                    .replace('s', "z")
+                    .replace('\u{1}', "sqrt");
+            }
+        }
+    }
+    // the prediction gain in the A − KC sign
+    let k = design.gain.to_convention(Convention::AMinusKC).matrix;
+    let (aq, cq) = (lift(a), lift(c));
+    let (error_matrix, current_gain) = match estimator {
+        Estimator::Prediction => (aq.sub(&k.mul(&cq)?)?, None),
+        Estimator::Current => {
+            let a_inv = linalg::inverse(a).map_err(|_| DiscreteError::SingularA)?;
+            let l_c = lift(&a_inv).mul(&k)?;
+            derivation.push("L_c", "A⁻¹ K (current estimator)", &l_c);
+            let m = aq.sub(&l_c.mul(&cq)?.mul(&aq)?)?;
+            derivation.push("A − L_c C A", "error matrix of x̂", &m);
+            let shown = if convention == Convention::AMinusKC {
+                l_c
+            } else {
+                l_c.neg()
+            };
+            (m, Some(shown))
+        }
+    };
+    let error_polynomial = linalg::characteristic_polynomial(&error_matrix, "z")?;
+    if estimator == Estimator::Current {
+        derivation.push("det(zI − (A − L_c C A))", "check", &error_polynomial);
+    }
+    let stable = rational_poly(&error_polynomial).map(|p| is_schur(&p));
+    let nilpotent_index = nilpotent_index(&error_matrix)?;
+    if let Some(k) = nilpotent_index {
+        let power = matrix_power(&error_matrix, k)?;
+        derivation.push(
+            &format!("power {k} of the error matrix"),
+            "zero: the error vanishes after this many steps",
+            &power,
+        );
+    }
+    Ok(DiscreteObserver {
+        estimator,
+        design,
+        current_gain,
+        error_matrix,
+        error_polynomial,
+        stable,
+        nilpotent_index,
+        derivation,
+    })
+}
+
+fn rational_poly(p: &Poly<Quadratic>) -> Option<Poly<Rational>> {
+    let c: Option<Vec<Rational>> = p
+        .coeffs()
+        .iter()
+        .map(|x| x.as_rational().cloned())
+        .collect();
+    Some(Poly::new(c?, p.var()))
+}
+
+fn matrix_power(m: &Matrix<Quadratic>, k: usize) -> Result<Matrix<Quadratic>, LinalgError> {
+    let mut p = Matrix::identity(m.rows());
+    for _ in 0..k {
+        p = p.mul(m)?;
+    }
+    Ok(p)
+}
+
+/// The smallest k ≤ n with Mᵏ = 0, or `None` when M is not nilpotent (Mⁿ ≠ 0).
+///
+/// # Errors
+/// A product of mismatched shapes (M not square).
+pub fn nilpotent_index(m: &Matrix<Quadratic>) -> Result<Option<usize>, LinalgError> {
+    let mut p = Matrix::identity(m.rows());
+    for k in 1..=m.rows() {
+        p = p.mul(m)?;
+        if p.is_zero() {
+            return Ok(Some(k));
+        }
+    }
+    Ok(None)
+}
+
+/// A continuous pole s mapped to z = e^(sT), in f64 (exact only for s = 0, where z = 1).
+pub fn map_pole(s: &Quadratic, t: &Rational) -> (f64, f64) {
+    let (re, im) = s.to_complex_f64();
+    let t = crate::algebra::rational_to_f64(t);
+    let r = (re * t).exp();
+    (r * (im * t).cos(), r * (im * t).sin())
+}
+
+/// The desired discrete-time polynomial from continuous poles, z = e^(sT): exact when every
+/// pole is 0, otherwise known in f64 only (with the reason said).
+///
+/// # Errors
+/// [`DiscreteError::Period`] for T ≤ 0.
+pub fn from_continuous_poles(
+    poles: &[Quadratic],
+    t: &Rational,
+) -> Result<DesiredPolynomial, DiscreteError> {
+    if *t <= Rational::zero() {
+        return Err(DiscreteError::Period(t.to_string()));
+    }
+    if poles.iter().all(Zero::is_zero) {
+        return Ok(deadbeat_like_ones(poles.len()));
+    }
+    // ∏ (z − z_i) in f64, complex pairs multiplied out
+    let mut coeffs: Vec<(f64, f64)> = vec![(1.0, 0.0)];
+    for p in poles {
+        let (zr, zi) = map_pole(p, t);
+        let mut next = vec![(0.0, 0.0); coeffs.len() + 1];
+        for (k, (cr, ci)) in coeffs.iter().enumerate() {
+            next[k + 1].0 += cr;
+            next[k + 1].1 += ci;
+            next[k].0 -= cr * zr - ci * zi;
+            next[k].1 -= cr * zi + ci * zr;
+        }
+        coeffs = next;
+    }
+    let float = Poly::new(coeffs.iter().map(|c| c.0).collect(), "s");
+    Ok(DesiredPolynomial {
+        family: PolynomialFamily::Coefficients,
+        exact: None,
+        float,
+        inexact_reason: Some(format!(
+            "z = e^(sT) with T = {t} is transcendental for every rational sT ≠ 0 (Lindemann): the poles are known in f64 only"
+        )),
+    })
+}
+
+fn deadbeat_like_ones(n: usize) -> DesiredPolynomial {
+    // s = 0 maps to z = 1 exactly: (z − 1)ⁿ
+    let ones = vec![Quadratic::from_i64(1); n];
+    DesiredPolynomial::from_poles(&ones).unwrap_or_else(|_| unreachable_zero(n))
+}
+
+/// A continuous plant sampled with a zero-order hold: Φ = e^(AT), Γ = ∫₀ᵀ e^(Aτ) dτ B.
+#[derive(Debug, Clone)]
+pub enum Sampled {
+    /// A is nilpotent: e^(AT) = Σ_(k<n) (AT)ᵏ/k! exactly.
+    Exact {
+        /// Φ.
+        phi: Matrix<Rational>,
+        /// Γ.
+        gamma: Matrix<Rational>,
+        /// The index of nilpotency of A.
+        index: usize,
+    },
+    /// Otherwise, in f64.
+    Float {
+        /// Φ, row by row.
+        phi: Vec<Vec<f64>>,
+        /// Γ, row by row.
+        gamma: Vec<Vec<f64>>,
+        /// The largest difference between two independent evaluations (nalgebra's Padé
+        /// exponential and a scaled Taylor series of the augmented matrix).
+        error_estimate: f64,
+    },
+}
+
+/// Samples (A, B) with a zero-order hold of period T.
+///
+/// # Errors
+/// [`DiscreteError`]: T ≤ 0, A not square, B with another number of rows.
+pub fn zero_order_hold(
+    a: &Matrix<Rational>,
+    b: &Matrix<Rational>,
+    t: &Rational,
+) -> Result<Sampled, DiscreteError> {
+    if *t <= Rational::zero() {
+        return Err(DiscreteError::Period(t.to_string()));
+    }
+    let n = a.rows();
+    if !a.is_square() || b.rows() != n {
+        return Err(DiscreteError::Shape(format!(
+            "A must be square and B have its rows (A {}×{}, B {}×{})",
+            a.rows(),
+            a.cols(),
+            b.rows(),
+            b.cols()
+        )));
+    }
+    if let Some(index) = nilpotent_index(&lift(a))? {
+        // Φ = Σ_(k<index) A^k T^k / k!, Γ = Σ_(k<index) A^k T^(k+1)/(k+1)! B
+        let mut phi = Matrix::zeros(n, n);
+        let mut integral = Matrix::zeros(n, n);
+        let mut power = Matrix::identity(n);
+        let mut factor = Rational::from_integer(1.into()); // T^k / k!
+        for k in 0..index {
+            phi = phi.add(&power.scale(&factor))?;
+            let next = factor.clone() * t.clone() / Rational::from_integer((k as i64 + 1).into());
+            integral = integral.add(&power.scale(&next))?;
+            factor = next;
+            power = power.mul(a)?;
+        }
+        return Ok(Sampled::Exact {
+            phi,
+            gamma: integral.mul(b)?,
+            index,
+        });
+    }
+    let (phi, gamma, error_estimate) = float_zoh(a, b, crate::algebra::rational_to_f64(t));
+    Ok(Sampled::Float {
+        phi,
+        gamma,
+        error_estimate,
+    })
+}
+
+type Rows = Vec<Vec<f64>>;
+
+fn float_zoh(a: &Matrix<Rational>, b: &Matrix<Rational>, t: f64) -> (Rows, Rows, f64) {
+    use nalgebra::DMatrix;
+    let (n, m) = (a.rows(), b.cols());
+    let f = |x: &Rational| crate::algebra::rational_to_f64(x) * t;
+    // the augmented matrix [A B; 0 0] T: its exponential holds Φ and Γ
+    let aug = DMatrix::from_fn(n + m, n + m, |i, j| match (i < n, j < n) {
+        (true, true) => f(a.get(i, j)),
+        (true, false) => f(b.get(i, j - n)),
+        _ => 0.0,
+    });
+    let pade = aug.clone().exp();
+    // scaling and squaring with a Taylor series of 30 terms
+    let norm = aug.iter().map(|x| x.abs()).fold(0.0, f64::max) * (n + m) as f64;
+    let squarings = if norm > 0.5 {
+        (norm / 0.5).log2().ceil() as i32
+    } else {
+        0
+    };
+    let scaled = &aug / 2f64.powi(squarings);
+    let mut term = DMatrix::<f64>::identity(n + m, n + m);
+    let mut taylor = term.clone();
+    for k in 1..30 {
+        term = &term * &scaled / k as f64;
+        taylor += &term;
+    }
+    for _ in 0..squarings {
+        taylor = &taylor * &taylor;
+    }
+    let error = (&pade - &taylor)
+        .iter()
+        .map(|x| x.abs())
+        .fold(0.0, f64::max);
+    let phi = (0..n)
+        .map(|i| (0..n).map(|j| pade[(i, j)]).collect())
+        .collect();
+    let gamma = (0..n)
+        .map(|i| (0..m).map(|j| pade[(i, n + j)]).collect())
+        .collect();
+    (phi, gamma, error)
+}

@@ -1,0 +1,153 @@
+//! The computations of the course's topics beyond the five documents — discrete-time
+//! observers, sampling with a zero-order hold, reduced-order observers and observers for
+//! detectable pairs — as claims, so that their worked examples are verified like the documents'.
+
+use super::inputs::{failed, input_error, lift, ComputeError, Computed, Inputs};
+use super::{Computation, Value};
+use crate::algebra::{Quadratic, Rational};
+use crate::observer::detectability::detectable_design;
+use crate::observer::discrete::{discrete_observer, zero_order_hold, Estimator, Sampled};
+use crate::observer::reduced_order::reduced_order_observer;
+use crate::observer::{Convention, Detail};
+
+fn estimator(inputs: &Inputs) -> Result<Estimator, ComputeError> {
+    match &inputs.claim.estimator {
+        None => Ok(Estimator::Prediction),
+        Some(e) => Estimator::parse(e).ok_or_else(|| {
+            input_error(
+                "estimator",
+                format!("'{e}' is neither prediction nor current"),
+            )
+        }),
+    }
+}
+
+/// `discrete_gain`, `current_gain`, `deadbeat_steps`, `discrete_error_polynomial`.
+pub fn discrete(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);
+    let convention = inputs.convention(Convention::AMinusKC)?;
+    let d = discrete_observer(
+        &a,
+        &c,
+        &inputs.desired()?,
+        inputs.method()?,
+        convention,
+        estimator(inputs)?,
+        Detail::Full,
+    )
+    .map_err(|e| failed(e.to_string()))?;
+    let value = match inputs.claim.what {
+        Computation::DiscreteGain => Value::Matrix(d.design.gain.matrix.clone()),
+        Computation::CurrentGain => Value::Matrix(d.current_gain.clone().ok_or_else(|| {
+            input_error("estimator", "current_gain needs estimator = \"current\"")
+        })?),
+        Computation::DeadbeatSteps => Value::Scalar(Quadratic::rational(Rational::from_integer(
+            d.nilpotent_index
+                .ok_or_else(|| failed("the error matrix is not nilpotent: no dead-beat"))?
+                .into(),
+        ))),
+        _ => Value::Polynomial(d.error_polynomial.with_var(&inputs.var())),
+    };
+    let mut derivation = d.derivation;
+    derivation.title = title.to_string();
+    Ok(Computed { value, derivation })
+}
+
+/// `zoh_phi`, `zoh_gamma`: exact when A is nilpotent.
+pub fn zoh(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    let t = inputs
+        .claim
+        .period
+        .as_deref()
+        .ok_or_else(|| input_error("period", "give the sampling period"))?;
+    let t = inputs.rational("period", t)?;
+    match zero_order_hold(&inputs.numeric("A")?, &inputs.numeric("B")?, &t)
+        .map_err(|e| failed(e.to_string()))?
+    {
+        Sampled::Exact { phi, gamma, index } => {
+            let m = if inputs.claim.what == Computation::ZohPhi { phi } else { gamma };
+            let mut d = crate::derivation::Derivation::new(title);
+            d.push(
+                &format!("A^{index}"),
+                "zero: e^(AT) is the finite sum Σ_(k<index) (AT)^k/k!",
+                &crate::linalg::Matrix::<Rational>::zeros(1, 1),
+            );
+            d.push("result", "", &m);
+            Ok(Computed {
+                value: Value::Matrix(lift(&m)),
+                derivation: d,
+            })
+        }
+        Sampled::Float { .. } => Err(failed(
+            "A is not nilpotent: e^(AT) is known in f64 only (owb zoh prints it with its error estimate)",
+        )),
+    }
+}
+
+/// `reduced_order_gain`, `reduced_order_error_polynomial`, `reduced_order_noise_gain`.
+pub fn reduced(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    let b = if inputs.has("B") {
+        Some(inputs.numeric("B")?)
+    } else {
+        None
+    };
+    let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);
+    let r = reduced_order_observer(
+        &a,
+        b.as_ref(),
+        &c,
+        &inputs.desired_of_order(a.rows() - c.rows().min(a.rows()))?,
+        inputs.method()?,
+    )
+    .map_err(|e| failed(e.to_string()))?;
+    let convention = inputs.convention(Convention::AMinusKC)?;
+    let value = match inputs.claim.what {
+        Computation::ReducedOrderGain => Value::Matrix(if convention == Convention::AMinusKC {
+            r.l.clone()
+        } else {
+            r.l.neg()
+        }),
+        Computation::ReducedOrderNoiseGain => Value::Scalar(r.noise_gain.clone()),
+        _ => Value::Polynomial(r.error_polynomial.with_var(&inputs.var())),
+    };
+    let mut derivation = r.derivation;
+    derivation.title = title.to_string();
+    Ok(Computed { value, derivation })
+}
+
+/// `detectable`, `fixed_poles`, `detectable_gain`.
+pub fn detectable(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);
+    let report = crate::observability::observability_report(&a, &c)?;
+    if inputs.claim.what == Computation::Detectable {
+        // every unobservable mode stable: Routh–Hurwitz on their polynomial, exact
+        let detectable = crate::poly::is_hurwitz(&report.unobservable_polynomial);
+        let mut d = crate::derivation::Derivation::new(title);
+        d.push(
+            "det(sI − A|ker O_n)",
+            "the unobservable modes' polynomial",
+            &report.unobservable_polynomial,
+        );
+        return Ok(Computed {
+            value: Value::Bool(detectable),
+            derivation: d,
+        });
+    }
+    let rank = report.rank;
+    let d = detectable_design(
+        &a,
+        &c,
+        &inputs.desired_of_order(rank)?,
+        inputs.method()?,
+        inputs.convention(Convention::AMinusKC)?,
+    )
+    .map_err(|e| failed(e.to_string()))?;
+    let value = match inputs.claim.what {
+        Computation::Detectable => Value::Bool(d.detectable),
+        Computation::DetectableGain => Value::Matrix(d.gain.clone()),
+        _ => Value::Polynomial(d.observer_polynomial.with_var(&inputs.var())),
+    };
+    let mut derivation = d.derivation;
+    derivation.title = title.to_string();
+    Ok(Computed { value, derivation })
+}
