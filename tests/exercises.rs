@@ -225,6 +225,7 @@ fn check_and_grade_from_the_command_line() {
 #[test]
 fn generated_exercises_are_reproducible_and_small() {
     let settings = |seed| Settings {
+        kind: Default::default(),
         min_order: 2,
         max_order: 4,
         seed,

@@ -218,7 +218,7 @@ await test("exercise: the book opened as a local file (file://) checks too", asy
 
 await test("every exercise in the book has answer fields that check", async () => {
   for (const chapter of ["observability", "canonical-forms", "gains", "polynomials", "control",
-    "multi-output", "kalman", "perfect"]) {
+    "multi-output", "kalman", "perfect", "discrete", "reduced-order", "detectability"]) {
     const page = await open(base + chapter + ".html");
     const forms = await page.locator(".owb-exercise[data-exercise]").all();
     assert.ok(forms.length > 0, `${chapter}: no exercise form`);

@@ -238,8 +238,9 @@
       var student = box.querySelector(".owb-student").value.trim();
       var order = box.querySelector(".owb-order").value;
       var convention = box.querySelector(".owb-convention").value;
+      var kind = box.querySelector(".owb-kind").value;
       workbench().then(function (owb) {
-        var v = JSON.parse(owb.variant(student, order, convention));
+        var v = JSON.parse(owb.variant(student, order, convention, kind));
         body.textContent = "";
         if (v.error) {
           body.appendChild(el("p", "owb-error", v.error));

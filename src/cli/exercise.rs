@@ -3,7 +3,7 @@
 
 use super::args::{examples_folder, print_json, write_atomically, write_atomically_with};
 use super::Outcome;
-use crate::exercise::generate::{pole_placement, Settings};
+use crate::exercise::generate::{pole_placement, Kind, Settings};
 use crate::exercise::{
     answer_key, check_answers, load_answers, load_exercise, AnswerKey, ExerciseFile, PartVerdict,
 };
@@ -54,7 +54,7 @@ enum ExerciseCommand {
 
 #[derive(clap::Args)]
 struct NewArgs {
-    /// The kind of exercise (pole-placement).
+    /// The kind of exercise: pole-placement, dead-beat or reduced-order.
     #[arg(allow_hyphen_values = true, long, default_value = "pole-placement")]
     kind: String,
     /// Order, or a range like 2..4.
@@ -202,12 +202,15 @@ fn variant_key(answers: &crate::exercise::AnswerFile) -> std::result::Result<Ans
     let settings =
         Settings::from_id(id).ok_or_else(|| format!("'{id}' is not a generated exercise's id"))?;
     if settings.seed != student_seed(student) {
-        let theirs = Settings::for_student(
-            student,
-            settings.min_order,
-            settings.max_order,
-            &settings.convention,
-        );
+        let theirs = Settings {
+            kind: settings.kind,
+            ..Settings::for_student(
+                student,
+                settings.min_order,
+                settings.max_order,
+                &settings.convention,
+            )
+        };
         return Err(format!(
             "exercise '{id}' is not the variant of student '{student}' (theirs is '{}')",
             theirs.id()
@@ -394,9 +397,13 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
 pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
     match args.command {
         ExerciseCommand::New(a) => {
-            if a.kind != "pole-placement" {
-                bail!("in --kind: unknown kind '{}' (pole-placement)", a.kind);
-            }
+            let kind = Kind::parse(&a.kind).ok_or_else(|| {
+                anyhow!(
+                    "in --kind: unknown kind '{}' ({})",
+                    a.kind,
+                    Kind::ALL.map(Kind::name).join(", ")
+                )
+            })?;
             let (lo, hi) = match a.order.split_once("..") {
                 Some((l, h)) => (l.trim().parse::<usize>(), h.trim().parse::<usize>()),
                 None => (
@@ -409,8 +416,12 @@ pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
                 hi.map_err(|e| anyhow!("in --order: '{}': {e} (give N or N..M)", a.order))?,
             );
             let settings = match (&a.student, a.seed) {
-                (Some(student), _) => Settings::for_student(student, lo, hi, &a.convention),
+                (Some(student), _) => Settings {
+                    kind,
+                    ..Settings::for_student(student, lo, hi, &a.convention)
+                },
                 (None, seed) => Settings {
+                    kind,
                     min_order: lo,
                     max_order: hi,
                     seed: seed.unwrap_or_default(),

@@ -131,8 +131,18 @@ pub fn detectable(args: DetectableArgs) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     super::args::check_plant(&a, None, &c, None)?;
     let (method, convention) = (method(&args.method)?, convention(&args.convention)?);
-    let rank = crate::observability::observability_report(&a, &c)?.rank;
-    let desired = args.desired.parse(rank)?;
+    let report = crate::observability::observability_report(&a, &c)?;
+    let rank = report.rank;
+    if rank == 0 {
+        anyhow::bail!(
+            "no mode is observable (O_n = 0): every observer keeps the poles of A, {}",
+            report.unobservable_eigenvalues.render()
+        );
+    }
+    let desired = args
+        .desired
+        .parse(rank)
+        .map_err(|e| anyhow!("{e} (here: the observable part, rank O_n = {rank})"))?;
     let d = detectable_design(&a, &c, &desired, method, convention)?;
     let fixed = d.report.unobservable_eigenvalues.render();
     if args.json {

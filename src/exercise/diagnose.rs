@@ -118,7 +118,28 @@ fn matrix_candidates(
             "your F has the opposite sign: it is K of u = −Kx (negative feedback with the minus written outside); the exercise asks for F in u = Fx, so F = −K".into(),
         ));
     }
-    if matches!(ask, Computation::Gain | Computation::CanonicalGain) {
+    if ask == Computation::DiscreteGain {
+        let current = ClaimSpec {
+            what: Computation::CurrentGain,
+            estimator: Some("current".into()),
+            ..part.claim.clone()
+        };
+        if let Some(Value::Matrix(l_c)) = key.recompute(&current) {
+            out.push((
+                Mistake::CurrentEstimator,
+                Value::Matrix(l_c),
+                "this is the current (filtered) estimator's gain L_c = A⁻¹K; the exercise asks for the prediction estimator's K, which multiplies y(k) − C x̄(k) in x̄(k+1)".into(),
+            ));
+        }
+    }
+    if matches!(
+        ask,
+        Computation::Gain
+            | Computation::CanonicalGain
+            | Computation::DiscreteGain
+            | Computation::ReducedOrderGain
+            | Computation::DetectableGain
+    ) {
         out.push((
             Mistake::SignConvention,
             Value::Matrix(m.neg()),
@@ -370,7 +391,11 @@ pub fn placed_polynomial(
     part: &KeyPart,
     answer: &str,
 ) -> Option<(Poly<Quadratic>, String, Option<Diagnosis>)> {
-    if part.spec.ask != Computation::Gain {
+    let discrete = part.spec.ask == Computation::DiscreteGain;
+    if !matches!(
+        part.spec.ask,
+        Computation::Gain | Computation::DiscreteGain | Computation::DetectableGain
+    ) {
         return None;
     }
     let inputs = Inputs {
@@ -391,11 +416,20 @@ pub fn placed_polynomial(
     }
     .observer_matrix(&a, &c)
     .ok()?;
-    let p = characteristic_polynomial(&obs, "s").ok()?;
+    let p = characteristic_polynomial(&obs, if discrete { "z" } else { "s" }).ok()?;
     let pf = p.map(|x| x.to_complex_f64().0);
     let zs = companion_roots(&pf);
     let rightmost = zs.iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max);
-    let stability = if rightmost < -1e-9 {
+    let largest = zs.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let stability = if discrete {
+        if largest < 1.0 - 1e-9 {
+            "the observer is stable (every pole inside the unit circle)"
+        } else if largest > 1.0 + 1e-9 {
+            "the observer is unstable: a pole lies outside the unit circle, its error grows"
+        } else {
+            "the observer is on the stability boundary (a pole on the unit circle): its error does not decay"
+        }
+    } else if rightmost < -1e-9 {
         "the observer is stable"
     } else if rightmost > 1e-9 {
         "the observer is unstable: its error grows"
@@ -421,6 +455,10 @@ pub fn placed_polynomial(
         "your gain gives the observer polynomial {p} (poles {}); {stability}",
         roots.join(", ")
     );
+    if discrete {
+        // the continuous families below do not apply in the z-plane
+        return Some((p, text, None));
+    }
     let n = a.rows();
     let close = |q: &Poly<f64>| {
         (0..=n).all(|i| {

@@ -7,9 +7,40 @@ use crate::algebra::Rational;
 use crate::linalg::{self, Matrix};
 use crate::poly::Poly;
 
+/// What a generated exercise asks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Kind {
+    /// Observer pole placement through the canonical form (continuous time).
+    #[default]
+    PolePlacement,
+    /// A dead-beat observer of a discrete-time plant (every pole at z = 0).
+    DeadBeat,
+    /// A reduced-order (Gopinath) observer of a plant measured at its first state.
+    ReducedOrder,
+}
+
+impl Kind {
+    /// Every kind.
+    pub const ALL: [Kind; 3] = [Kind::PolePlacement, Kind::DeadBeat, Kind::ReducedOrder];
+    /// Its name in ids and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::PolePlacement => "pole-placement",
+            Kind::DeadBeat => "dead-beat",
+            Kind::ReducedOrder => "reduced-order",
+        }
+    }
+    /// The kind of a name.
+    pub fn parse(s: &str) -> Option<Self> {
+        Kind::ALL.into_iter().find(|k| k.name() == s)
+    }
+}
+
 /// Settings of a generated exercise.
 #[derive(Clone, Debug)]
 pub struct Settings {
+    /// What it asks (pole placement unless said).
+    pub kind: Kind,
     /// Smallest order.
     pub min_order: usize,
     /// Largest order.
@@ -33,7 +64,8 @@ impl Settings {
     /// The command that generates this exercise again, every setting written out.
     pub fn command(&self) -> String {
         format!(
-            "owb exercise new --kind pole-placement --order {} --convention {} --seed {}",
+            "owb exercise new --kind {} --order {} --convention {} --seed {}",
+            self.kind.name(),
             self.order(),
             self.convention,
             self.seed
@@ -44,7 +76,8 @@ impl Settings {
     /// order gives another exercise, so another id).
     pub fn id(&self) -> String {
         format!(
-            "generated-pole-placement-{}-order-{}{}",
+            "generated-{}-{}-order-{}{}",
+            self.kind.name(),
             self.seed,
             self.order().replace("..", "-"),
             if self.convention == "a+lc" { "-lc" } else { "" }
@@ -62,6 +95,7 @@ impl Settings {
         convention: &str,
     ) -> Self {
         Settings {
+            kind: Kind::PolePlacement,
             min_order,
             max_order,
             seed: student_seed(student),
@@ -79,7 +113,11 @@ impl Settings {
     /// assert_eq!(s.id(), "generated-pole-placement-11-order-2-3-lc");
     /// ```
     pub fn from_id(id: &str) -> Option<Self> {
-        let rest = id.strip_prefix("generated-pole-placement-")?;
+        let rest = id.strip_prefix("generated-")?;
+        let kind = Kind::ALL
+            .into_iter()
+            .find(|k| rest.starts_with(&format!("{}-", k.name())))?;
+        let rest = &rest[kind.name().len() + 1..];
         let (rest, convention) = match rest.strip_suffix("-lc") {
             Some(r) => (r, "a+lc"),
             None => (rest, "a-kc"),
@@ -87,6 +125,7 @@ impl Settings {
         let (seed, order) = rest.split_once("-order-")?;
         let (lo, hi) = order.split_once('-').unwrap_or((order, order));
         let s = Settings {
+            kind,
             min_order: lo.parse().ok()?,
             max_order: hi.parse().ok()?,
             seed: seed.parse().ok()?,
@@ -160,12 +199,19 @@ pub enum GenerateError {
     /// Unknown convention.
     #[error("convention '{0}': use a-kc or a+lc")]
     Convention(String),
+    /// A reduced-order exercise needs an unmeasured state.
+    #[error("order range {0}..{1}: a reduced-order exercise needs order 2 or more (one state is measured)")]
+    ReducedOrder(usize, usize),
 }
 
 /// A plant `x = T x_o` from a random observer canonical form (small-integer open-loop poles,
 /// a unimodular `T` with entries in {−1, 0, 1}) and `n` distinct desired poles in −1 … −6,
 /// drawn until every number a student meets stays small.
-fn random_plant(rng: &mut Rng, n: usize) -> (Matrix<Rational>, Matrix<Rational>, Vec<i64>) {
+fn random_plant(
+    rng: &mut Rng,
+    n: usize,
+    keep_first: bool,
+) -> (Matrix<Rational>, Matrix<Rational>, Vec<i64>) {
     loop {
         // open-loop poles: small integers (a stable, marginal or unstable plant)
         let open: Vec<Rational> = (0..n).map(|_| int(rng.range(-3, 2))).collect();
@@ -182,14 +228,22 @@ fn random_plant(rng: &mut Rng, n: usize) -> (Matrix<Rational>, Matrix<Rational>,
         });
         let c_o = Matrix::from_fn(1, n, |_, j| if j == 0 { int(1) } else { int(0) });
         // unimodular T: unit lower times unit upper triangular, entries in {−1, 0, 1}
+        // (keep_first: T leaves the first coordinate alone, so C stays [1 0 … 0]; the same
+        // numbers are drawn either way, so a seed's pole-placement plant does not change)
         let lower = Matrix::from_fn(n, n, |i, j| match i.cmp(&j) {
             std::cmp::Ordering::Equal => int(1),
-            std::cmp::Ordering::Greater => int(rng.range(-1, 1)),
+            std::cmp::Ordering::Greater => {
+                let v = rng.range(-1, 1);
+                int(if keep_first && j == 0 { 0 } else { v })
+            }
             std::cmp::Ordering::Less => int(0),
         });
         let upper = Matrix::from_fn(n, n, |i, j| match i.cmp(&j) {
             std::cmp::Ordering::Equal => int(1),
-            std::cmp::Ordering::Less => int(rng.range(-1, 1)),
+            std::cmp::Ordering::Less => {
+                let v = rng.range(-1, 1);
+                int(if keep_first && i == 0 { 0 } else { v })
+            }
             std::cmp::Ordering::Greater => int(0),
         });
         let Ok(t) = lower.mul(&upper) else { continue };
@@ -313,7 +367,8 @@ partial = {{ sign_convention = 0.5, canonical_coordinates = 0.5, slip = 0.5, rev
     )
 }
 
-/// A pole-placement exercise file (TOML text).
+/// A generated exercise file (TOML text) of the settings' kind (the name is historical: every
+/// kind is generated here).
 ///
 /// # Errors
 /// [`GenerateError`] for a bad order range or convention.
@@ -324,8 +379,142 @@ pub fn pole_placement(s: &Settings) -> Result<String, GenerateError> {
     if s.convention != "a-kc" && s.convention != "a+lc" {
         return Err(GenerateError::Convention(s.convention.clone()));
     }
+    if s.kind == Kind::ReducedOrder && s.min_order < 2 {
+        return Err(GenerateError::ReducedOrder(s.min_order, s.max_order));
+    }
     let mut rng = Rng(s.seed ^ 0x5EED_0B5E_7E7E_0001);
     let n = rng.range(s.min_order as i64, s.max_order as i64) as usize;
-    let (a, c, poles) = random_plant(&mut rng, n);
-    Ok(exercise_text(s, n, &a, &c, &poles))
+    let (a, c, poles) = random_plant(&mut rng, n, s.kind == Kind::ReducedOrder);
+    Ok(match s.kind {
+        Kind::PolePlacement => exercise_text(s, n, &a, &c, &poles),
+        Kind::DeadBeat => deadbeat_text(s, n, &a, &c),
+        Kind::ReducedOrder => reduced_order_text(s, n, &a, &poles[..n - 1]),
+    })
+}
+
+/// The dead-beat exercise: the plant read as discrete-time, every observer pole at z = 0.
+fn deadbeat_text(s: &Settings, n: usize, a: &Matrix<Rational>, c: &Matrix<Rational>) -> String {
+    let (letter, matrix) = letter_and_matrix(s);
+    let zeros = vec!["0"; n].join(", ");
+    format!(
+        r#"id = "{id}"
+title = "Dead-beat observer, order {n} (generated, seed {seed})"
+source = "generated by {command}"
+statement = """
+For the discrete-time system x(k+1) = A x(k), y(k) = C x(k) with
+
+A = {a}, C = {c},
+
+1. form the observability matrix O;
+2. give the open-loop characteristic polynomial det(λI − A);
+3. design the prediction estimator x̄(k+1) = A x̄(k) + … with every observer pole at z = 0 (dead-beat): give the gain {letter} for the observer matrix {matrix};
+4. after how many steps is the estimation error exactly zero, whatever the initial error?
+"""
+
+[system]
+A = "{a}"
+C = "{c}"
+
+[design]
+convention = "{conv}"
+poles = "{zeros}"
+
+[[parts]]
+id = "O"
+ask = "observability_matrix"
+prompt = "the observability matrix O = [C; CA; …]"
+
+[[parts]]
+id = "open_loop"
+ask = "characteristic_polynomial"
+prompt = "the open-loop polynomial det(λI − A)"
+
+[[parts]]
+id = "{letter}"
+ask = "discrete_gain"
+prompt = "the dead-beat gain {letter} ({matrix}, prediction estimator)"
+points = 2
+partial = {{ sign_convention = 0.5, current_estimator = 0.5, slip = 0.5, transposed = 0.75 }}
+
+[[parts]]
+id = "steps"
+ask = "deadbeat_steps"
+prompt = "the number of steps after which the error is zero"
+"#,
+        seed = s.seed,
+        id = s.id(),
+        command = s.command(),
+        a = a.to_input(),
+        c = c.to_input(),
+        conv = s.convention,
+    )
+}
+
+/// The reduced-order exercise: the plant measured at its first state, n − 1 observer poles.
+fn reduced_order_text(s: &Settings, n: usize, a: &Matrix<Rational>, poles: &[i64]) -> String {
+    let poles_text = poles
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(", ");
+    let (sign, word) = if s.convention == "a-kc" {
+        ("−", "A₂₂ − L A₁₂")
+    } else {
+        ("+", "A₂₂ + L A₁₂")
+    };
+    let c = (0..n)
+        .map(|j| if j == 0 { "1" } else { "0" })
+        .collect::<Vec<_>>()
+        .join(" ");
+    format!(
+        r#"id = "{id}"
+title = "Reduced-order observer, order {n} (generated, seed {seed})"
+source = "generated by {command}"
+statement = """
+The system ẋ = A x, y = C x with
+
+A = {a}, C = [{c}]
+
+measures its first state. Design a reduced-order (Gopinath) observer for the other {m}:
+
+1. split A into A₁₁ (1×1), A₁₂, A₂₁, A₂₂ (x₁ measured, x₂ … x_n not);
+2. choose L so that the error matrix {word} has the poles {poles_text}: give L;
+3. give the error polynomial det(sI − ({word})).
+"""
+
+[system]
+A = "{a}"
+C = "[{c}]"
+
+[design]
+convention = "{conv}"
+poles = "{poles_text}"
+
+[[parts]]
+id = "L"
+ask = "reduced_order_gain"
+prompt = "the reduced-order gain L (error matrix A₂₂ {sign} L A₁₂)"
+points = 2
+partial = {{ sign_convention = 0.5, slip = 0.5, transposed = 0.75 }}
+
+[[parts]]
+id = "error_polynomial"
+ask = "reduced_order_error_polynomial"
+prompt = "the error polynomial, degree {m}"
+"#,
+        seed = s.seed,
+        id = s.id(),
+        command = s.command(),
+        a = a.to_input(),
+        m = n - 1,
+        conv = s.convention,
+    )
+}
+
+fn letter_and_matrix(s: &Settings) -> (&'static str, &'static str) {
+    if s.convention == "a-kc" {
+        ("K", "A − KC")
+    } else {
+        ("L", "A + LC")
+    }
 }

@@ -32,6 +32,8 @@ named_enum! {
         OtherProcedure = "other_procedure",
         /// `K` of `u = −Kx` where `F` of `u = Fx` is asked.
         FeedbackSign = "feedback_sign",
+        /// The current estimator's gain L_c = A⁻¹K where the prediction gain K is asked.
+        CurrentEstimator = "current_estimator",
     }
 }
 

@@ -155,6 +155,7 @@ impl Computation {
                 | ReducedOrderErrorPolynomial
                 | Detectable
                 | DetectableGain
+                | DetectableObserverPolynomial
         )
     }
 

@@ -12,7 +12,7 @@
 use observer_workbench::cli::{run_captured, Outcome, IN_MEMORY_SUBCOMMANDS};
 use observer_workbench::derivation::{Derivation, Step};
 use observer_workbench::exercise::check::check_text;
-use observer_workbench::exercise::generate::{pole_placement, Settings};
+use observer_workbench::exercise::generate::{pole_placement, Kind, Settings};
 use observer_workbench::exercise::{answer_key, ExerciseFile};
 use observer_workbench::worked::{parse_example, render_table, report_json, verify_example};
 use serde_json::{json, Value};
@@ -81,11 +81,11 @@ fn answer_latex(text: &str) -> Option<String> {
         .map(|p| p.to_latex())
 }
 
-/// A student's own exercise, as `owb exercise new --student ID --order ORDER --convention C`
-/// generates it. Returns `{"id", "command", "toml", "title", "statement", "parts": [{"id",
+/// A student's own exercise, as `owb exercise new --kind KIND --student ID --order ORDER
+/// --convention C` generates it. Returns `{"id", "command", "toml", "title", "statement", "parts": [{"id",
 /// "prompt", "points"}]}` or `{"error": …}`.
 #[wasm_bindgen]
-pub fn variant(student: &str, order: &str, convention: &str) -> String {
+pub fn variant(student: &str, order: &str, convention: &str, kind: &str) -> String {
     if student.trim().is_empty() {
         return error("type your student id first");
     }
@@ -96,7 +96,16 @@ pub fn variant(student: &str, order: &str, convention: &str) -> String {
     let (Ok(lo), Ok(hi)) = (lo, hi) else {
         return error(format!("order '{order}': give N or N..M"));
     };
-    let settings = Settings::for_student(student, lo, hi, convention);
+    let Some(kind) = Kind::parse(kind) else {
+        return error(format!(
+            "kind '{kind}': {}",
+            Kind::ALL.map(Kind::name).join(", ")
+        ));
+    };
+    let settings = Settings {
+        kind,
+        ..Settings::for_student(student, lo, hi, convention)
+    };
     let text = match pole_placement(&settings) {
         Ok(t) => t,
         Err(e) => return error(e),
@@ -117,7 +126,8 @@ pub fn variant(student: &str, order: &str, convention: &str) -> String {
         "id": settings.id(),
         "student": student.trim(),
         "command": format!(
-            "owb exercise new --student {:?} --order {order} --convention {convention}",
+            "owb exercise new --kind {} --student {:?} --order {order} --convention {convention}",
+            kind.name(),
             student.trim()
         ),
         "toml": text,

@@ -71,7 +71,7 @@ fn check_refuses_bad_files_with_where() {
 
 #[test]
 fn a_students_variant_is_the_one_owb_exercise_new_generates() {
-    let v = json(&owb_web::variant(" Ada ", "3", "a-kc"));
+    let v = json(&owb_web::variant(" Ada ", "3", "a-kc", "pole-placement"));
     let (outcome, text) = run_captured(&["exercise", "new", "--student", "ada", "--order", "3"]);
     assert!(outcome.is_ok());
     assert_eq!(v["toml"].as_str().unwrap(), text);
@@ -80,12 +80,30 @@ fn a_students_variant_is_the_one_owb_exercise_new_generates() {
         Settings::for_student("ada", 3, 3, "a-kc").id()
     );
     assert_ne!(
-        json(&owb_web::variant("grace", "3", "a-kc"))["id"],
+        json(&owb_web::variant("grace", "3", "a-kc", "pole-placement"))["id"],
         v["id"],
         "two students, one exercise"
     );
-    for (student, order, convention) in [("", "3", "a-kc"), ("x", "9", "a-kc"), ("x", "3", "b")] {
-        let out = json(&owb_web::variant(student, order, convention));
+    let db = json(&owb_web::variant("ada", "2", "a-kc", "dead-beat"));
+    let (_, text) = run_captured(&[
+        "exercise",
+        "new",
+        "--kind",
+        "dead-beat",
+        "--student",
+        "ada",
+        "--order",
+        "2",
+    ]);
+    assert_eq!(db["toml"].as_str().unwrap(), text);
+    for (student, order, convention, kind) in [
+        ("", "3", "a-kc", "pole-placement"),
+        ("x", "9", "a-kc", "pole-placement"),
+        ("x", "3", "b", "pole-placement"),
+        ("x", "3", "a-kc", "nonsense"),
+        ("x", "1", "a-kc", "reduced-order"),
+    ] {
+        let out = json(&owb_web::variant(student, order, convention, kind));
         assert!(out["error"].is_string(), "{out}");
     }
 }

@@ -1,0 +1,251 @@
+//! The course's topics beyond the documents, property-tested against their definitions:
+//! dead-beat observers are nilpotent, the current estimator has the prediction estimator's
+//! polynomial, a reduced-order observer's error polynomial is the one asked for and its estimate
+//! reproduces the state, a detectable design's polynomial factors into chosen and fixed poles,
+//! the exact unit-circle test agrees with the roots, the exact zero-order hold with the float one.
+mod common;
+
+use common::{owb, rational_matrix, small_integer};
+use observer_workbench::algebra::{rational_to_f64, Quadratic, Rational, Ring};
+use observer_workbench::linalg::{self, Matrix};
+use observer_workbench::observability::observability_report;
+use observer_workbench::observer::detectability::detectable_design;
+use observer_workbench::observer::discrete::{
+    deadbeat_polynomial, discrete_observer, nilpotent_index, zero_order_hold, Estimator, Sampled,
+};
+use observer_workbench::observer::reduced_order::reduced_order_observer;
+use observer_workbench::observer::{Convention, DesiredPolynomial, Detail, GainMethod};
+use observer_workbench::poly::{is_schur, Poly};
+use proptest::prelude::*;
+
+fn observable(a: &Matrix<Rational>, c: &Matrix<Rational>) -> bool {
+    observability_report(a, c).is_ok_and(|r| r.observable())
+}
+
+fn integers(v: &[i64]) -> Vec<Quadratic> {
+    v.iter().map(|&x| Quadratic::from_i64(x)).collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Every pole at 0: the error matrix is nilpotent of index n (one Jordan block).
+    #[test]
+    fn deadbeat_error_matrix_is_nilpotent(a in rational_matrix(3, 3), c in rational_matrix(1, 3)) {
+        prop_assume!(observable(&a, &c));
+        let d = discrete_observer(&a, &c, &deadbeat_polynomial(3), GainMethod::Ackermann,
+            Convention::AMinusKC, Estimator::Prediction, Detail::Summary).unwrap();
+        prop_assert_eq!(d.nilpotent_index, Some(3));
+        prop_assert_eq!(d.stable, Some(true));
+    }
+
+    /// The current estimator (L_c = A⁻¹K) has the prediction estimator's error polynomial.
+    #[test]
+    fn current_and_prediction_estimators_share_the_polynomial(
+        a in rational_matrix(2, 2), c in rational_matrix(1, 2), p in (-3i64..=3, -3i64..=3),
+    ) {
+        prop_assume!(observable(&a, &c) && linalg::inverse(&a).is_ok());
+        let desired = DesiredPolynomial::from_poles(&integers(&[p.0, p.1])).unwrap();
+        let run = |e| discrete_observer(&a, &c, &desired, GainMethod::Ackermann,
+            Convention::AMinusKC, e, Detail::Summary).unwrap();
+        let (pred, cur) = (run(Estimator::Prediction), run(Estimator::Current));
+        prop_assert_eq!(&pred.error_polynomial, &cur.error_polynomial);
+        prop_assert_eq!(pred.error_polynomial.coeffs().to_vec(), desired.exact.clone().unwrap().coeffs().to_vec());
+    }
+
+    /// The exact unit-circle test agrees with the roots of products of known factors.
+    #[test]
+    fn schur_test_agrees_with_the_roots(roots in proptest::collection::vec((-7i64..=7, 1i64..=4), 1..4)) {
+        let r: Vec<Rational> = roots.iter().map(|&(n, d)| Rational::new(n.into(), d.into())).collect();
+        let p = Poly::from_roots(&r, "z");
+        let inside = r.iter().all(|x| rational_to_f64(x).abs() < 1.0);
+        prop_assert_eq!(is_schur(&p), inside, "{}", p);
+    }
+
+    /// The reduced-order observer's error polynomial is the one asked for, and its estimate
+    /// is exact when the error is zero: x̂ = D_y C x + M (z₂ − L y) = x for every x.
+    #[test]
+    fn reduced_order_observer_reconstructs_the_state(
+        a in rational_matrix(3, 3), c in rational_matrix(1, 3), x in rational_matrix(3, 1),
+        p in (-4i64..=-1, -4i64..=-1),
+    ) {
+        prop_assume!(observable(&a, &c));
+        let desired = DesiredPolynomial::from_poles(&integers(&[p.0, p.1])).unwrap();
+        let r = reduced_order_observer(&a, None, &c, &desired, GainMethod::Ackermann).unwrap();
+        prop_assert_eq!(r.error_polynomial.coeffs().to_vec(), desired.exact.clone().unwrap().coeffs().to_vec());
+        let lift = |m: &Matrix<Rational>| m.map(|v| Quadratic::rational(v.clone()));
+        let y = lift(&c).mul(&lift(&x)).unwrap();
+        let z2 = lift(&r.q).mul(&lift(&x)).unwrap().block(1, 3, 0, 1);
+        let w = z2.sub(&r.l.mul(&y).unwrap()).unwrap();
+        let estimate = r.direct.mul(&y).unwrap().add(&r.from_w.mul(&w).unwrap()).unwrap();
+        prop_assert_eq!(estimate, lift(&x));
+    }
+
+    /// A nilpotent A (strictly upper triangular) is sampled exactly, and the float exponential
+    /// agrees with it.
+    #[test]
+    fn zero_order_hold_is_exact_for_nilpotent_matrices(
+        u in (small_integer(), small_integer(), small_integer()), b in rational_matrix(3, 1),
+        t in 1i64..=5,
+    ) {
+        let z = Rational::from_i64(0);
+        let a = Matrix::from_rows(vec![
+            vec![z.clone(), u.0, u.1],
+            vec![z.clone(), z.clone(), u.2],
+            vec![z.clone(), z.clone(), z],
+        ]).unwrap();
+        let t = Rational::new(t.into(), 10.into());
+        prop_assert!(nilpotent_index(&a.map(|x| Quadratic::rational(x.clone()))).unwrap().is_some());
+        match zero_order_hold(&a, &b, &t).unwrap() {
+            Sampled::Exact { phi, .. } => {
+                // Φ = I + AT + (AT)²/2 agrees with nalgebra's exponential
+                let f = nalgebra::DMatrix::from_fn(3, 3, |i, j| rational_to_f64(a.get(i, j)) * rational_to_f64(&t)).exp();
+                for i in 0..3 { for j in 0..3 {
+                    prop_assert!((f[(i, j)] - rational_to_f64(phi.get(i, j))).abs() < 1e-9);
+                }}
+            }
+            Sampled::Float { .. } => prop_assert!(false, "a nilpotent A must be sampled exactly"),
+        }
+    }
+}
+
+/// An unobservable pair: the chosen poles and the fixed ones multiply to the observer
+/// polynomial, and detectability follows the fixed pole's sign.
+#[test]
+fn detectable_designs_place_what_they_can() {
+    let m = |s: &str| observer_workbench::syntax::parse_matrix::<Rational>(s).unwrap();
+    let desired = DesiredPolynomial::from_poles(&integers(&[-3])).unwrap();
+    for (a, stable) in [("[-1 0; 1 -1]", true), ("[-1 0; 1 2]", false)] {
+        let d = detectable_design(
+            &m(a),
+            &m("[0 1]"),
+            &desired,
+            GainMethod::Ackermann,
+            Convention::AMinusKC,
+        );
+        // measured at x₂, this pair is observable: the design needs 2 poles
+        assert!(d.is_err(), "{a}");
+        let d = detectable_design(
+            &m(a),
+            &m("[1 0]"),
+            &desired,
+            GainMethod::Ackermann,
+            Convention::AMinusKC,
+        )
+        .unwrap();
+        assert_eq!(d.detectable, stable, "{a}");
+        assert!(d.polynomial_checks(), "{a}");
+        assert_eq!(d.report.rank, 1);
+    }
+}
+
+/// The new subcommands refuse bad input with exit status 2 and the flag named.
+#[test]
+fn course_subcommands_refuse_bad_input() {
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &[
+                "discrete",
+                "--a",
+                "[0 1; 0 0]",
+                "--c",
+                "[1 0]",
+                "--poles",
+                "1/2, 1/2",
+                "--estimator",
+                "current",
+            ],
+            "A invertible",
+        ),
+        (
+            &[
+                "discrete",
+                "--a",
+                "[1 2; 3 4]",
+                "--c",
+                "[1 0]",
+                "--poles",
+                "1/2",
+            ],
+            "--poles",
+        ),
+        (
+            &[
+                "discrete",
+                "--a",
+                "[1 2; 3 4]",
+                "--c",
+                "[1 0]",
+                "--period",
+                "1",
+            ],
+            "--period",
+        ),
+        (
+            &[
+                "zoh",
+                "--a",
+                "[1 2; 3 4]",
+                "--b",
+                "[1; 2]",
+                "--period",
+                "-1",
+            ],
+            "positive",
+        ),
+        (
+            &[
+                "zoh",
+                "--a",
+                "[1 2; 3 4]",
+                "--b",
+                "[1; 2; 3]",
+                "--period",
+                "1",
+            ],
+            "rows",
+        ),
+        (
+            &[
+                "reduced",
+                "--a",
+                "[1 2; 3 4]",
+                "--c",
+                "[1 0; 0 1]",
+                "--poles",
+                "-1",
+            ],
+            "--poles",
+        ),
+        (
+            &[
+                "detectable",
+                "--a",
+                "[1 0; 0 1]",
+                "--c",
+                "[0 0]",
+                "--poles",
+                "-1",
+            ],
+            "no mode is observable",
+        ),
+    ];
+    for (args, needle) in cases {
+        let (code, _, err) = owb(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    let (code, out, _) = owb(&[
+        "discrete",
+        "--a",
+        "[2 -3; 4 -5]",
+        "--c",
+        "[-3 2]",
+        "--deadbeat",
+        "--json",
+    ]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["deadbeat_steps"], 2);
+    assert_eq!(v["error_polynomial"], "z^2");
+}
