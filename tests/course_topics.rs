@@ -249,3 +249,27 @@ fn course_subcommands_refuse_bad_input() {
     assert_eq!(v["deadbeat_steps"], 2);
     assert_eq!(v["error_polynomial"], "z^2");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// The discrete Kalman filter of a random system (G = Q_n = R_n = I, which make every
+    /// mode stabilisable): the Riccati residual is at rounding level and A − LC is stable.
+    #[test]
+    fn discrete_kalman_solves_its_riccati_equation(a in rational_matrix(2, 2), c in rational_matrix(1, 2)) {
+        use observer_workbench::observer::discrete_kalman::discrete_kalman;
+        prop_assume!(observable(&a, &c));
+        let i2 = Matrix::<Rational>::identity(2);
+        let one = Matrix::<Rational>::identity(1);
+        let k = discrete_kalman(&a, &i2, &c, &i2, &one).unwrap();
+        prop_assert!(k.residual < 1e-9, "residual {}", k.residual);
+        for (re, im) in &k.eigenvalues {
+            prop_assert!((re * re + im * im).sqrt() < 1.0 + 1e-9);
+        }
+        if let Some(p) = &k.exact_p {
+            // an exact solution is symmetric and agrees with the float one
+            prop_assert_eq!(p, &p.transpose());
+            prop_assert!((rational_to_f64(p.get(0, 0)) - k.p[(0, 0)]).abs() < 1e-6);
+        }
+    }
+}

@@ -65,6 +65,8 @@ pub enum Command {
     Discrete(discrete::Args),
     /// A continuous plant sampled with a zero-order hold (exact for nilpotent A).
     Zoh(discrete::ZohArgs),
+    /// The discrete-time steady-state Kalman filter (Riccati equation by doubling, checked, exact when rational).
+    Dlqe(discrete::DlqeArgs),
     /// Reduced-order observer (Gopinath): only the n − p unmeasured states, error polynomial of degree n − p.
     Reduced(reduced::Args),
     /// Observer for an unobservable pair: detectability, the observable part placed exactly, the fixed poles named.
@@ -90,7 +92,7 @@ pub enum Command {
 
 /// The subcommands that compute from their flags alone, reading and writing no file (but
 /// `exercise new --out`): what the browser runs and what the CLI fuzz target explores.
-pub const IN_MEMORY_SUBCOMMANDS: [&str; 13] = [
+pub const IN_MEMORY_SUBCOMMANDS: [&str; 14] = [
     "observe",
     "canonical",
     "gain",
@@ -104,6 +106,7 @@ pub const IN_MEMORY_SUBCOMMANDS: [&str; 13] = [
     "zoh",
     "reduced",
     "detectable",
+    "dlqe",
 ];
 
 /// What a subcommand reports back.
@@ -146,6 +149,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Control(a) => control::run(a),
         Command::Discrete(a) => discrete::run(a),
         Command::Zoh(a) => discrete::zoh(a),
+        Command::Dlqe(a) => discrete::dlqe(a),
         Command::Reduced(a) => reduced::run(a),
         Command::Detectable(a) => reduced::detectable(a),
         Command::Optimal(a) => optimal::run(a),

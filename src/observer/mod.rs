@@ -9,6 +9,7 @@ pub mod ackermann_exact;
 mod convention;
 pub mod detectability;
 pub mod discrete;
+pub mod discrete_kalman;
 pub mod dynamical_error;
 pub mod float_check;
 mod gain;

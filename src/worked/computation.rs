@@ -110,6 +110,11 @@ named_enum! {
         DetectableGain = "detectable_gain",
         /// det(sI − (A − KC)) of that gain: the chosen poles times the fixed ones.
         DetectableObserverPolynomial = "detectable_observer_polynomial",
+        /// The discrete steady-state Kalman filter's prediction gain L = A P Cᵀ (C P Cᵀ + R_n)⁻¹
+        /// (`[claims.matrices]` G, Qn, Rn): exact when the Riccati solution is rational.
+        DiscreteKalmanGain = "discrete_kalman_gain",
+        /// Its a-priori error covariance P.
+        DiscreteKalmanCovariance = "discrete_kalman_covariance",
     }
 }
 

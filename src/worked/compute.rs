@@ -139,6 +139,9 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
         C::Detectable | C::DetectableGain | C::DetectableObserverPolynomial => {
             super::compute_course::detectable(inputs, &title)
         }
+        C::DiscreteKalmanGain | C::DiscreteKalmanCovariance => {
+            super::compute_course::discrete_kalman(inputs, &title)
+        }
     }
 }
 

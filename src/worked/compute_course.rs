@@ -151,3 +151,47 @@ pub fn detectable(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError
     derivation.title = title.to_string();
     Ok(Computed { value, derivation })
 }
+
+/// `discrete_kalman_gain`, `discrete_kalman_covariance`: exact when the Riccati solution read
+/// back as fractions satisfies the equation exactly, otherwise the f64 solution.
+pub fn discrete_kalman(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    let k = crate::observer::discrete_kalman::discrete_kalman(
+        &inputs.numeric("A")?,
+        &inputs.numeric("G")?,
+        &inputs.numeric("C")?,
+        &inputs.numeric("Qn")?,
+        &inputs.numeric("Rn")?,
+    )
+    .map_err(|e| failed(e.to_string()))?;
+    let gain = inputs.claim.what == Computation::DiscreteKalmanGain;
+    let mut d = crate::derivation::Derivation::new(title);
+    let value = match (&k.exact_p, &k.exact_gain) {
+        (Some(p), Some(l)) => {
+            d.push(
+                "P",
+                "the Riccati solution read back as fractions, satisfying it exactly",
+                p,
+            );
+            d.push("L", "A P Cᵀ (C P Cᵀ + R_n)⁻¹", l);
+            Value::Matrix(lift(if gain { l } else { p }))
+        }
+        _ => {
+            let m = if gain { &k.gain } else { &k.p };
+            Value::Approximate {
+                rows: m.nrows(),
+                cols: m.ncols(),
+                candidates: vec![(0..m.nrows())
+                    .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
+                    .collect()],
+                note: format!(
+                    "f64 by structured doubling ({} doublings, Riccati residual {:.1e}); no small-fraction solution satisfies the equation exactly",
+                    k.iterations, k.residual
+                ),
+            }
+        }
+    };
+    Ok(Computed {
+        value,
+        derivation: d,
+    })
+}

@@ -38,3 +38,11 @@ print("reduced-order L, ladder, poles -4, -4:", observer_gain(A22, A12, [-4, -4]
 # Detectable: Stoustrup's series connection measured at x1 (x2 unobservable, mode -1)
 # observable part in the coordinates T = [e1 e2]: A_oo = -1, C_o = 1
 print("detectable K_o (pole -3):", observer_gain([[-1]], [[1]], [-3]).ravel())
+
+# Discrete Kalman filter of the sampled double integrator (T = 0.1, process noise through Gamma)
+Ad = np.array([[1, 0.1], [0, 1]])
+Gd = np.array([[0.005], [0.1]])
+Cd = np.array([[1, 0]])
+for rn in (0.01, 1 / 7):
+    L, P, E = control.dlqe(Ad, Gd, Cd, 1.0, rn)
+    print(f"dlqe R_n = {rn:.6g}: L", np.round(L.ravel(), 8), "P", np.round(P.ravel(), 8))
