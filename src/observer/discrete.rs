@@ -1,7 +1,7 @@
 //! Discrete-time observers, exact. For x(k+1) = A x(k) + B u(k), y(k) = C x(k) the observer
 //! gain formulas are those of continuous time (Di Ruscio §2.2: only where the poles go changes,
 //! inside the unit circle instead of the left half-plane), so the design reuses
-//! [`design_with`](super::design_with) on the polynomial in z, and adds what is particular to
+//! [`design_with`] on the polynomial in z, and adds what is particular to
 //! sampled systems:
 //!
 //! * the **prediction** estimator x̄(k+1) = A x̄(k) + B u(k) + K (y(k) − C x̄(k)), error matrix

@@ -215,7 +215,7 @@ fn exact_solution(
         .ok()?
         .mul(&a.transpose())
         .ok()?
-        .sub(&l.mul(&c).ok()?.mul(&p).ok()?.mul(&a.transpose()).ok()?)
+        .sub(&l.mul(c).ok()?.mul(&p).ok()?.mul(&a.transpose()).ok()?)
         .ok()?
         .add(&g.mul(qn).ok()?.mul(&g.transpose()).ok()?)
         .ok()?;
