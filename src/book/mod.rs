@@ -114,11 +114,15 @@ impl BookContext {
         for c in &r.claims {
             let _ = writeln!(
                 out,
-                "| {} | {} | `{}` | `{}` | **{}** |",
+                "| {} | {} | `{}` | `{}` | <span class=\"owb-verdict-{}\">{}</span> |",
                 cell(&c.id),
                 cell(&c.source),
                 c.printed.replace('|', "\\|").replace('\n', " "),
                 c.recomputed.replace('|', "\\|").replace('\n', " "),
+                match c.verdict {
+                    crate::worked::Verdict::HoldsApproximately => "approx",
+                    v => v.key(),
+                },
                 c.verdict.word()
             );
         }
