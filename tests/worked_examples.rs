@@ -72,7 +72,10 @@ fn the_committed_errata_report_is_current() {
             verify_example(f, &ex, &raw).unwrap()
         })
         .collect();
-    let generated = errata_markdown(&reports);
+    let generated = observer_workbench::worked::errata_markdown_titled(
+        &reports,
+        &observer_workbench::worked::coverage::titles(&folder()),
+    );
     let committed =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("book/src/errata.md"))
             .expect(

@@ -20,9 +20,7 @@ pub mod widgets;
 
 use crate::exercise::{answer_key, load_exercise};
 use crate::simulation::plot::svg;
-use crate::worked::{
-    errata_markdown, load_example, load_folder, run_scenarios, verify_example, ExampleReport,
-};
+use crate::worked::{load_example, load_folder, run_scenarios, verify_example, ExampleReport};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
@@ -315,7 +313,8 @@ impl BookContext {
             let (ex, raw) = load_example(f).map_err(|e| e.to_string())?;
             reports.push(verify_example(f, &ex, &raw).map_err(|e| e.to_string())?);
         }
-        let md = errata_markdown(&reports);
+        let md =
+            crate::worked::errata_markdown_titled(&reports, &crate::worked::coverage::titles(&dir));
         // the chapter has its own title
         Ok(md
             .lines()

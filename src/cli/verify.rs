@@ -9,8 +9,8 @@
 use super::args::print_json;
 use super::Outcome;
 use crate::worked::{
-    errata_markdown, load_example, load_folder, render_derivations, render_table, report_json,
-    verify_example, Summary,
+    errata_markdown_titled, load_example, load_folder, render_derivations, render_table,
+    report_json, verify_example, Summary,
 };
 use anyhow::{bail, Context, Result};
 use std::path::PathBuf;
@@ -66,7 +66,8 @@ pub fn run(args: Args) -> Result<Outcome> {
         Vec::new()
     };
     if let Some(path) = &args.errata {
-        super::args::write_atomically(path, &errata_markdown(&reports))
+        let titles = crate::worked::coverage::titles(&dir);
+        super::args::write_atomically(path, &errata_markdown_titled(&reports, &titles))
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {

@@ -259,3 +259,13 @@ pub fn check(
     }
     Ok(totals)
 }
+
+/// Document file → author and title, from the coverage lists of `dir` (empty when there are
+/// none or they cannot be read: titles only label reports).
+pub fn titles(dir: &Path) -> BTreeMap<String, String> {
+    load(dir)
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(_, l)| (l.document, l.title))
+        .collect()
+}

@@ -29,7 +29,9 @@ pub use format::{
     SystemSpec,
 };
 pub use inputs::{ComputeError, Computed, Inputs};
-pub use report::{errata_markdown, render_derivations, render_table, report_json};
+pub use report::{
+    errata_markdown, errata_markdown_titled, render_derivations, render_table, report_json,
+};
 pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
 pub use value::{compare, Agreement, Value};
 pub use verify::{

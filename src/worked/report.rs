@@ -124,6 +124,16 @@ pub fn report_json(reports: &[ExampleReport]) -> serde_json::Value {
 /// values that hold only approximately, prints the document leaves undefined, and (never
 /// expected) unexplained mismatches.
 pub fn errata_markdown(reports: &[ExampleReport]) -> String {
+    errata_markdown_titled(reports, &std::collections::BTreeMap::new())
+}
+
+/// [`errata_markdown`] grouped by source document, each headed by its author and title
+/// (`titles`: document file → title, from the coverage lists; the file name where none is
+/// known), then by severity; each entry names its worked example.
+pub fn errata_markdown_titled(
+    reports: &[ExampleReport],
+    titles: &std::collections::BTreeMap<String, String>,
+) -> String {
     use super::format::Severity;
     let mut out = String::from(
         "# Errata in the source documents\n\n\
@@ -151,20 +161,38 @@ pub fn errata_markdown(reports: &[ExampleReport]) -> String {
         }),
     ];
     let mut any = false;
-    for r in reports {
-        if r.claims.iter().all(|c| c.verdict == Verdict::Holds) {
+    let mut documents: Vec<&str> = reports.iter().map(|r| r.document.as_str()).collect();
+    documents.sort_unstable();
+    documents.dedup();
+    for doc in documents {
+        let mine: Vec<&ExampleReport> = reports.iter().filter(|r| r.document == doc).collect();
+        if mine
+            .iter()
+            .all(|r| r.claims.iter().all(|c| c.verdict == Verdict::Holds))
+        {
             continue;
         }
         any = true;
-        out.push_str(&format!("## {} (`{}`)\n\n", r.title, r.document));
+        match titles.get(doc) {
+            Some(t) => out.push_str(&format!("## {t} (`{doc}`)\n\n")),
+            None => out.push_str(&format!("## `{doc}`\n\n")),
+        }
         for (heading, belongs) in &groups {
-            let items: Vec<_> = r.claims.iter().filter(|c| belongs(c)).collect();
+            let items: Vec<(&ExampleReport, &super::verify::ClaimReport)> = mine
+                .iter()
+                .flat_map(|r| r.claims.iter().filter(|c| belongs(c)).map(move |c| (*r, c)))
+                .collect();
             if items.is_empty() {
                 continue;
             }
             out.push_str(&format!("### {heading}\n\n"));
-            for c in items {
-                out.push_str(&format!("#### {} — {}\n\n", c.source, c.verdict.word()));
+            for (r, c) in items {
+                out.push_str(&format!(
+                    "#### {} — {} (*{}*)\n\n",
+                    c.source,
+                    c.verdict.word(),
+                    r.title
+                ));
                 out.push_str(&format!("- printed: `{}`\n", one_line(&c.printed)));
                 out.push_str(&format!("- recomputed: `{}`\n", one_line(&c.recomputed)));
                 out.push_str(&format!("- {}\n\n", one_line(&c.explanation)));
