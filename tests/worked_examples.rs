@@ -2,8 +2,7 @@
 //! recomputed, and a corrupted print is caught.
 
 use observer_workbench::worked::{
-    errata_markdown, load_example, load_folder, render_derivations, render_table, verify_example,
-    Summary, Verdict,
+    load_example, load_folder, render_derivations, render_table, verify_example, Summary, Verdict,
 };
 use std::path::{Path, PathBuf};
 
