@@ -179,7 +179,7 @@ impl BookContext {
             .collect::<Vec<_>>()
             .join("\n");
         let mut out = format!(
-            "<figure class=\"owb-figure\">\n{picture}\n<figcaption>{} (`owb simulate {id} --scenario {scenario}`)</figcaption>\n</figure>\n\n",
+            "<figure class=\"owb-figure\">\n{picture}\n<figcaption>{} (<code>owb simulate {id} --scenario {scenario}</code>)</figcaption>\n</figure>\n\n",
             run.figure
         );
         let _ = writeln!(

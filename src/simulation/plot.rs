@@ -20,6 +20,56 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 
 type Series = (Vec<(f64, f64)>, RGBColor, u32, String);
 
+/// At most about `2 × buckets` points: in each bucket of consecutive samples the smallest and
+/// the largest value are kept, in time order, so peaks survive (an 800-pixel-wide figure cannot
+/// show more, and ten thousand points per line made one page of the book 1.8 MB).
+fn thin(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
+    if points.len() <= 2 * buckets {
+        return points;
+    }
+    let size = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets + 1);
+    for chunk in points.chunks(size) {
+        let lo = chunk
+            .iter()
+            .copied()
+            .fold(chunk[0], |a, b| if b.1 < a.1 { b } else { a });
+        let hi = chunk
+            .iter()
+            .copied()
+            .fold(chunk[0], |a, b| if b.1 > a.1 { b } else { a });
+        if lo.0 <= hi.0 {
+            out.extend([lo, hi]);
+        } else {
+            out.extend([hi, lo]);
+        }
+    }
+    if let (Some(last), Some(end)) = (out.last().copied(), points.last().copied()) {
+        if last.0 < end.0 {
+            out.push(end);
+        }
+    }
+    out
+}
+
+/// Tick labels readable at any scale: plain with up to three decimals for ordinary ranges,
+/// scientific for tiny or huge ones (a range of 10⁻⁴ labelled "0.0" at every tick said nothing).
+fn tick(span: f64) -> impl Fn(&f64) -> String {
+    move |v: &f64| {
+        if span < 1e-2 || span >= 1e5 {
+            format!("{v:.2e}")
+        } else {
+            let s = format!("{v:.3}");
+            let s = s.trim_end_matches('0').trim_end_matches('.');
+            if s == "-0" {
+                "0".to_string()
+            } else {
+                s.to_string()
+            }
+        }
+    }
+}
+
 /// One panel: labelled axes, the series, a legend.
 fn panel(
     area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
@@ -40,11 +90,18 @@ fn panel(
         .configure_mesh()
         .x_desc(format!("t ({time_unit})"))
         .y_desc(y_desc)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 15))
+        .y_label_formatter(&tick(hi - lo))
+        .x_label_formatter(&tick(t.1 - t.0))
         .draw()
         .map_err(|e| err(&e))?;
     for (points, color, width, label) in series {
         chart
-            .draw_series(LineSeries::new(points, color.stroke_width(width)))
+            .draw_series(LineSeries::new(
+                thin(points, 400),
+                color.stroke_width(width),
+            ))
             .map_err(|e| err(&e))?
             .label(label)
             .legend(move |(x, y)| {
@@ -76,8 +133,15 @@ pub fn svg(
         let height = 300 * states.len().max(1) as u32 * 2;
         let root = SVGBackend::with_string(&mut text, (800, height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
+        // a title longer than the figure is wide is cut at a word (the caption has it whole)
+        let shown = if title.chars().count() > 84 {
+            let cut: String = title.chars().take(84).collect();
+            format!("{}…", cut.rsplit_once(' ').map_or(cut.as_str(), |(a, _)| a))
+        } else {
+            title.to_string()
+        };
         let root = root
-            .titled(title, ("sans-serif", 20))
+            .titled(&shown, ("sans-serif", 17))
             .map_err(|e| err(&e))?;
         let panels = root.split_evenly((states.len().max(1) * 2, 1));
         let t0 = trace.t.first().copied().unwrap_or(0.0);
