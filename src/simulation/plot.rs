@@ -56,7 +56,7 @@ fn thin(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
 /// scientific for tiny or huge ones (a range of 10⁻⁴ labelled "0.0" at every tick said nothing).
 fn tick(span: f64) -> impl Fn(&f64) -> String {
     move |v: &f64| {
-        if span < 1e-2 || span >= 1e5 {
+        if !(1e-2..1e5).contains(&span) {
             format!("{v:.2e}")
         } else {
             let s = format!("{v:.3}");
