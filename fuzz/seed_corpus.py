@@ -15,7 +15,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 CORPUS = ROOT / "fuzz" / "corpus"
 # the order of CLI_SUBCOMMANDS in src/fuzzing.rs: the cli target's first byte picks one
 SUBCOMMANDS = ["observe", "canonical", "gain", "control", "optimal", "kalman", "perfect", "exercise",
-               "feedback"]
+               "feedback", "discrete", "zoh", "reduced", "detectable", "dlqe"]
 
 
 def put(target, data):
@@ -61,6 +61,13 @@ def main():
         'exercise new --kind pole-placement --order 3 --seed 11',
         'gain --a "[0 1 0; 0 0 1; -1 -2 -3]" --c "[1 0 0]" --butterworth 1/2 --json',
         'feedback --a "[2 -3; 4 -5]" --b "[2; 3]" --poles "-4, -5" --convention u=fx',
+        'discrete --a "[2 -3; 4 -5]" --c "[-3 2]" --poles "1/2, 1/4" --estimator current --json',
+        'discrete --a "[0 1; -2 -3]" --c "[1 0]" --continuous-poles "-4, -5" --period 1/10',
+        'zoh --a "[0 1 0; 0 0 1; 0 0 0]" --b "[0; 0; 1]" --period 1/2',
+        'reduced --a "[-2 1 0; 1 -2 1; 0 1 -2]" --c "[1 0 0; 0 0 1]" --poles "-4"',
+        'detectable --a "[-1 0; 1 -1]" --c "[1 0]" --poles "-3" --json',
+        'dlqe --a "[1 1/10; 0 1]" --g "[1/200; 1/10]" --c "[1 0]" --qn "[1]" --rn "[1/100]"',
+        'exercise new --kind dead-beat --order 2 --student ada',
     ]:
         args = shlex.split(line)
         put("cli", bytes([SUBCOMMANDS.index(args[0])]) + "\n".join(args[1:]).encode())

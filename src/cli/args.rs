@@ -217,19 +217,40 @@ pub struct DesiredArgs {
     bessel: Option<String>,
 }
 
+/// `n` poles from a flag (`--poles "-4, -5"`), as the desired polynomial; errors name the flag.
+pub fn poles_flag(flag: &str, text: &str, n: usize) -> Result<DesiredPolynomial> {
+    let poles =
+        parse_list::<Quadratic>(text).map_err(|e| anyhow!("in {flag}: {}", e.show_in(text)))?;
+    if poles.len() != n {
+        bail!(
+            "in {flag}: {} poles given, the system has order {n}",
+            poles.len()
+        );
+    }
+    Ok(DesiredPolynomial::from_poles(&poles)?)
+}
+
+/// `--method` of the design subcommands other than `gain`: ackermann, bass-gura or canonical.
+pub fn gain_method(text: &str) -> Result<crate::observer::GainMethod> {
+    use crate::observer::GainMethod;
+    GainMethod::parse(text)
+        .filter(|m| *m != GainMethod::Lemma31)
+        .ok_or_else(|| {
+            anyhow!("in --method: unknown method '{text}' (ackermann, bass-gura or canonical)")
+        })
+}
+
+/// `--convention` of the observer subcommands.
+pub fn observer_convention(text: &str) -> Result<crate::observer::Convention> {
+    crate::observer::Convention::parse(text)
+        .ok_or_else(|| anyhow!("in --convention: unknown convention '{text}' (a-kc or a+lc)"))
+}
+
 impl DesiredArgs {
     /// The desired polynomial of degree `n`; errors name the flag.
     pub fn parse(&self, n: usize) -> Result<DesiredPolynomial> {
         Ok(if let Some(p) = &self.poles {
-            let poles =
-                parse_list::<Quadratic>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
-            if poles.len() != n {
-                bail!(
-                    "in --poles: {} poles given, the system has order {n}",
-                    poles.len()
-                );
-            }
-            DesiredPolynomial::from_poles(&poles)?
+            poles_flag("--poles", p, n)?
         } else if let Some(p) = &self.poly {
             let poly = parse_polynomial::<Quadratic>(p, "s")
                 .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;

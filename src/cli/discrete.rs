@@ -10,7 +10,7 @@ use crate::observer::discrete::{
     Estimator, Sampled,
 };
 use crate::observer::float_check::float_check;
-use crate::observer::{Convention, DesiredPolynomial, Detail, GainMethod};
+use crate::observer::{Convention, DesiredPolynomial, Detail};
 use crate::syntax::{parse_list, parse_polynomial};
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -54,15 +54,7 @@ fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
         bail!("in --period: the period maps --continuous-poles; give them too");
     }
     Ok(if let Some(p) = &args.poles {
-        let poles =
-            parse_list::<Quadratic>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
-        if poles.len() != n {
-            bail!(
-                "in --poles: {} poles given, the system has order {n}",
-                poles.len()
-            );
-        }
-        DesiredPolynomial::from_poles(&poles)?
+        super::args::poles_flag("--poles", p, n)?
     } else if let Some(p) = &args.poly {
         let poly = parse_polynomial::<Quadratic>(&p.replace('z', "s"), "s")
             .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
@@ -100,20 +92,8 @@ pub fn run(args: Args) -> Result<Outcome> {
             c.cols()
         );
     }
-    let method = GainMethod::parse(&args.method)
-        .filter(|m| *m != GainMethod::Lemma31)
-        .ok_or_else(|| {
-            anyhow!(
-                "in --method: unknown method '{}' (ackermann, bass-gura or canonical)",
-                args.method
-            )
-        })?;
-    let convention = Convention::parse(&args.convention).ok_or_else(|| {
-        anyhow!(
-            "in --convention: unknown convention '{}' (a-kc or a+lc)",
-            args.convention
-        )
-    })?;
+    let method = super::args::gain_method(&args.method)?;
+    let convention = super::args::observer_convention(&args.convention)?;
     let estimator = Estimator::parse(&args.estimator).ok_or_else(|| {
         anyhow!(
             "in --estimator: unknown estimator '{}' (prediction or current)",

@@ -6,22 +6,9 @@ use super::Outcome;
 use crate::algebra::Rational;
 use crate::observer::detectability::detectable_design;
 use crate::observer::reduced_order::reduced_order_observer;
-use crate::observer::{Convention, GainMethod};
+use crate::observer::Convention;
 use anyhow::{anyhow, Result};
 use serde_json::json;
-
-fn method(m: &str) -> Result<GainMethod> {
-    GainMethod::parse(m)
-        .filter(|m| *m != GainMethod::Lemma31)
-        .ok_or_else(|| {
-            anyhow!("in --method: unknown method '{m}' (ackermann, bass-gura or canonical)")
-        })
-}
-
-fn convention(c: &str) -> Result<Convention> {
-    Convention::parse(c)
-        .ok_or_else(|| anyhow!("in --convention: unknown convention '{c}' (a-kc or a+lc)"))
-}
 
 /// Arguments of `owb reduced`.
 #[derive(clap::Args)]
@@ -53,7 +40,10 @@ pub fn run(args: Args) -> Result<Outcome> {
         .map(|t| matrix::<Rational>("--b", t))
         .transpose()?;
     super::args::check_plant(&a, b.as_ref(), &c, None)?;
-    let (method, convention) = (method(&args.method)?, convention(&args.convention)?);
+    let (method, convention) = (
+        super::args::gain_method(&args.method)?,
+        super::args::observer_convention(&args.convention)?,
+    );
     let order = a.rows().saturating_sub(c.rows());
     let desired = args.desired.parse(order)?;
     let r = reduced_order_observer(&a, b.as_ref(), &c, &desired, method)?;
@@ -130,7 +120,10 @@ pub struct DetectableArgs {
 pub fn detectable(args: DetectableArgs) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     super::args::check_plant(&a, None, &c, None)?;
-    let (method, convention) = (method(&args.method)?, convention(&args.convention)?);
+    let (method, convention) = (
+        super::args::gain_method(&args.method)?,
+        super::args::observer_convention(&args.convention)?,
+    );
     let report = crate::observability::observability_report(&a, &c)?;
     let rank = report.rank;
     if rank == 0 {

@@ -623,6 +623,30 @@ struct ClaimContext<'a> {
     raw: &'a str,
 }
 
+/// Whether the print is reproduced with the erratum's changed inputs (`list`, in words), and
+/// what the check found.
+fn reproduced_with(list: &[String], result: Result<Check, ComputeError>) -> (bool, String) {
+    match result {
+        Ok(c) if c.agreement.holds() => (
+            true,
+            format!(
+                "checked: with {} the print is reproduced {}",
+                list.join(", "),
+                how(&c.agreement, &c)
+            ),
+        ),
+        Ok(c) => (
+            false,
+            format!(
+                "NOT confirmed: with {} the print is still not reproduced ({})",
+                list.join(", "),
+                how(&c.agreement, &c)
+            ),
+        ),
+        Err(e) => (false, format!("NOT confirmed: {e}")),
+    }
+}
+
 /// The checks of a documented erratum: the print reproduced with the erratum's parameters, the
 /// corrected value holding. `(all confirmed, what each check found)`.
 fn erratum_checks(
@@ -646,25 +670,9 @@ fn erratum_checks(
             .iter()
             .map(|(k, v)| format!("{k} = {v}"))
             .collect();
-        match check(ex, claim, asserted, &env2) {
-            Ok(c) if c.agreement.holds() => checks.push(format!(
-                "checked: with {} the print is reproduced {}",
-                list.join(", "),
-                how(&c.agreement, &c)
-            )),
-            Ok(c) => {
-                ok = false;
-                checks.push(format!(
-                    "NOT confirmed: with {} the print is still not reproduced ({})",
-                    list.join(", "),
-                    how(&c.agreement, &c)
-                ));
-            }
-            Err(e) => {
-                ok = false;
-                checks.push(format!("NOT confirmed: {e}"));
-            }
-        }
+        let (confirmed, said) = reproduced_with(&list, check(ex, claim, asserted, &env2));
+        ok &= confirmed;
+        checks.push(said);
     }
     if !err.matrices.is_empty() {
         let mut fixed = claim.clone();
@@ -674,25 +682,9 @@ fn erratum_checks(
             .iter()
             .map(|(k, v)| format!("{k} = {v}"))
             .collect();
-        match check(ex, &fixed, asserted, env) {
-            Ok(c) if c.agreement.holds() => checks.push(format!(
-                "checked: with {} the print is reproduced {}",
-                list.join(", "),
-                how(&c.agreement, &c)
-            )),
-            Ok(c) => {
-                ok = false;
-                checks.push(format!(
-                    "NOT confirmed: with {} the print is still not reproduced ({})",
-                    list.join(", "),
-                    how(&c.agreement, &c)
-                ));
-            }
-            Err(e) => {
-                ok = false;
-                checks.push(format!("NOT confirmed: {e}"));
-            }
-        }
+        let (confirmed, said) = reproduced_with(&list, check(ex, &fixed, asserted, env));
+        ok &= confirmed;
+        checks.push(said);
     }
     if let Some(corrected) = &err.corrected {
         match check(ex, claim, corrected, env) {
