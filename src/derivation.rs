@@ -189,7 +189,13 @@ fn latex_label(label: &str) -> String {
         .all(|c| c.is_ascii_alphanumeric() || "_^(){}−-+ ".contains(c))
         && !label.contains(' ')
     {
-        label.replace('−', "-")
+        // A_cl is A with subscript "cl": braces keep the whole subscript down
+        match label.replace('−', "-").split_once('_') {
+            Some((base, sub)) if sub.chars().count() > 1 && !sub.contains(['{', '_', '^']) => {
+                format!("{base}_{{{sub}}}")
+            }
+            _ => label.replace('−', "-"),
+        }
     } else {
         format!("\\text{{{}}}", label.replace('_', "\\_"))
     }

@@ -79,6 +79,23 @@ fn split_args(text: &str) -> Result<Vec<String>, String> {
     Ok(out)
 }
 
+/// A matrix in input syntax written as the documents write it, entries separated by spaces
+/// (`[1 0; -1 0]`), when no entry holds a space (`[1 + sqrt(2), 3]` keeps its commas).
+fn matlab_spacing(text: &str) -> String {
+    let t = text.trim();
+    let Some(inner) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) else {
+        return text.to_string();
+    };
+    let entries_plain = inner
+        .split([';', ','])
+        .all(|e| !e.trim().is_empty() && !e.trim().contains(' '));
+    if entries_plain && !inner.contains('[') {
+        format!("[{}]", inner.replace(", ", " "))
+    } else {
+        text.to_string()
+    }
+}
+
 fn cell(s: &str) -> String {
     s.replace('|', "\\|")
         .replace('\n', " ")
@@ -116,7 +133,9 @@ impl BookContext {
                 cell(&c.id),
                 cell(&c.source),
                 c.printed.replace('|', "\\|").replace('\n', " "),
-                c.recomputed.replace('|', "\\|").replace('\n', " "),
+                matlab_spacing(&c.recomputed)
+                    .replace('|', "\\|")
+                    .replace('\n', " "),
                 match c.verdict {
                     crate::worked::Verdict::HoldsApproximately => "approx",
                     v => v.key(),
@@ -189,10 +208,16 @@ impl BookContext {
         );
         out.push_str("| error | ∫e² dt | overshoot | settling (s) | steady RMS | max \\|e\\|/max \\|x\\| |\n|---|---|---|---|---|---|\n");
         for s in &run.summary {
+            // an overshoot is relative to the initial error: none without one
+            let overshoot = if s.initial_error == 0.0 {
+                "— (e(0) = 0)".to_string()
+            } else {
+                format!("{:.4}", s.overshoot)
+            };
             let _ = writeln!(
                 out,
-                "| e{} | {:.4e} | {:.4} | {:.3} | {:.3e} | {:.3e} |",
-                s.state, s.ise, s.overshoot, s.settling_time, s.steady_rms, s.max_relative_error
+                "| e{} | {:.4e} | {overshoot} | {:.3} | {:.3e} | {:.3e} |",
+                s.state, s.ise, s.settling_time, s.steady_rms, s.max_relative_error
             );
         }
         let mine: Vec<_> = checks.iter().filter(|c| c.scenario == scenario).collect();

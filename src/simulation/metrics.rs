@@ -21,6 +21,8 @@ pub struct StateSummary {
     pub ise: f64,
     /// Swing past zero relative to `|e(0)|`.
     pub overshoot: f64,
+    /// `e(0)`: when it is zero the overshoot is undefined (reported as 0).
+    pub initial_error: f64,
     /// Settling time (s); the horizon when it never settles.
     pub settling_time: f64,
     /// RMS of `e` over the last quarter.
@@ -64,6 +66,7 @@ pub fn summarize(trace: &Trace) -> Vec<StateSummary> {
                 state: i + 1,
                 ise,
                 overshoot,
+                initial_error: e0,
                 settling_time,
                 steady_rms,
                 max_relative_error: if xpeak > 0.0 {
