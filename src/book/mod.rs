@@ -10,6 +10,7 @@
 //! | `{{#owb variant}}` | a form giving each student their own generated exercise, checked in the browser |
 //! | `{{#owb playground}}` | the workbench in the page: gain, observability, canonical form, worked examples verified |
 //! | `{{#owb errata}}` | the errata found in the documents |
+//! | `{{#owb value EXAMPLE CLAIM}}` | a claim's recomputed value, inline (the build fails if the claim is a mismatch) |
 //! | `{{#owb coverage}}` | every document's checkable statements, each with what checks it or why nothing does |
 //! | `{{#owb run ARGS…}}` | the output of `owb ARGS…` (quotes group words) |
 //!
@@ -330,6 +331,23 @@ impl BookContext {
         Ok(format!("\n{}\n", widgets::playground(&examples)))
     }
 
+    /// A claim's recomputed value, inline, for prose that quotes a number: the build fails when
+    /// the claim is a mismatch, so the sentence cannot outlive its number.
+    fn value(&self, id: &str, claim: &str) -> Result<String, String> {
+        let r = self.report(id)?;
+        let c = r
+            .claims
+            .iter()
+            .find(|c| c.id == claim)
+            .ok_or_else(|| format!("example '{id}' has no claim '{claim}'"))?;
+        if c.verdict == crate::worked::Verdict::Mismatch {
+            return Err(format!(
+                "claim '{claim}' of '{id}' is a mismatch: the prose quoting it is wrong"
+            ));
+        }
+        Ok(format!("`{}`", matlab_spacing(&c.recomputed)))
+    }
+
     fn errata(&self) -> Result<String, String> {
         let dir = self.root.join("worked_examples");
         let files = load_folder(&dir).map_err(|e| e.to_string())?;
@@ -398,10 +416,11 @@ impl BookContext {
             "variant" => want(0).map(|()| format!("\n{}\n", widgets::variant_form())),
             "playground" => want(0).and_then(|()| self.playground()),
             "coverage" => want(0).and_then(|()| self.coverage()),
+            "value" => want(2).and_then(|()| self.value(&rest[0], &rest[1])),
             "run" if !self.run_commands => Err("run directives are off here".into()),
             "run" => self.run(rest),
             other => Err(format!(
-                "unknown directive '{other}' (verify-table, derivation, figure, exercise, variant, playground, coverage, errata, run)"
+                "unknown directive '{other}' (verify-table, derivation, figure, exercise, variant, playground, coverage, value, errata, run)"
             )),
         }
     }
@@ -556,6 +575,14 @@ mod tests {
         assert!(e.message.contains("unknown directive"));
         assert!(ctx
             .expand("a.md", "{{#owb verify-table no-such-example}}")
+            .is_err());
+        // a quoted value: inline, and refused for a claim that does not exist
+        let v = ctx
+            .expand("a.md", "G1 is {{#owb value baranowski-rc-ladder G1}} here")
+            .unwrap();
+        assert_eq!(v, "G1 is `[6; 14; 14]` here");
+        assert!(ctx
+            .expand("a.md", "{{#owb value baranowski-rc-ladder no-such-claim}}")
             .is_err());
         assert_eq!(ctx.expand("a.md", "plain").unwrap(), "plain");
     }
