@@ -134,7 +134,8 @@ impl BookContext {
                 cell(&c.id),
                 cell(&c.source),
                 c.printed.replace('|', "\\|").replace('\n', " "),
-                matlab_spacing(&c.recomputed)
+                // the value only; how it was obtained is in the verdict's explanation
+                matlab_spacing(c.recomputed.split(" — ").next().unwrap_or(""))
                     .replace('|', "\\|")
                     .replace('\n', " "),
                 match c.verdict {
@@ -149,11 +150,16 @@ impl BookContext {
             .iter()
             .filter(|c| c.verdict != crate::worked::Verdict::Holds)
             .map(|c| {
+                // the first sentence; the whole explanation and its check are in the errata chapter
+                let first = c
+                    .explanation
+                    .split_once(". ")
+                    .map_or(c.explanation.as_str(), |(a, _)| a);
                 format!(
-                    "- **{}** ({}): {}",
+                    "- **{}** ({}): {}. [The whole explanation and its check.](errata.md)",
                     c.id,
                     c.verdict.word(),
-                    cell(&c.explanation)
+                    cell(first.trim_end_matches('.'))
                 )
             })
             .collect();
