@@ -2,7 +2,8 @@
 //! recomputed, and a corrupted print is caught.
 
 use observer_workbench::worked::{
-    load_example, load_folder, render_derivations, render_table, verify_example, Summary, Verdict,
+    load_example, load_folder, render_derivations, render_table, verify_example, ExampleReport,
+    Summary, Verdict,
 };
 use std::path::{Path, PathBuf};
 
@@ -86,26 +87,40 @@ fn the_committed_errata_report_is_current() {
     );
 }
 
+/// A copy of the shipped example `name` with one print replaced (`from` → `to`), written to a
+/// temporary folder `tag` and verified: its path and report.
+fn verify_corrupted(name: &str, from: &str, to: &str, tag: &str) -> (PathBuf, ExampleReport) {
+    let text = std::fs::read_to_string(folder().join(name)).unwrap();
+    let corrupted = text.replacen(from, to, 1);
+    assert_ne!(text, corrupted, "{from} is not in {name}");
+    let dir = std::env::temp_dir().join(format!("owb-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, &corrupted).unwrap();
+    let (ex, raw) = load_example(&path).unwrap();
+    let report = verify_example(&path, &ex, &raw).unwrap();
+    (path, report)
+}
+
+/// The mismatches of a report.
+fn mismatches(r: &ExampleReport) -> Vec<&observer_workbench::worked::ClaimReport> {
+    r.claims
+        .iter()
+        .filter(|c| c.verdict == Verdict::Mismatch)
+        .collect()
+}
+
 /// A copy of an example with one printed value changed must be reported as a mismatch, and
 /// `owb verify` must exit 1.
 #[test]
 fn a_corrupted_print_is_a_mismatch_and_exit_code_1() {
-    let src = folder().join("stoustrup-pole-assignment.toml");
-    let text = std::fs::read_to_string(&src).unwrap();
-    let corrupted = text.replacen("printed = \"[-6; -12]\"", "printed = \"[-6; -13]\"", 1);
-    assert_ne!(text, corrupted);
-    let dir = std::env::temp_dir().join(format!("owb-corrupt-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("stoustrup-pole-assignment.toml");
-    std::fs::write(&path, &corrupted).unwrap();
-
-    let (ex, raw) = load_example(&path).unwrap();
-    let r = verify_example(&path, &ex, &raw).unwrap();
-    let bad: Vec<_> = r
-        .claims
-        .iter()
-        .filter(|c| c.verdict == Verdict::Mismatch)
-        .collect();
+    let (path, r) = verify_corrupted(
+        "stoustrup-pole-assignment.toml",
+        "printed = \"[-6; -12]\"",
+        "printed = \"[-6; -13]\"",
+        "corrupt",
+    );
+    let bad = mismatches(&r);
     assert_eq!(bad.len(), 1);
     assert_eq!(bad[0].id, "L");
 
@@ -117,7 +132,7 @@ fn a_corrupted_print_is_a_mismatch_and_exit_code_1() {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["summary"]["mismatch"], 1);
     assert_eq!(json["examples"][0]["document"], "001_7629475c4a00cd3e.txt");
-    std::fs::remove_dir_all(&dir).ok();
+    std::fs::remove_dir_all(path.parent().unwrap()).ok();
 }
 
 /// Malformed files are bad input (exit 2) with file, line and field named.
@@ -218,7 +233,6 @@ fn approximate_and_unreproducible_verdicts_are_checked() {
 #[test]
 fn symbolic_identities_are_proved_and_a_wrong_one_refuted() {
     let src = folder().join("diruscio-butterworth.toml");
-    let text = std::fs::read_to_string(&src).unwrap();
     let (ex, raw) = load_example(&src).unwrap();
     let r = verify_example(&src, &ex, &raw).unwrap();
     let proved: Vec<&str> = r
@@ -234,23 +248,13 @@ fn symbolic_identities_are_proved_and_a_wrong_one_refuted() {
     ] {
         assert!(proved.contains(&id), "{id} not proved: {proved:?}");
     }
-    let wrong = text.replacen(
+    let (path, r) = verify_corrupted(
+        "diruscio-butterworth.toml",
         "printed = \"[a1 + sqrt(2)/T; a2 + 1/T^2]\"",
         "printed = \"[a1 + sqrt(2)/T; a2 + 2/T^2]\"",
-        1,
+        "refuted",
     );
-    assert_ne!(text, wrong);
-    let dir = std::env::temp_dir().join(format!("owb-refuted-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("diruscio-butterworth.toml");
-    std::fs::write(&path, &wrong).unwrap();
-    let (ex, raw) = load_example(&path).unwrap();
-    let r = verify_example(&path, &ex, &raw).unwrap();
-    let bad: Vec<_> = r
-        .claims
-        .iter()
-        .filter(|c| c.verdict == Verdict::Mismatch)
-        .collect();
+    let bad = mismatches(&r);
     assert_eq!(bad.len(), 1);
     assert_eq!(bad[0].id, "butterworth-gain-order-2");
     assert!(
@@ -260,7 +264,7 @@ fn symbolic_identities_are_proved_and_a_wrong_one_refuted() {
         "{}",
         bad[0].explanation
     );
-    std::fs::remove_dir_all(&dir).ok();
+    std::fs::remove_dir_all(path.parent().unwrap()).ok();
 }
 
 /// Every source document has a coverage list, every list fits the examples (its claims and

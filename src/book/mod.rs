@@ -171,13 +171,17 @@ impl BookContext {
         Ok(out)
     }
 
-    fn derivation(&self, id: &str, claim: &str) -> Result<String, String> {
-        let r = self.report(id)?;
-        let c = r
+    /// One claim of an example, verified.
+    fn claim(&self, id: &str, claim: &str) -> Result<crate::worked::ClaimReport, String> {
+        self.report(id)?
             .claims
-            .iter()
+            .into_iter()
             .find(|c| c.id == claim)
-            .ok_or_else(|| format!("example '{id}' has no claim '{claim}'"))?;
+            .ok_or_else(|| format!("example '{id}' has no claim '{claim}'"))
+    }
+
+    fn derivation(&self, id: &str, claim: &str) -> Result<String, String> {
+        let c = self.claim(id, claim)?;
         let mut out = format!(
             "*Derivation of `{}` ({}), computed by the workbench — verdict: **{}**.*\n\n$$\n{}\n$$\n",
             c.id,
@@ -340,12 +344,7 @@ impl BookContext {
     /// A claim's recomputed value, inline, for prose that quotes a number: the build fails when
     /// the claim is a mismatch, so the sentence cannot outlive its number.
     fn value(&self, id: &str, claim: &str) -> Result<String, String> {
-        let r = self.report(id)?;
-        let c = r
-            .claims
-            .iter()
-            .find(|c| c.id == claim)
-            .ok_or_else(|| format!("example '{id}' has no claim '{claim}'"))?;
+        let c = self.claim(id, claim)?;
         if c.verdict == crate::worked::Verdict::Mismatch {
             return Err(format!(
                 "claim '{claim}' of '{id}' is a mismatch: the prose quoting it is wrong"

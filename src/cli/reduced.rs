@@ -47,19 +47,12 @@ pub fn run(args: Args) -> Result<Outcome> {
     let order = a.rows().saturating_sub(c.rows());
     let desired = args.desired.parse(order)?;
     let r = reduced_order_observer(&a, b.as_ref(), &c, &desired, method)?;
-    let sign = |m: &crate::linalg::Matrix<crate::algebra::Quadratic>| {
-        if convention == Convention::AMinusKC {
-            m.clone()
-        } else {
-            m.neg()
-        }
-    };
     if args.json {
         let mut out = json!({
             "convention": convention.flag(),
             "method": method.flag(),
             "q": json_matrix(&r.q),
-            "gain": json_matrix(&sign(&r.l)),
+            "gain": json_matrix(&r.gain(convention)),
             "f": json_matrix(&r.f),
             "g": json_matrix(&r.g),
             "direct": json_matrix(&r.direct),
@@ -82,7 +75,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         "L (A₂₂ + L A₁₂)"
     };
     outln!("Result (reduced-order observer of order {order}, {method} method):");
-    outln!("  {letter} = {}", sign(&r.l).to_input());
+    outln!("  {letter} = {}", r.gain(convention).to_input());
     if let Some(k) = r.output {
         outln!("  designed with output {} (the row of A₁₂ that observes the unmeasured states); the other columns of L are zero", k + 1);
     }

@@ -36,6 +36,16 @@ impl Convention {
             Convention::APlusLC => -1.0,
         }
     }
+    /// A gain computed in the A − KC sign, written in this convention (K, or L = −K): the one
+    /// place the sign flips, through [`ObserverGain::to_convention`].
+    pub fn from_a_minus_kc<F: Ring>(self, k: &Matrix<F>) -> Matrix<F> {
+        ObserverGain {
+            matrix: k.clone(),
+            convention: Convention::AMinusKC,
+        }
+        .to_convention(self)
+        .matrix
+    }
     /// Parses `a-kc` / `a+lc` (case and spaces ignored).
     pub fn parse(s: &str) -> Option<Self> {
         let t: String = s

@@ -113,11 +113,7 @@ pub fn detectable_design(
     let k_o = observable_part.gain.matrix.clone();
     let padded = k_o.vstack(&Matrix::zeros(n - r, 1))?;
     let k = t.map(|x| Quadratic::rational(x.clone())).mul(&padded)?;
-    let shown = if convention == Convention::AMinusKC {
-        k.clone()
-    } else {
-        k.neg()
-    };
+    let shown = convention.from_a_minus_kc(&k);
     d.push("K", "T [K_o; 0]", &k);
     let aq = a.map(|x| Quadratic::rational(x.clone()));
     let cq = c.map(|x| Quadratic::rational(x.clone()));

@@ -94,19 +94,7 @@ pub struct DiscreteObserver {
 
 /// The dead-beat polynomial zⁿ.
 pub fn deadbeat_polynomial(n: usize) -> DesiredPolynomial {
-    // zⁿ: every pole at the origin (rational, so always exact)
-    let poles = vec![Quadratic::zero(); n];
-    DesiredPolynomial::from_poles(&poles).unwrap_or_else(|_| unreachable_zero(n))
-}
-
-fn unreachable_zero(n: usize) -> DesiredPolynomial {
-    let p = Poly::monomial(Quadratic::from_i64(1), n, "s");
-    DesiredPolynomial {
-        family: PolynomialFamily::Coefficients,
-        float: p.map(|_| 0.0),
-        exact: Some(p),
-        inexact_reason: None,
-    }
+    DesiredPolynomial::repeated_root(Quadratic::zero(), n)
 }
 
 fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
@@ -155,12 +143,7 @@ pub fn discrete_observer(
             derivation.push("L_c", "A⁻¹ K (current estimator)", &l_c);
             let m = aq.sub(&l_c.mul(&cq)?.mul(&aq)?)?;
             derivation.push("A − L_c C A", "error matrix of x̂", &m);
-            let shown = if convention == Convention::AMinusKC {
-                l_c
-            } else {
-                l_c.neg()
-            };
-            (m, Some(shown))
+            (m, Some(convention.from_a_minus_kc(&l_c)))
         }
     };
     let error_polynomial = linalg::characteristic_polynomial(&error_matrix, "z")?;
@@ -242,7 +225,11 @@ pub fn from_continuous_poles(
         return Err(DiscreteError::Period(t.to_string()));
     }
     if poles.iter().all(Zero::is_zero) {
-        return Ok(deadbeat_like_ones(poles.len()));
+        // s = 0 maps to z = 1 exactly: (z − 1)ⁿ
+        return Ok(DesiredPolynomial::repeated_root(
+            Quadratic::from_i64(1),
+            poles.len(),
+        ));
     }
     // ∏ (z − z_i) in f64, complex pairs multiplied out
     let mut coeffs: Vec<(f64, f64)> = vec![(1.0, 0.0)];
@@ -266,12 +253,6 @@ pub fn from_continuous_poles(
             "z = e^(sT) with T = {t} is transcendental for every rational sT ≠ 0 (Lindemann): the poles are known in f64 only"
         )),
     })
-}
-
-fn deadbeat_like_ones(n: usize) -> DesiredPolynomial {
-    // s = 0 maps to z = 1 exactly: (z − 1)ⁿ
-    let ones = vec![Quadratic::from_i64(1); n];
-    DesiredPolynomial::from_poles(&ones).unwrap_or_else(|_| unreachable_zero(n))
 }
 
 /// A continuous plant sampled with a zero-order hold: Φ = e^(AT), Γ = ∫₀ᵀ e^(Aτ) dτ B.

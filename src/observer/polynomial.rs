@@ -111,6 +111,13 @@ fn float_of(p: &Poly<Quadratic>) -> Poly<f64> {
 }
 
 impl DesiredPolynomial {
+    /// (s − root)ⁿ, exact: the dead-beat zⁿ (root 0) or the image (z − 1)ⁿ of s = 0.
+    pub fn repeated_root(root: Quadratic, n: usize) -> Self {
+        let roots = vec![root; n];
+        let p = Poly::from_roots(&roots, "s");
+        DesiredPolynomial::exact(PolynomialFamily::Poles(roots), p)
+    }
+
     /// An exact polynomial.
     fn exact(family: PolynomialFamily, p: Poly<Quadratic>) -> Self {
         DesiredPolynomial {

@@ -81,6 +81,13 @@ pub struct ReducedOrderObserver {
     pub derivation: Derivation,
 }
 
+impl ReducedOrderObserver {
+    /// The gain in the convention asked for: L of A₂₂ − L A₁₂, or its negative for a+lc.
+    pub fn gain(&self, convention: Convention) -> Matrix<Quadratic> {
+        convention.from_a_minus_kc(&self.l)
+    }
+}
+
 fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
     m.map(|x| Quadratic::rational(x.clone()))
 }

@@ -102,11 +102,7 @@ pub fn reduced(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     .map_err(|e| failed(e.to_string()))?;
     let convention = inputs.convention(Convention::AMinusKC)?;
     let value = match inputs.claim.what {
-        Computation::ReducedOrderGain => Value::Matrix(if convention == Convention::AMinusKC {
-            r.l.clone()
-        } else {
-            r.l.neg()
-        }),
+        Computation::ReducedOrderGain => Value::Matrix(r.gain(convention)),
         Computation::ReducedOrderNoiseGain => Value::Scalar(r.noise_gain.clone()),
         _ => Value::Polynomial(r.error_polynomial.with_var(&inputs.var())),
     };

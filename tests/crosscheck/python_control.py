@@ -46,3 +46,34 @@ Cd = np.array([[1, 0]])
 for rn in (0.01, 1 / 7):
     L, P, E = control.dlqe(Ad, Gd, Cd, 1.0, rn)
     print(f"dlqe R_n = {rn:.6g}: L", np.round(L.ravel(), 8), "P", np.round(P.ravel(), 8))
+
+# The values the course's examples print beside those above, computed here too (none is typed):
+A = np.array([[2, -3], [4, -5]], float)
+C = np.array([[-3, 2]], float)
+K = observer_gain(A, C, [0, 0])
+E = A - K @ C
+steps = next(k for k in range(1, 5) if np.allclose(np.linalg.matrix_power(E, k), 0))
+print("dead-beat steps (first k with (A - KC)^k = 0):", steps)
+K = observer_gain(A, C, [0.5, 0.25])
+Lc = np.linalg.solve(A, K)
+print("current estimator polynomial det(zI - (A - Lc C A)):", np.poly(A - Lc @ C @ A))
+# reduced order, ladder at x1: error polynomial and the direct noise gain of D_y = [1; L]
+A = np.array([[-2, 1, 0], [1, -2, 1], [0, 1, -2]], float)
+L = observer_gain(A[1:, 1:], A[0:1, 1:], [-4, -4])
+print("ladder reduced-order error polynomial:", np.poly(A[1:, 1:] - L @ A[0:1, 1:]))
+print("ladder sum of D_y^2:", float(np.sum(np.vstack([[[1.0]], L]) ** 2)))
+# reduced order, Stoustrup's plant: Q = [C; e1] (C completed with the first unit row)
+A = np.array([[2, -3], [4, -5]], float)
+Q = np.array([[-3, 2], [1, 0]], float)
+Ab = Q @ A @ np.linalg.inv(Q)
+print("Stoustrup reduced-order L (pole -4):", observer_gain(Ab[1:, 1:], Ab[0:1, 1:], [-4]).ravel())
+# detectability: the unobservable modes (eigenvalues of A on ker O) and the observer polynomial
+for A, C in (([[-1, 0], [1, -1]], [[1, 0]]), ([[1, 0], [0, -1]], [[0, 1]])):
+    A, C = np.array(A, float), np.array(C, float)
+    O = np.vstack([C, C @ A])
+    _, s, vt = np.linalg.svd(O)
+    V = vt[np.sum(s > 1e-9):].T           # ker O
+    modes = np.linalg.eigvals(V.T @ A @ V)
+    print("unobservable modes", modes, "detectable:", "yes" if np.all(modes.real < 0) else "no")
+K = np.array([[2.0], [0.0]])
+print("detectable observer polynomial:", np.poly(np.array([[-1, 0], [1, -1]]) - K @ np.array([[1, 0]])))
