@@ -172,6 +172,7 @@ pub mod control;
 pub mod derivation;
 pub mod exercise;
 pub mod feedback;
+pub mod files;
 pub mod fuzzing;
 pub mod linalg;
 pub mod observability;

@@ -296,7 +296,7 @@ fn grade_never_writes_over_a_submission() {
     std::fs::write(&sub, text).unwrap();
     let (code, _, err) = grade(&dir, &sub, &[]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("is a submission being graded"), "{err}");
+    assert!(err.contains("is an input of this run"), "{err}");
     assert_eq!(std::fs::read_to_string(&sub).unwrap(), text);
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -507,10 +507,12 @@ fn student_variants_are_generated_and_graded_per_student() {
         subs.to_str().unwrap(),
         "--csv",
         csv.to_str().unwrap(),
+        "--order",
+        "2",
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        out.contains("3 submissions graded for their own variants: 1 fully correct, 2 invalid"),
+        out.contains("3 submissions graded for their own variants (pole-placement, order 2, a-kc): 1 fully correct, 2 invalid"),
         "{out}"
     );
     let report = std::fs::read_to_string(&csv).unwrap();
@@ -524,12 +526,37 @@ fn student_variants_are_generated_and_graded_per_student() {
     let theirs = Settings::for_student("eve", 2, 2, "a-kc").id();
     assert!(
         report.contains(&format!(
-            "is not the variant of student 'eve' (theirs is '{theirs}')"
+            "but the variant set for student 'eve' is '{theirs}'"
         )),
         "{report}"
     );
     assert!(
-        report.contains("'stoustrup-pole-assignment' is not a generated exercise's id"),
+        report.contains("answers for exercise 'stoustrup-pole-assignment', but the variant set for student 'bob'"),
+        "{report}"
+    );
+    // a student who chose an easier variant (order 1) is graded against the one set, never theirs
+    let easy = Settings {
+        min_order: 1,
+        max_order: 1,
+        ..Settings::for_student("eve", 1, 1, "a-kc")
+    };
+    std::fs::write(subs.join("eve.toml"), file("eve", &easy.id())).unwrap();
+    let (code, _, err) = owb(&[
+        "grade",
+        "variants",
+        subs.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+        "--order",
+        "2",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let report = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        report
+            .lines()
+            .filter(|r| r.starts_with("eve,"))
+            .all(|r| r.contains(",invalid,")),
         "{report}"
     );
     std::fs::remove_dir_all(&dir).ok();

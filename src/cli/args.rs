@@ -10,9 +10,17 @@ use anyhow::{anyhow, bail, Context, Result};
 
 /// Parses a matrix flag, e.g. `--a "[2 -3; 4 -5]"`.
 pub fn matrix<T: FromExpr>(flag: &str, text: &str) -> Result<Matrix<T>> {
-    parse_matrix::<T>(text)
-        .map_err(|e| anyhow!("{}", e.show_in(text)))
-        .with_context(|| format!("in {flag}"))
+    let m = parse_matrix::<T>(text)
+        .map_err(|e| anyhow!("{}", e.show_in(&crate::files::escape_untrusted(text))))
+        .with_context(|| format!("in {flag}"))?;
+    if m.rows() == 0 || m.cols() == 0 {
+        bail!(
+            "in {flag}: the matrix is empty ({}×{}); a system has at least one state, one input and one output",
+            m.rows(),
+            m.cols()
+        );
+    }
+    Ok(m)
 }
 
 /// Parses a rational flag, e.g. `--repeated 1/4`.
@@ -98,39 +106,6 @@ pub fn find_example(
                 dir.display()
             )
         })
-}
-
-/// Writes through a temporary file and a rename, so a reader never sees half a file.
-pub fn write_atomically(path: &std::path::Path, text: &str) -> Result<()> {
-    write_atomically_with(path, |w| w.write_all(text.as_bytes()))
-}
-
-/// Writes a file through a temporary beside it (`NAME.tmp-owb`), renamed over `path` only when
-/// complete: a failure leaves the old file intact and no temporary behind. A folder is refused.
-pub fn write_atomically_with(
-    path: &std::path::Path,
-    fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
-) -> Result<()> {
-    use std::io::Write;
-    if path.is_dir() {
-        bail!("{} is a folder; give a file name", path.display());
-    }
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(".tmp-owb");
-    let tmp = path.with_file_name(name);
-    let written = (|| -> Result<()> {
-        let file =
-            std::fs::File::create(&tmp).with_context(|| format!("writing {}", tmp.display()))?;
-        let mut out = std::io::BufWriter::new(file);
-        fill(&mut out)
-            .and_then(|()| out.flush())
-            .with_context(|| format!("writing {}", tmp.display()))?;
-        std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))
-    })();
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written
 }
 
 #[cfg(feature = "cli")]

@@ -352,6 +352,8 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
             "eigenvalues": k.eigenvalues.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
             "iterations": k.iterations,
             "residual": k.residual,
+            "spectral_radius": k.spectral_radius,
+            "refined": k.refined,
             "exact": k.exact_p.is_some(),
         });
         if let (Some(p), Some(l)) = (&k.exact_p, &k.exact_gain) {
@@ -395,9 +397,18 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
         .collect();
     outln!("  eigenvalues of A − LC: {}", eig.join(", "));
     outln!(
-        "  {} doublings, Riccati residual ‖Ric(P) − P‖/‖P‖ = {:.3e}",
+        "  {} doublings{}, Riccati residual ‖Ric(P) − P‖/‖P‖ = {:.3e}",
         k.iterations,
+        if k.refined {
+            " then Hewer's Newton iteration from a stabilising gain (the doubling alone did not give the stabilising solution)"
+        } else {
+            ""
+        },
         k.residual
+    );
+    outln!(
+        "  spectral radius of A − LC = {:.6} < 1: the stabilising solution (checked)",
+        k.spectral_radius
     );
     match (&k.exact_p, &k.exact_gain) {
         (Some(p), Some(l)) => {

@@ -1,7 +1,8 @@
 //! `owb check`, `owb grade` and `owb exercise new`: students check their answers, teachers grade
 //! a class and generate fresh exercises.
 
-use super::args::{examples_folder, print_json, write_atomically, write_atomically_with};
+use super::args::print_json;
+use crate::files::{csv_cell, escape_untrusted, write_safely};
 use super::Outcome;
 use crate::exercise::generate::{pole_placement, Kind, Settings};
 use crate::exercise::{
@@ -37,6 +38,20 @@ pub struct GradeArgs {
     /// A folder for one feedback file per student.
     #[arg(allow_hyphen_values = true, long, value_name = "DIR")]
     feedback: Option<PathBuf>,
+    /// With `variants`: the kind of exercise the class was set (pole-placement, dead-beat,
+    /// reduced-order). Each student's variant is derived from their id and these settings,
+    /// never from the submission.
+    #[arg(allow_hyphen_values = true, long, default_value = "pole-placement")]
+    kind: String,
+    /// With `variants`: the order the class was set (N or N..M; the book's default is 3).
+    #[arg(allow_hyphen_values = true, long, default_value = "3")]
+    order: String,
+    /// With `variants`: the convention the class was set (a-kc or a+lc).
+    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
+    convention: String,
+    /// Machine-readable summary.
+    #[arg(long)]
+    json: bool,
 }
 
 /// Arguments of `owb exercise`.
@@ -81,29 +96,58 @@ struct NewArgs {
     /// Also print the answer key.
     #[arg(long)]
     key: bool,
+    /// Machine-readable output: the exercise's id, text and computed key.
+    #[arg(long)]
+    json: bool,
 }
 
-fn find(exercise: &str) -> Result<PathBuf> {
+/// An exercise found: a file, or one built into the program.
+enum Found {
+    File(PathBuf),
+    BuiltIn(&'static str, &'static str),
+}
+
+/// An exercise by file path, by id in `./worked_examples/exercises`, or by id among the
+/// exercises built into the program (an installed `owb` needs no checkout).
+fn find(exercise: &str) -> Result<Found> {
     let p = Path::new(exercise);
     if p.is_file() {
-        return Ok(p.to_path_buf());
+        return Ok(Found::File(p.to_path_buf()));
     }
-    let dir = examples_folder(Path::new("worked_examples")).join("exercises");
-    let candidate = dir.join(format!("{exercise}.toml"));
-    if candidate.is_file() {
-        return Ok(candidate);
+    let local = Path::new("worked_examples")
+        .join("exercises")
+        .join(format!("{exercise}.toml"));
+    if !exercise.contains(['/', '\\']) && local.is_file() {
+        return Ok(Found::File(local));
+    }
+    if let Some((id, text)) = crate::exercise::builtin(exercise) {
+        return Ok(Found::BuiltIn(id, text));
     }
     bail!(
-        "no exercise '{exercise}' (give a file path or an id in {})",
-        dir.display()
+        "no exercise '{}' (give a file path or an id: {})",
+        escape_untrusted(exercise),
+        crate::exercise::BUILTIN_EXERCISES
+            .iter()
+            .map(|(id, _)| *id)
+            .collect::<Vec<_>>()
+            .join(", ")
     )
 }
 
-fn key_of(exercise: &str) -> Result<(ExerciseFile, AnswerKey)> {
-    let path = find(exercise)?;
-    let (ex, _) = load_exercise(&path)?;
-    let key = answer_key(&path.display().to_string(), &ex)?;
-    Ok((ex, key))
+fn key_of(exercise: &str) -> Result<(ExerciseFile, AnswerKey, Option<PathBuf>)> {
+    match find(exercise)? {
+        Found::File(path) => {
+            let (ex, _) = load_exercise(&path)?;
+            let key = answer_key(&path.display().to_string(), &ex)?;
+            Ok((ex, key, Some(path)))
+        }
+        Found::BuiltIn(id, text) => {
+            let name = format!("{id} (built in)");
+            let ex = crate::exercise::parse_exercise(Path::new(&name), text)?;
+            let key = answer_key(&name, &ex)?;
+            Ok((ex, key, None))
+        }
+    }
 }
 
 fn student_name(path: &Path, given: Option<&str>) -> String {
@@ -114,13 +158,14 @@ fn student_name(path: &Path, given: Option<&str>) -> String {
 }
 
 pub fn check(args: CheckArgs) -> Result<Outcome> {
-    let (ex, key) = key_of(&args.exercise)?;
+    let (ex, key, _) = key_of(&args.exercise)?;
     let (answers, _) = load_answers(&args.answers)?;
     if let Some(id) = &answers.exercise {
         if id != &ex.id {
             bail!(
-                "{}: these answers are for exercise '{id}', not '{}'",
-                args.answers.display(),
+                "{}: these answers are for exercise '{}', not '{}'",
+                escape_untrusted(&args.answers.display().to_string()),
+                escape_untrusted(id),
                 ex.id
             );
         }
@@ -145,23 +190,16 @@ pub fn check(args: CheckArgs) -> Result<Outcome> {
 /// The longest text a report cell holds: feedback quoting a huge answer is cut, said so.
 const MAX_CELL_CHARS: usize = 2000;
 
+/// A report cell: cut at [`MAX_CELL_CHARS`] (said so), safe for spreadsheets
+/// ([`csv_cell`]: no formulas, no invisible characters).
 fn csv_field(s: &str) -> String {
-    let cut;
-    let s = match s.char_indices().nth(MAX_CELL_CHARS) {
-        Some((end, _)) => {
-            cut = format!(
-                "{}… ({} more characters)",
-                &s[..end],
-                s[end..].chars().count()
-            );
-            cut.as_str()
-        }
-        None => s,
-    };
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
+    match s.char_indices().nth(MAX_CELL_CHARS) {
+        Some((end, _)) => csv_cell(&format!(
+            "{}… ({} more characters)",
+            &s[..end],
+            s[end..].chars().count()
+        )),
+        None => csv_cell(s),
     }
 }
 
@@ -179,46 +217,48 @@ struct Graded {
     feedback: Option<String>,
 }
 
-/// Grades one submission: a file that cannot be read, or answers another exercise, is an
-/// `invalid` row (never skipped); otherwise one row per part.
-/// What a class answers: one exercise, or each student their own generated variant.
+/// What a class answers: one exercise, or each student their own generated variant of the
+/// teacher's settings.
 enum Target {
     One { id: String, key: Box<AnswerKey> },
-    Variants,
+    Variants(Settings),
 }
 
-/// The key of the variant a submission answers: its `exercise` id regenerated, refused unless it
-/// is the variant of the submission's `student`.
-fn variant_key(answers: &crate::exercise::AnswerFile) -> std::result::Result<AnswerKey, String> {
-    use crate::exercise::generate::student_seed;
-    let id = answers
-        .exercise
-        .as_deref()
-        .ok_or("a variant's answers name their exercise (exercise = \"generated-…\")")?;
+/// The key of the variant a student was set: derived from the student's id and the teacher's
+/// settings, never from the submission (a submission naming another variant — an easier
+/// order, another kind — is refused, with both named).
+fn variant_key(
+    class: &Settings,
+    answers: &crate::exercise::AnswerFile,
+) -> std::result::Result<(String, AnswerKey), String> {
     let student = answers
         .student
         .as_deref()
+        .filter(|s| !s.trim().is_empty())
         .ok_or("a variant's answers name their student (student = \"…\")")?;
-    let settings =
-        Settings::from_id(id).ok_or_else(|| format!("'{id}' is not a generated exercise's id"))?;
-    if settings.seed != student_seed(student) {
-        let theirs = Settings {
-            kind: settings.kind,
-            ..Settings::for_student(
-                student,
-                settings.min_order,
-                settings.max_order,
-                &settings.convention,
-            )
-        };
-        return Err(format!(
-            "exercise '{id}' is not the variant of student '{student}' (theirs is '{}')",
-            theirs.id()
-        ));
+    let settings = Settings {
+        kind: class.kind,
+        ..Settings::for_student(
+            student,
+            class.min_order,
+            class.max_order,
+            &class.convention,
+        )
+    };
+    let id = settings.id();
+    if let Some(theirs) = answers.exercise.as_deref() {
+        if theirs != id {
+            return Err(format!(
+                "answers for exercise '{}', but the variant set for student '{}' is '{id}'",
+                escape_untrusted(theirs),
+                escape_untrusted(student)
+            ));
+        }
     }
     let text = pole_placement(&settings).map_err(|e| e.to_string())?;
     let ex: ExerciseFile = toml::from_str(&text).map_err(|e| e.to_string())?;
-    answer_key(id, &ex).map_err(|e| e.to_string())
+    let key = answer_key(&id, &ex).map_err(|e| e.to_string())?;
+    Ok((id, key))
 }
 
 fn grade_one(target: &Target, file: &Path, tally: &mut Tally) -> Graded {
@@ -231,62 +271,80 @@ fn grade_one(target: &Target, file: &Path, tally: &mut Tally) -> Graded {
             .map(|p| p.spec.points)
             .sum::<f64>()
             .to_string(),
-        Target::Variants => String::new(),
+        Target::Variants(_) => String::new(),
     };
-    let invalid = |student: &str, why: &str| {
+    let invalid = |student: &str, exercise: &str, why: &str| {
         format!(
-            "{},{},,invalid,,0,{},{}\n",
+            "{},{},,invalid,,0,{},{},{}\n",
             csv_field(student),
             csv_field(&file.display().to_string()),
             total,
-            csv_field(why)
+            csv_field(why),
+            csv_field(exercise)
         )
+    };
+    let class_id = match target {
+        Target::One { id, .. } => id.clone(),
+        Target::Variants(_) => String::new(),
     };
     let answers = match load_answers(file) {
         Err(e) => {
             tally.invalid += 1;
             return Graded {
-                lines: vec![invalid(&student_name(file, None), &e.to_string())],
+                lines: vec![invalid(&student_name(file, None), &class_id, &e.to_string())],
                 feedback: None,
             };
         }
         Ok((answers, _)) => answers,
     };
     let student = student_name(file, answers.student.as_deref());
-    let refused = |tally: &mut Tally, why: &str| {
+    let refused = |tally: &mut Tally, exercise: &str, why: &str| {
         tally.invalid += 1;
         Graded {
-            lines: vec![invalid(&student, why)],
+            lines: vec![invalid(&student, exercise, why)],
             feedback: None,
         }
     };
     let variant;
-    let key = match target {
+    let (exercise, key) = match target {
         Target::One { id: exercise, key } => {
             if let Some(id) = answers.exercise.as_ref().filter(|id| *id != exercise) {
                 return refused(
                     tally,
+                    exercise,
                     &format!("answers for exercise '{id}', not '{exercise}'"),
                 );
             }
-            key
+            (exercise.clone(), &**key)
         }
-        Target::Variants => match variant_key(&answers) {
-            Ok(k) => {
+        Target::Variants(class) => match variant_key(class, &answers) {
+            Ok((id, k)) => {
                 variant = k;
-                &variant
+                (id, &variant)
             }
-            Err(why) => return refused(tally, &why),
+            Err(why) => return refused(tally, "", &why),
         },
     };
-    let report = check_answers(key, &answers, &student);
+    // a bug met by one submission is that submission's row, not the end of the class's grading
+    let report = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        check_answers(key, &answers, &student)
+    })) {
+        Ok(r) => r,
+        Err(_) => {
+            return refused(
+                tally,
+                &exercise,
+                "internal error while checking these answers (a bug in the workbench; please report it)",
+            )
+        }
+    };
     tally.perfect += usize::from(report.all_correct());
     let lines = report
         .parts
         .iter()
         .map(|p| {
             format!(
-                "{},{},{},{},{},{},{},{}\n",
+                "{},{},{},{},{},{},{},{},{}\n",
                 csv_field(&student),
                 csv_field(&file.display().to_string()),
                 csv_field(&p.id),
@@ -299,7 +357,8 @@ fn grade_one(target: &Target, file: &Path, tally: &mut Tally) -> Graded {
                 p.mistake.as_deref().unwrap_or(""),
                 p.score,
                 p.points,
-                csv_field(&p.feedback)
+                csv_field(&p.feedback),
+                csv_field(&exercise)
             )
         })
         .collect();
@@ -309,41 +368,64 @@ fn grade_one(target: &Target, file: &Path, tally: &mut Tally) -> Graded {
     }
 }
 
+/// The order flag: N or N..M.
+fn order_range(flag: &str, order: &str) -> Result<(usize, usize)> {
+    let (lo, hi) = match order.split_once("..") {
+        Some((l, h)) => (l.trim().parse::<usize>(), h.trim().parse::<usize>()),
+        None => (order.trim().parse::<usize>(), order.trim().parse::<usize>()),
+    };
+    let shown = escape_untrusted(order);
+    Ok((
+        lo.map_err(|e| anyhow!("in {flag}: '{shown}': {e} (give N or N..M)"))?,
+        hi.map_err(|e| anyhow!("in {flag}: '{shown}': {e} (give N or N..M)"))?,
+    ))
+}
+
+fn kind_flag(kind: &str) -> Result<Kind> {
+    Kind::parse(kind).ok_or_else(|| {
+        anyhow!(
+            "in --kind: unknown kind '{}' ({})",
+            escape_untrusted(kind),
+            Kind::ALL.map(Kind::name).join(", ")
+        )
+    })
+}
+
 pub fn grade(args: GradeArgs) -> Result<Outcome> {
+    let mut exercise_file = None;
     let target = if args.exercise == "variants" {
-        Target::Variants
+        let (lo, hi) = order_range("--order", &args.order)?;
+        let class = Settings {
+            kind: kind_flag(&args.kind)?,
+            ..Settings::for_student("", lo, hi, &args.convention)
+        };
+        // the settings must generate: refuse a bad order or convention once, not per student
+        pole_placement(&class).map_err(|e| anyhow!("in --order/--convention: {e}"))?;
+        Target::Variants(class)
     } else {
-        let (ex, key) = key_of(&args.exercise)?;
+        let (ex, key, path) = key_of(&args.exercise)?;
+        exercise_file = path;
         Target::One {
             id: ex.id,
             key: Box::new(key),
         }
     };
     let mut files: Vec<PathBuf> = std::fs::read_dir(&args.submissions)
-        .with_context(|| format!("reading {}", args.submissions.display()))?
+        .with_context(|| format!("reading {}", escape_untrusted(&args.submissions.display().to_string())))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     files.sort();
     if files.is_empty() {
-        bail!("no submissions (*.toml) in {}", args.submissions.display());
+        bail!(
+            "no submissions (*.toml) in {}",
+            escape_untrusted(&args.submissions.display().to_string())
+        );
     }
-    // Never write a report over a student's submission (or over the exercise itself).
-    let same = |a: &std::path::Path, b: &std::path::Path| match (a.canonicalize(), b.canonicalize())
-    {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    };
-    for out in std::iter::once(&args.csv) {
-        if let Some(f) = files.iter().find(|f| same(f, out)) {
-            bail!(
-                "in --csv: {} is a submission being graded; write the report elsewhere",
-                f.display()
-            );
-        }
-        if same(std::path::Path::new(&args.exercise), out) {
-            bail!("in --csv: {} is the exercise file", out.display());
-        }
+    // every input of the run is protected from the report and the feedback files
+    let mut inputs: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
+    if let Some(p) = &exercise_file {
+        inputs.push(p);
     }
     if let Some(dir) = &args.feedback {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -353,8 +435,8 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
     let progress = super::progress::Progress::new("grading", files.len());
     let mut tally = Tally::default();
     let mut feedback_error = None;
-    write_atomically_with(&args.csv, |out| {
-        out.write_all(b"student,file,part,verdict,mistake,score,points,feedback\n")?;
+    let written = write_safely(&args.csv, &inputs, |out| {
+        out.write_all(b"student,file,part,verdict,mistake,score,points,feedback,exercise\n")?;
         for file in &files {
             let rows = grade_one(&target, file, &mut tally);
             for row in &rows.lines {
@@ -364,7 +446,8 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
                 let name = file
                     .file_stem()
                     .map_or_else(|| "student".into(), |s| s.to_string_lossy().into_owned());
-                if let Err(e) = write_atomically(&dir.join(format!("{name}.txt")), &text) {
+                let path = dir.join(format!("{name}.txt"));
+                if let Err(e) = write_safely(&path, &inputs, |w| w.write_all(text.as_bytes())) {
                     feedback_error = Some(e);
                     return Err(std::io::Error::other(
                         "a feedback file could not be written",
@@ -374,47 +457,51 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
             progress.inc();
         }
         Ok(())
-    })
-    .map_err(|e| feedback_error.take().unwrap_or(e))?;
+    });
+    if let Err(e) = written {
+        return Err(match feedback_error.take() {
+            Some(f) => anyhow!("in --feedback: {f}"),
+            None => anyhow!("in --csv: {e}"),
+        });
+    }
     progress.finish();
     let Tally {
         students,
         invalid,
         perfect,
     } = tally;
-    outln!(
-        "{students} submissions graded for {}: {perfect} fully correct, {invalid} invalid (reported in {}); report written to {}",
-        match &target {
-            Target::One { id, .. } => id.as_str(),
-            Target::Variants => "their own variants",
-        },
-        args.csv.display(),
-        args.csv.display()
-    );
+    let what = match &target {
+        Target::One { id, .. } => id.clone(),
+        Target::Variants(s) => format!(
+            "their own variants ({}, order {}, {})",
+            s.kind.name(),
+            s.order(),
+            s.convention
+        ),
+    };
+    if args.json {
+        print_json(&serde_json::json!({
+            "exercise": what,
+            "submissions": students,
+            "fully_correct": perfect,
+            "invalid": invalid,
+            "report": args.csv.display().to_string(),
+        }));
+    } else {
+        outln!(
+            "{students} submissions graded for {what}: {perfect} fully correct, {invalid} invalid (reported in {}); report written to {}",
+            args.csv.display(),
+            args.csv.display()
+        );
+    }
     Ok(Outcome::Ok)
 }
 
 pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
     match args.command {
         ExerciseCommand::New(a) => {
-            let kind = Kind::parse(&a.kind).ok_or_else(|| {
-                anyhow!(
-                    "in --kind: unknown kind '{}' ({})",
-                    a.kind,
-                    Kind::ALL.map(Kind::name).join(", ")
-                )
-            })?;
-            let (lo, hi) = match a.order.split_once("..") {
-                Some((l, h)) => (l.trim().parse::<usize>(), h.trim().parse::<usize>()),
-                None => (
-                    a.order.trim().parse::<usize>(),
-                    a.order.trim().parse::<usize>(),
-                ),
-            };
-            let (lo, hi) = (
-                lo.map_err(|e| anyhow!("in --order: '{}': {e} (give N or N..M)", a.order))?,
-                hi.map_err(|e| anyhow!("in --order: '{}': {e} (give N or N..M)", a.order))?,
-            );
+            let kind = kind_flag(&a.kind)?;
+            let (lo, hi) = order_range("--order", &a.order)?;
             let settings = match (&a.student, a.seed) {
                 (Some(student), _) => Settings {
                     kind,
@@ -433,9 +520,24 @@ pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
             let ex: ExerciseFile =
                 toml::from_str(&text).context("the generated exercise does not parse (a bug)")?;
             let key = answer_key("generated", &ex)?;
-            match &a.out {
-                Some(p) => write_atomically(p, &text)?,
-                None => out!("{text}"),
+            if let Some(p) = &a.out {
+                write_safely(p, &[], |w| w.write_all(text.as_bytes()))
+                    .map_err(|e| anyhow!("in --out: {e}"))?;
+            }
+            if a.json {
+                print_json(&serde_json::json!({
+                    "id": ex.id,
+                    "exercise": text,
+                    "out": a.out.as_ref().map(|p| p.display().to_string()),
+                    "key": key.parts.iter().map(|p| serde_json::json!({
+                        "part": p.spec.id,
+                        "answer": p.value.input(),
+                    })).collect::<Vec<_>>(),
+                }));
+                return Ok(Outcome::Ok);
+            }
+            if a.out.is_none() {
+                out!("{text}");
             }
             if a.key {
                 outln!("# answer key (computed)");

@@ -184,8 +184,57 @@ pub fn main() -> ExitCode {
         }
         default_hook(info);
     }));
-    let cli = Cli::parse();
+    if let Err(e) = output::standard_output_open() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() && json_requested() => {
+            // a script asked for JSON: a refused command line is the same JSON object as
+            // any other refusal
+            let text = e.render().to_string();
+            let first = text.lines().next().unwrap_or_default();
+            let message = first.strip_prefix("error: ").unwrap_or(first).to_string();
+            let causes: Vec<String> = text
+                .lines()
+                .skip(1)
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .map(String::from)
+                .collect();
+            outln!(
+                "{}",
+                serde_json::json!({"error": message, "causes": causes, "exit_status": 2})
+            );
+            eprintln!("{text}");
+            return match output::finish() {
+                Ok(()) => ExitCode::from(2),
+                Err(std::io::ErrorKind::BrokenPipe) => ExitCode::from(141),
+                Err(_) => ExitCode::from(2),
+            };
+        }
+        Err(e) => e.exit(),
+    };
     let result = dispatch(cli.command);
+    let status = report(result);
+    // what was written must have arrived: a full disk or a closed standard output is an
+    // error with a non-zero status, a reader gone away the status of SIGPIPE
+    match output::finish() {
+        Ok(()) => status,
+        Err(std::io::ErrorKind::BrokenPipe) => ExitCode::from(141),
+        Err(kind) => {
+            eprintln!(
+                "error: writing standard output failed ({}): the report is incomplete",
+                std::io::Error::from(kind)
+            );
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The status of a finished command, its error printed (as JSON too when asked).
+fn report(result: anyhow::Result<Outcome>) -> ExitCode {
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
         Ok(Outcome::Failed) => ExitCode::from(1),

@@ -5,14 +5,24 @@
 use std::cell::RefCell;
 use std::fmt::Arguments;
 use std::io::Write;
+#[cfg(target_os = "linux")]
+use std::path::Path;
 
 thread_local! {
     static CAPTURE: RefCell<Option<Vec<u8>>> = const { RefCell::new(None) };
 }
 
+/// The first error writing standard output met (a full disk, a closed descriptor, a reader
+/// gone): later writes are skipped and [`finish`] reports it.
+static FAILED: std::sync::Mutex<Option<std::io::ErrorKind>> = std::sync::Mutex::new(None);
+
+fn failed() -> Option<std::io::ErrorKind> {
+    *FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 /// Writes formatted text to the capture buffer if one is active, else to standard output.
-/// A closed standard output panics as `print!` does (the binary's hook turns that into a
-/// quiet exit with status 141).
+/// A write that fails (a full disk, a closed descriptor, the reader gone) is remembered, not
+/// panicked on: [`finish`] turns it into the program's status.
 pub fn write(args: Arguments<'_>) {
     let captured = CAPTURE.with(|c| match c.borrow_mut().as_mut() {
         Some(buf) => {
@@ -21,9 +31,22 @@ pub fn write(args: Arguments<'_>) {
         }
         None => false,
     });
-    if !captured {
-        print!("{args}");
+    if !captured && failed().is_none() {
+        if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+            let mut f = FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            f.get_or_insert(e.kind());
+        }
     }
+}
+
+/// Flushes standard output and says how writing it went: `Ok` when everything written
+/// arrived, else the kind of the first failure (a broken pipe, a full disk, a closed output).
+pub fn finish() -> Result<(), std::io::ErrorKind> {
+    if let Err(e) = std::io::stdout().lock().flush() {
+        let mut f = FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        f.get_or_insert(e.kind());
+    }
+    failed().map_or(Ok(()), Err)
 }
 
 /// Runs `f` with its report captured, and returns the report beside `f`'s result.
@@ -46,4 +69,34 @@ macro_rules! outln {
 /// `print!` into the command's report.
 macro_rules! out {
     ($($t:tt)*) => { $crate::cli::output::write(format_args!($($t)*)) };
+}
+
+/// Refuses to run with a closed standard output (`owb … >&-`): the standard library treats
+/// writes to a closed descriptor as successful, so the report would vanish with status 0,
+/// and the first file the command opened would take the descriptor's place.
+pub fn standard_output_open() -> Result<(), String> {
+    let closed = "standard output is closed: the report would be lost; redirect it to a file (or to /dev/null)";
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd;
+        if std::io::stdout().as_fd().try_clone_to_owned().is_err() {
+            return Err(closed.into());
+        }
+    }
+    // The standard library opens /dev/null read-write in place of a standard descriptor that
+    // was closed at start; a shell's `> /dev/null` opens it write-only. On Linux the two differ.
+    #[cfg(target_os = "linux")]
+    {
+        let null = std::fs::read_link("/proc/self/fd/1").is_ok_and(|p| p == Path::new("/dev/null"));
+        let read_write = std::fs::read_to_string("/proc/self/fdinfo/1").is_ok_and(|info| {
+            info.lines()
+                .find_map(|l| l.strip_prefix("flags:"))
+                .and_then(|f| u32::from_str_radix(f.trim(), 8).ok())
+                .is_some_and(|flags| flags & 0o3 == 0o2)
+        });
+        if null && read_write {
+            return Err(closed.into());
+        }
+    }
+    Ok(())
 }

@@ -1,7 +1,8 @@
 //! `owb simulate`: run a worked example's scenarios (the document's figures), write SVG and
 //! CSV, and check the figures' statements by numbers.
 
-use super::args::{examples_folder, find_example, print_json, write_atomically};
+use super::args::{examples_folder, find_example, print_json};
+use crate::files::write_safely;
 use super::Outcome;
 use crate::simulation::{csv::to_csv, plot::svg};
 use crate::worked::{load_example, load_folder, run_scenarios, ScenarioRun};
@@ -41,6 +42,18 @@ fn target(path: &Path, name: &str, several: bool) -> PathBuf {
     let ext = path
         .extension()
         .map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
+    // a scenario's name comes from a file: only letters, digits, '-' and '_' reach a file
+    // name (no '/', no '..', nothing invisible)
+    let name: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
     path.with_file_name(format!("{stem}-{name}{ext}"))
 }
 
@@ -98,13 +111,18 @@ pub fn run(args: Args) -> Result<Outcome> {
     for r in &chosen {
         if let Some(p) = &args.svg {
             let title = format!("{} — {}", ex.id, r.figure);
-            write_atomically(
-                &target(p, &r.name, several),
-                &svg(&r.trace, &r.plot, &title, &r.time_unit)?,
-            )?;
+            let figure = svg(&r.trace, &r.plot, &title, &r.time_unit)?;
+            write_safely(&target(p, &r.name, several), &[&path], |w| {
+                w.write_all(figure.as_bytes())
+            })
+            .map_err(|e| anyhow::anyhow!("in --svg: {e}"))?;
         }
         if let Some(p) = &args.csv {
-            write_atomically(&target(p, &r.name, several), &to_csv(&r.trace))?;
+            let table = to_csv(&r.trace);
+            write_safely(&target(p, &r.name, several), &[&path], |w| {
+                w.write_all(table.as_bytes())
+            })
+            .map_err(|e| anyhow::anyhow!("in --csv: {e}"))?;
         }
     }
     let shown_checks: Vec<_> = checks

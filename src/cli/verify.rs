@@ -12,7 +12,7 @@ use crate::worked::{
     errata_markdown_titled, load_example, load_folder, render_derivations, render_table,
     report_json, verify_example, Summary,
 };
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use std::path::PathBuf;
 
 /// Arguments of `owb verify`.
@@ -67,8 +67,10 @@ pub fn run(args: Args) -> Result<Outcome> {
     };
     if let Some(path) = &args.errata {
         let titles = crate::worked::coverage::titles(&dir);
-        super::args::write_atomically(path, &errata_markdown_titled(&reports, &titles))
-            .with_context(|| format!("writing {}", path.display()))?;
+        let text = errata_markdown_titled(&reports, &titles);
+        let inputs: Vec<&std::path::Path> = selected.iter().map(PathBuf::as_path).collect();
+        crate::files::write_safely(path, &inputs, |w| w.write_all(text.as_bytes()))
+            .map_err(|e| anyhow::anyhow!("in --errata: {e}"))?;
     }
     if args.json {
         let mut out = report_json(&reports);

@@ -120,7 +120,14 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                 points,
                 feedback: "no answer given".into(),
             },
-            Some(text) => match compare(&part.value, text, &key.env) {
+            Some(text) => match crate::files::first_invisible(text)
+                .map(|at| {
+                    Err(format!(
+                        "the answer holds an invisible or control character ({at}), often pasted from a PDF; retype it"
+                    ))
+                })
+                .unwrap_or_else(|| compare(&part.value, text, &key.env))
+            {
                 Err(message) => PartResult {
                     id: part.spec.id.clone(),
                     prompt: part.spec.prompt.clone(),
@@ -180,10 +187,12 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
         .answers
         .keys()
         .filter(|k| key.part(k).is_none())
-        .cloned()
+        .map(|k| crate::files::escape_untrusted(k))
         .collect();
     Report {
-        student: student.to_string(),
+        // a student's name is echoed to terminals, feedback files and reports: nothing in it
+        // may act on them
+        student: crate::files::escape_untrusted(student),
         exercise: key.example.id.clone(),
         score: parts.iter().map(|p| p.score).sum(),
         points: parts.iter().map(|p| p.points).sum(),

@@ -100,32 +100,38 @@ pub struct AnswerFile {
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
 fn read(path: &Path) -> Result<String, ExerciseError> {
-    let error = |message: String| ExerciseError {
-        file: path.display().to_string(),
+    crate::files::read_untrusted(path, MAX_FILE_BYTES).map_err(|e| ExerciseError {
+        file: crate::files::escape_untrusted(&path.display().to_string()),
         line: 0,
         field: "file".into(),
-        message,
-    };
-    let size = std::fs::metadata(path)
-        .map_err(|e| error(e.to_string()))?
-        .len();
-    if size > MAX_FILE_BYTES {
-        return Err(error(format!(
-            "the file has {size} bytes; the most accepted is {MAX_FILE_BYTES} (1 MiB)"
-        )));
-    }
-    std::fs::read_to_string(path).map_err(|e| error(e.to_string()))
+        message: match e {
+            crate::files::FileError::TooLarge { .. } => {
+                format!("the file has more than {MAX_FILE_BYTES} bytes (1 MiB), the most accepted")
+            }
+            e => e.to_string(),
+        },
+    })
 }
 
 fn toml_error(path: &Path, raw: &str, e: &toml::de::Error) -> ExerciseError {
     let line = e.span().map_or(0, |s| {
         raw[..s.start.min(raw.len())].matches('\n').count() + 1
     });
+    let mut message = e.message().to_string();
+    if let Some(at) = raw
+        .lines()
+        .nth(line.saturating_sub(1))
+        .and_then(crate::files::first_invisible)
+    {
+        message.push_str(&format!(
+            " (line {line} holds an invisible or control character, {at}: retype it)"
+        ));
+    }
     ExerciseError {
-        file: path.display().to_string(),
+        file: crate::files::escape_untrusted(&path.display().to_string()),
         line,
-        field: crate::worked::toml_field(raw, line),
-        message: e.message().to_string(),
+        field: crate::files::escape_untrusted(&crate::worked::toml_field(raw, line)),
+        message: crate::files::escape_untrusted(&message),
     }
 }
 

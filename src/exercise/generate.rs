@@ -53,7 +53,7 @@ pub struct Settings {
 
 impl Settings {
     /// `N` or `N..M`, as `--order` takes it.
-    fn order(&self) -> String {
+    pub fn order(&self) -> String {
         if self.min_order == self.max_order {
             self.min_order.to_string()
         } else {

@@ -20,7 +20,9 @@ pub mod key;
 pub mod mistake;
 
 pub use check::{check_answers, PartResult, PartVerdict, Report};
-pub use format::{load_answers, load_exercise, AnswerFile, ExerciseFile, PartSpec};
+pub use format::{
+    load_answers, load_exercise, parse_answers, parse_exercise, AnswerFile, ExerciseFile, PartSpec,
+};
 pub use key::{answer_key, AnswerKey};
 pub use mistake::Mistake;
 
@@ -36,4 +38,12 @@ pub struct ExerciseError {
     pub field: String,
     /// What is wrong.
     pub message: String,
+}
+
+// `BUILTIN_EXERCISES`, written by build.rs from worked_examples/exercises/*.toml
+include!(concat!(env!("OUT_DIR"), "/builtin_exercises.rs"));
+
+/// A built-in exercise by id: `(id, text)`.
+pub fn builtin(id: &str) -> Option<(&'static str, &'static str)> {
+    BUILTIN_EXERCISES.iter().copied().find(|(i, _)| *i == id)
 }

@@ -47,23 +47,50 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
     ev
 }
 
-/// Singular values, largest first.
-pub fn singular_values(a: &DMatrix<f64>) -> Vec<f64> {
-    let mut s: Vec<f64> = a
+/// The singular value decomposition, sorted (largest first), or `None` when it cannot be
+/// computed: an entry that is infinite or NaN, singular values that overflow, or the
+/// iteration not converging within its bound. nalgebra's `svd` panics ("Singular value was
+/// NaN") or iterates without bound in those cases; this never does.
+pub fn try_svd(
+    a: &DMatrix<f64>,
+    compute_u: bool,
+    compute_v: bool,
+) -> Option<nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>> {
+    if a.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let budget = 100 * a.nrows().max(a.ncols()).max(10);
+    let mut svd = a
         .clone()
-        .svd(false, false)
-        .singular_values
-        .iter()
-        .copied()
-        .collect();
-    s.sort_by(|x, y| y.total_cmp(x));
-    s
+        .try_svd_unordered(compute_u, compute_v, f64::EPSILON, budget)?;
+    if svd.singular_values.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    svd.sort_by_singular_values();
+    Some(svd)
+}
+
+/// Singular values, largest first; NaN values when they cannot be computed (see [`try_svd`]).
+pub fn singular_values(a: &DMatrix<f64>) -> Vec<f64> {
+    // scaled to unit largest entry, so that no intermediate overflows
+    let scale = a.amax();
+    if !(scale.is_finite()) {
+        return vec![f64::NAN; a.nrows().min(a.ncols())];
+    }
+    if scale == 0.0 {
+        return vec![0.0; a.nrows().min(a.ncols())];
+    }
+    match try_svd(&(a / scale), false, false) {
+        Some(svd) => svd.singular_values.iter().map(|x| x * scale).collect(),
+        None => vec![f64::NAN; a.nrows().min(a.ncols())],
+    }
 }
 
 /// The 2-norm condition number `σ_max / σ_min` (infinite when singular).
 pub fn condition_number(a: &DMatrix<f64>) -> f64 {
     let s = singular_values(a);
     match (s.first(), s.last()) {
+        (Some(&hi), _) if hi.is_nan() => f64::NAN,
         (Some(&hi), Some(&lo)) if lo > 0.0 => hi / lo,
         _ => f64::INFINITY,
     }

@@ -561,6 +561,42 @@ pub fn has_full_rank(a: &Matrix<Rational>) -> bool {
         .any(|p| rank_mod(scaled.residues(p), rows, cols, p) == full)
 }
 
+/// Whether the square matrix `a` is cyclic (non-derogatory): some vector v makes the Krylov
+/// matrix [v, Av, …, Aⁿ⁻¹v] nonsingular, so the minimal polynomial of `a` is its
+/// characteristic polynomial. Proved modulo a prime — a Krylov matrix of full rank mod p has
+/// full rank over Q (for `dA`, d a common denominator, which has the same Krylov spaces) —
+/// with a few pseudo-random vectors, O(n³) word operations each. `false` means "not proved".
+pub fn is_cyclic(a: &Matrix<Rational>) -> bool {
+    let n = a.rows();
+    if n == 0 || a.cols() != n {
+        return false;
+    }
+    let d = Rational::common_denominator(a.entries());
+    let scaled = IntMatrix::new(
+        n,
+        n,
+        a.entries().iter().map(|x| x.scale_to_integer(&d)).collect(),
+    );
+    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+    primes().take(3).any(|p| {
+        let m = scaled.residues(p);
+        let mut krylov = Vec::with_capacity(n * n);
+        let mut v: Vec<u64> = (0..n)
+            .map(|_| {
+                seed = seed
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                (seed >> 33) % p
+            })
+            .collect();
+        for _ in 0..n {
+            krylov.extend_from_slice(&v);
+            v = (0..n).map(|i| dot(&m[i * n..(i + 1) * n], &v, p)).collect();
+        }
+        rank_mod(krylov, n, n, p) == n
+    })
+}
+
 /// The determinant of a square rational matrix, exact: the rows are scaled to integers, the
 /// integer determinant is lifted by Chinese remaindering up to Hadamard's bound (exact by
 /// construction), and the row scales are divided out once.

@@ -18,7 +18,7 @@
 
 use super::{design_with, Convention, DesignError, Detail, GainMethod, ObserverDesign};
 use super::{DesiredPolynomial, PolynomialFamily};
-use crate::algebra::{Quadratic, Rational, Ring, Zero};
+use crate::algebra::{Field, Quadratic, Rational, Ring, Zero};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
 use crate::poly::{is_schur, Poly};
@@ -135,25 +135,50 @@ pub fn discrete_observer(
     // the prediction gain in the A − KC sign
     let k = design.gain.to_convention(Convention::AMinusKC).matrix;
     let (aq, cq) = (lift(a), lift(c));
+    // A − KC on the rational path when K is rational (no gcd per Q(√d) operation)
+    let a_minus_kc = match rational_matrix(&k) {
+        Some(kr) => lift(&a.sub(&kr.mul(c)?)?),
+        None => aq.sub(&k.mul(&cq)?)?,
+    };
     let (error_matrix, current_gain) = match estimator {
-        Estimator::Prediction => (aq.sub(&k.mul(&cq)?)?, None),
+        Estimator::Prediction => (a_minus_kc.clone(), None),
         Estimator::Current => {
             let a_inv = linalg::inverse(a).map_err(|_| DiscreteError::SingularA)?;
-            let l_c = lift(&a_inv).mul(&k)?;
+            let (l_c, m) = match rational_matrix(&k) {
+                Some(kr) => {
+                    let l = a_inv.mul(&kr)?;
+                    // L_c C A = L_c (C A): a column times a row
+                    let m = a.sub(&l.mul(&c.mul(a)?)?)?;
+                    (lift(&l), lift(&m))
+                }
+                None => {
+                    let l = lift(&a_inv).mul(&k)?;
+                    let m = aq.sub(&l.mul(&cq.mul(&aq)?)?)?;
+                    (l, m)
+                }
+            };
             derivation.push("L_c", "A⁻¹ K (current estimator)", &l_c);
-            let m = aq.sub(&l_c.mul(&cq)?.mul(&aq)?)?;
             derivation.push("A − L_c C A", "error matrix of x̂", &m);
             (m, Some(convention.from_a_minus_kc(&l_c)))
         }
     };
-    let error_polynomial = linalg::characteristic_polynomial(&error_matrix, "z")?;
+    // det(zI − (A − KC)) was checked exactly by the design (the rank-one update); the current
+    // estimator's error matrix is similar to A − KC, A − L_c C A = A⁻¹(A − KC)A, so both share
+    // the polynomial and the nilpotency index
+    let error_polynomial = design.achieved.clone().with_var("z");
     if estimator == Estimator::Current {
-        derivation.push("det(zI − (A − L_c C A))", "check", &error_polynomial);
+        derivation.push(
+            "det(zI − (A − L_c C A))",
+            "= det(zI − (A − KC)), since A − L_c C A = A⁻¹(A − KC)A",
+            &error_polynomial,
+        );
     }
     let stable = rational_poly(&error_polynomial).map(|p| is_schur(&p));
-    let nilpotent_index = nilpotent_index(&error_matrix)?;
+    let nilpotent_index = nilpotent_index_with(&a_minus_kc, &error_polynomial)?;
     if let Some(k) = nilpotent_index {
-        let power = matrix_power(&error_matrix, k)?;
+        // `nilpotent_index` found this power zero (on integers); it is recorded, not recomputed
+        let n = error_matrix.rows();
+        let power: Matrix<Quadratic> = Matrix::zeros(n, n);
         derivation.push(
             &format!("power {k} of the error matrix"),
             "zero: the error vanishes after this many steps",
@@ -172,6 +197,13 @@ pub fn discrete_observer(
     })
 }
 
+fn rational_matrix(m: &Matrix<Quadratic>) -> Option<Matrix<Rational>> {
+    m.entries()
+        .iter()
+        .all(|x| x.as_rational().is_some())
+        .then(|| m.map(|x| x.as_rational().cloned().unwrap_or_default()))
+}
+
 fn rational_poly(p: &Poly<Quadratic>) -> Option<Poly<Rational>> {
     let c: Option<Vec<Rational>> = p
         .coeffs()
@@ -181,21 +213,53 @@ fn rational_poly(p: &Poly<Quadratic>) -> Option<Poly<Rational>> {
     Some(Poly::new(c?, p.var()))
 }
 
-fn matrix_power(m: &Matrix<Quadratic>, k: usize) -> Result<Matrix<Quadratic>, LinalgError> {
-    let mut p = Matrix::identity(m.rows());
-    for _ in 0..k {
-        p = p.mul(m)?;
-    }
-    Ok(p)
-}
 
 /// The smallest k ≤ n with Mᵏ = 0, or `None` when M is not nilpotent (Mⁿ ≠ 0).
+///
+/// M is nilpotent exactly when det(zI − M) = zⁿ, which the characteristic polynomial decides
+/// (multimodular for rational M, O(n³) per prime); only then are powers formed, and for
+/// rational M on integers (M scaled by a common denominator D: (DM)ᵏ = 0 ⇔ Mᵏ = 0), so no
+/// gcd is taken per operation.
 ///
 /// # Errors
 /// A product of mismatched shapes (M not square).
 pub fn nilpotent_index(m: &Matrix<Quadratic>) -> Result<Option<usize>, LinalgError> {
-    let mut p = Matrix::identity(m.rows());
-    for k in 1..=m.rows() {
+    let chi = linalg::characteristic_polynomial(m, "z")?;
+    nilpotent_index_with(m, &chi)
+}
+
+/// [`nilpotent_index`] for a matrix whose characteristic polynomial `chi` is known exactly.
+///
+/// # Errors
+/// A product of mismatched shapes (M not square).
+pub fn nilpotent_index_with(
+    m: &Matrix<Quadratic>,
+    chi: &Poly<Quadratic>,
+) -> Result<Option<usize>, LinalgError> {
+    let n = m.require_square("nilpotency")?;
+    if chi.degree() != Some(n) || (0..n).any(|k| !chi.coeff(k).is_zero()) {
+        return Ok(None);
+    }
+    if m.entries().iter().all(|x| x.as_rational().is_some()) {
+        let r = m.map(|x| x.as_rational().cloned().unwrap_or_default());
+        // a cyclic nilpotent matrix is one Jordan block: its index is n (the single-output
+        // dead-beat observer always is, (A − KC, C) being observable)
+        if linalg::modular::is_cyclic(&r) {
+            return Ok(Some(n));
+        }
+        let d = Rational::common_denominator(r.entries());
+        let integer = r.map(|x| x.scale_to_integer(&d));
+        let mut p = integer.clone();
+        for k in 1..=n {
+            if p.is_zero() {
+                return Ok(Some(k));
+            }
+            p = p.mul(&integer)?;
+        }
+        return Ok(None);
+    }
+    let mut p = Matrix::identity(n);
+    for k in 1..=n {
         p = p.mul(m)?;
         if p.is_zero() {
             return Ok(Some(k));

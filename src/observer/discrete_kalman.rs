@@ -35,6 +35,32 @@ pub enum DiscreteKalmanError {
     /// R_n must be positive definite.
     #[error("C P Cᵀ + R_n is singular: R_n must be positive definite")]
     SingularInnovation,
+    /// A covariance that is not one.
+    #[error("{name} is not a covariance: {why}")]
+    NotCovariance {
+        /// `Q_n` or `R_n`.
+        name: &'static str,
+        /// What fails (symmetry, semidefiniteness, definiteness).
+        why: String,
+    },
+    /// An unobservable mode on or outside the unit circle: no gain makes the filter stable.
+    #[error("(A, C) is not detectable: the unobservable eigenvalues {modes} are not all strictly inside the unit circle, so no filter gain stabilises A − LC (no stabilising Riccati solution exists)")]
+    NotDetectable {
+        /// The unobservable eigenvalues.
+        modes: String,
+    },
+    /// A mode on the unit circle that the process noise does not reach.
+    #[error("the process noise G Q_n Gᵀ does not reach the mode(s) {modes} on the unit circle: the Riccati equation has no stabilising solution")]
+    UnreachedUnitCircleMode {
+        /// The eigenvalues of A that the noise does not excite.
+        modes: String,
+    },
+    /// The float solution failed its check.
+    #[error("the computed solution failed its check ({0}): no verified stabilising solution; the problem is too ill-conditioned for f64")]
+    Unverified(String),
+    /// An entry beyond the range of f64.
+    #[error("{0}")]
+    Range(String),
 }
 
 /// The steady-state discrete Kalman filter.
@@ -52,6 +78,12 @@ pub struct DiscreteKalman {
     pub residual: f64,
     /// Eigenvalues of A − LC.
     pub eigenvalues: Vec<(f64, f64)>,
+    /// The spectral radius of A − LC (below 1: the solution is the stabilising one).
+    pub spectral_radius: f64,
+    /// Whether the doubling iteration's result was refined by Hewer's Newton iteration from a
+    /// stabilising gain (the doubling alone converges to a non-stabilising solution when the
+    /// noise does not reach an unstable mode).
+    pub refined: bool,
     /// P read back as fractions, when they satisfy the Riccati equation exactly and give a
     /// stable A − LC: the exact stabilising solution.
     pub exact_p: Option<Matrix<Rational>>,
@@ -63,8 +95,222 @@ fn to_f64(m: &Matrix<Rational>) -> DMatrix<f64> {
     DMatrix::from_fn(m.rows(), m.cols(), |i, j| rational_to_f64(m.get(i, j)))
 }
 
+/// The largest absolute entry; NaN when any entry is NaN (a NaN never passes for small).
 fn norm(m: &DMatrix<f64>) -> f64 {
-    m.iter().map(|x| x.abs()).fold(0.0, f64::max)
+    m.iter().map(|x| x.abs()).fold(0.0, |acc, x| {
+        if acc.is_nan() || x.is_nan() {
+            f64::NAN
+        } else {
+            acc.max(x)
+        }
+    })
+}
+
+/// The residual accepted for a verified solution: ‖Ric(P) − P‖ / ‖P‖.
+const RESIDUAL_TOLERANCE: f64 = 1e-8;
+
+/// Whether the real polynomial `u` has a root on the unit circle: `Some(true)` or
+/// `Some(false)` decided exactly, `None` when it cannot be (a self-reciprocal irreducible
+/// factor of degree ≥ 3). A root on the circle is a common root of `u` and its reversal
+/// `u*(z) = z^d u(1/z)` (its inverse 1/λ = λ̄ is a root); the common factor's exact roots are
+/// tested by |λ|² = 1, and an irreducible factor that is not self-reciprocal has none.
+pub fn has_unit_circle_root(u: &crate::poly::Poly<Rational>) -> Option<bool> {
+    use crate::poly::{exact_roots, Poly};
+    let Some(d) = u.degree() else {
+        return Some(false);
+    };
+    let reversed = Poly::new(
+        (0..=d).map(|k| u.coeff(d - k)).collect(),
+        u.var(),
+    );
+    let g = u.gcd(&reversed);
+    if g.degree().unwrap_or(0) == 0 {
+        return Some(false);
+    }
+    let roots = exact_roots(&g);
+    let one = Rational::from_integer(1.into());
+    if roots.roots.iter().any(|(l, _)| {
+        if l.is_real() {
+            l.clone() * l.clone() == crate::algebra::Quadratic::rational(one.clone())
+        } else {
+            l.norm() == one
+        }
+    }) {
+        return Some(true);
+    }
+    for (f, _) in &roots.unresolved {
+        let Some(e) = f.degree() else { continue };
+        let rev = Poly::new((0..=e).map(|k| f.coeff(e - k)).collect(), f.var());
+        let self_reciprocal = rev.monic() == f.monic();
+        if self_reciprocal {
+            return None;
+        }
+    }
+    Some(false)
+}
+
+/// The exact conditions for a stabilising solution (see [`discrete_kalman`]): covariances,
+/// detectability of (A, C) and no unit-circle mode of A unreached by G Q_n Gᵀ. Returns whether
+/// the unit-circle question was decided exactly.
+fn exact_conditions(
+    a: &Matrix<Rational>,
+    g: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    qn: &Matrix<Rational>,
+    rn: &Matrix<Rational>,
+) -> Result<bool, DiscreteKalmanError> {
+    use crate::linalg::definiteness::{definiteness, Definiteness};
+    for (name, m) in [("Q_n", qn), ("R_n", rn)] {
+        match definiteness(m)? {
+            Definiteness::NotSymmetric => {
+                return Err(DiscreteKalmanError::NotCovariance {
+                    name,
+                    why: "it is not symmetric".into(),
+                })
+            }
+            Definiteness::Indefinite(p) => {
+                return Err(DiscreteKalmanError::NotCovariance {
+                    name,
+                    why: format!("it has a negative eigenvalue (a root of {p})"),
+                })
+            }
+            Definiteness::PositiveSemidefinite => {}
+        }
+    }
+    if linalg::determinant(rn)? == Rational::from_integer(0.into()) {
+        return Err(DiscreteKalmanError::NotCovariance {
+            name: "R_n",
+            why: "it is singular; the measurement noise covariance must be positive definite".into(),
+        });
+    }
+    let observed = crate::observability::observability_report(a, c)?;
+    if !observed.observable() && !is_schur(&observed.unobservable_polynomial) {
+        return Err(DiscreteKalmanError::NotDetectable {
+            modes: observed.unobservable_eigenvalues.render(),
+        });
+    }
+    // the modes the noise does not reach: the unobservable part of (Aᵀ, G Q_n Gᵀ)
+    let w = g.mul(qn)?.mul(&g.transpose())?;
+    let reached = crate::observability::observability_report(&a.transpose(), &w)?;
+    if reached.observable() {
+        return Ok(true);
+    }
+    match has_unit_circle_root(&reached.unobservable_polynomial) {
+        Some(true) => Err(DiscreteKalmanError::UnreachedUnitCircleMode {
+            modes: reached.unobservable_eigenvalues.render(),
+        }),
+        Some(false) => Ok(true),
+        None => Ok(false),
+    }
+}
+
+/// One filter step's pieces for P: (gain L, residual ‖Ric(P) − P‖/‖P‖, A − LC).
+fn evaluate(
+    af: &DMatrix<f64>,
+    cf: &DMatrix<f64>,
+    wf: &DMatrix<f64>,
+    rf: &DMatrix<f64>,
+    pf: &DMatrix<f64>,
+) -> Option<(DMatrix<f64>, DMatrix<f64>, f64, DMatrix<f64>)> {
+    let s = cf * pf * cf.transpose() + rf;
+    let s_inv = s.try_inverse()?;
+    let current = pf * cf.transpose() * &s_inv;
+    let gain = af * &current;
+    let ric = af * pf * af.transpose() - &gain * cf * pf * af.transpose() + wf;
+    let residual = norm(&(&ric - pf)) / norm(pf).max(1e-300);
+    let closed = af - &gain * cf;
+    Some((gain, current, residual, closed))
+}
+
+fn spectral_radius(m: &DMatrix<f64>) -> f64 {
+    let ev = crate::linalg::float::eigenvalues(m);
+    ev.iter().fold(0.0, |acc: f64, z| {
+        if acc.is_nan() || !z.norm().is_finite() {
+            f64::NAN
+        } else {
+            acc.max(z.norm())
+        }
+    })
+}
+
+/// P = M P Mᵀ + Q for ρ(M) < 1, by doubling (Smith): quadratic convergence, bounded.
+fn stein(m: &DMatrix<f64>, q: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let (mut p, mut mk) = (q.clone(), m.clone());
+    for _ in 0..64 {
+        let next = &p + &mk * &p * mk.transpose();
+        let change = norm(&(&next - &p));
+        p = next;
+        mk = &mk * &mk;
+        if !change.is_finite() {
+            return None;
+        }
+        if change <= 1e-16 * norm(&p).max(1e-300) {
+            return Some(p);
+        }
+    }
+    (norm(&mk) < 1e-12).then_some(p)
+}
+
+/// Hewer's Newton iteration for the filter Riccati equation from a stabilising gain: each step
+/// solves the Stein equation of A − LC and updates L; it converges to the stabilising solution
+/// whenever one exists.
+fn hewer(
+    af: &DMatrix<f64>,
+    cf: &DMatrix<f64>,
+    wf: &DMatrix<f64>,
+    rf: &DMatrix<f64>,
+    mut gain: DMatrix<f64>,
+) -> Option<DMatrix<f64>> {
+    let mut p_prev: Option<DMatrix<f64>> = None;
+    for _ in 0..100 {
+        let closed = af - &gain * cf;
+        let q = wf + &gain * rf * gain.transpose();
+        let p = stein(&closed, &q)?;
+        let p = (&p + p.transpose()) / 2.0;
+        let s_inv = (cf * &p * cf.transpose() + rf).try_inverse()?;
+        gain = af * &p * cf.transpose() * s_inv;
+        if let Some(prev) = &p_prev {
+            if norm(&(&p - prev)) <= 1e-15 * norm(&p).max(1e-300) {
+                return Some(p);
+            }
+        }
+        p_prev = Some(p);
+    }
+    p_prev
+}
+
+/// Structured doubling for the filter Riccati equation with noise W: P, or `None` when it does
+/// not converge within its bound.
+fn doubling(
+    af: &DMatrix<f64>,
+    cf: &DMatrix<f64>,
+    wf: &DMatrix<f64>,
+    r_inv: &DMatrix<f64>,
+) -> (Option<DMatrix<f64>>, usize) {
+    let n = af.nrows();
+    // on the dual of the control equation: A₀ = Aᵀ, G₀ = Cᵀ R⁻¹ C, H₀ = W
+    let mut ak = af.transpose();
+    let mut gk = cf.transpose() * r_inv * cf;
+    let mut hk = wf.clone();
+    let identity = DMatrix::<f64>::identity(n, n);
+    let mut iterations = 0;
+    loop {
+        iterations += 1;
+        let Some(w) = (&identity + &gk * &hk).try_inverse() else {
+            return (None, iterations);
+        };
+        let a_next = &ak * &w * &ak;
+        let g_next = &gk + &ak * &w * &gk * ak.transpose();
+        let h_next = &hk + ak.transpose() * &hk * &w * &ak;
+        let change = norm(&(&h_next - &hk));
+        (ak, gk, hk) = (a_next, g_next, h_next);
+        if change <= 1e-15 * norm(&hk).max(1e-300) {
+            return (Some((&hk + hk.transpose()) / 2.0), iterations);
+        }
+        if iterations >= 60 || !change.is_finite() {
+            return (None, iterations);
+        }
+    }
 }
 
 /// The nearest fraction with denominator at most `max_den` (continued fractions).
@@ -122,46 +368,69 @@ pub fn discrete_kalman(
             a.rows(), a.cols(), g.rows(), g.cols(), c.rows(), c.cols(), qn.rows(), qn.cols(), rn.rows(), rn.cols()
         )));
     }
+    if n == 0 || p == 0 {
+        return Err(DiscreteKalmanError::Shape(
+            "A and C must have at least one state and one output".into(),
+        ));
+    }
+    let exactly_decided = exact_conditions(a, g, c, qn, rn)?;
     let (af, gf, cf, qf, rf) = (to_f64(a), to_f64(g), to_f64(c), to_f64(qn), to_f64(rn));
+    for (name, m) in [("A", &af), ("G", &gf), ("C", &cf), ("Q_n", &qf), ("R_n", &rf)] {
+        if m.iter().any(|x| !x.is_finite()) {
+            return Err(DiscreteKalmanError::Range(format!(
+                "an entry of {name} is beyond the range of f64 (about 1.8e308)"
+            )));
+        }
+    }
+    let wf = &gf * &qf * gf.transpose();
     let r_inv = rf
         .clone()
         .try_inverse()
         .ok_or(DiscreteKalmanError::SingularInnovation)?;
-    // structured doubling on the dual of the control equation: A₀ = Aᵀ, G₀ = Cᵀ R⁻¹ C, H₀ = G Q Gᵀ
-    let mut ak = af.transpose();
-    let mut gk = cf.transpose() * &r_inv * &cf;
-    let mut hk = &gf * &qf * gf.transpose();
-    let identity = DMatrix::<f64>::identity(n, n);
-    let mut iterations = 0;
-    loop {
-        iterations += 1;
-        let w = (&identity + &gk * &hk)
-            .try_inverse()
-            .ok_or(DiscreteKalmanError::NoConvergence(iterations))?;
-        let a_next = &ak * &w * &ak;
-        let g_next = &gk + &ak * &w * &gk * ak.transpose();
-        let h_next = &hk + ak.transpose() * &hk * &w * &ak;
-        let change = norm(&(&h_next - &hk));
-        (ak, gk, hk) = (a_next, g_next, h_next);
-        if change <= 1e-15 * norm(&hk).max(1e-300) {
-            break;
+    let (doubled, iterations) = doubling(&af, &cf, &wf, &r_inv);
+    // the doubling's solution, kept when it is the stabilising one
+    let stabilising = |p: &DMatrix<f64>| {
+        evaluate(&af, &cf, &wf, &rf, p)
+            .is_some_and(|(_, _, res, closed)| res <= RESIDUAL_TOLERANCE && spectral_radius(&closed) < 1.0)
+    };
+    let (pf, refined) = match doubled {
+        Some(p) if stabilising(&p) => (p, false),
+        other => {
+            // a stabilising start: the gain of the same filter with noise W + I (which always
+            // has a stabilising solution for a detectable pair), then Hewer's iteration
+            let start = doubling(&af, &cf, &(&wf + DMatrix::identity(n, n)), &r_inv)
+                .0
+                .and_then(|p| evaluate(&af, &cf, &(&wf + DMatrix::identity(n, n)), &rf, &p))
+                .map(|(gain, ..)| gain)
+                .filter(|gain| spectral_radius(&(&af - gain * &cf)) < 1.0);
+            match start.and_then(|gain| hewer(&af, &cf, &wf, &rf, gain)) {
+                Some(p) => (p, true),
+                None => match other {
+                    Some(p) => (p, false),
+                    None => return Err(DiscreteKalmanError::NoConvergence(iterations)),
+                },
+            }
         }
-        if iterations >= 60 || !change.is_finite() {
-            return Err(DiscreteKalmanError::NoConvergence(iterations));
-        }
+    };
+    let (gain, current_gain, residual, closed) =
+        evaluate(&af, &cf, &wf, &rf, &pf).ok_or(DiscreteKalmanError::SingularInnovation)?;
+    let spectral_radius = spectral_radius(&closed);
+    // verified, or refused: a NaN fails both tests
+    if !(residual <= RESIDUAL_TOLERANCE) {
+        return Err(DiscreteKalmanError::Unverified(format!(
+            "Riccati residual {residual:.3e} above {RESIDUAL_TOLERANCE:.0e}"
+        )));
     }
-    let pf = (&hk + hk.transpose()) / 2.0;
-    let s = &cf * &pf * cf.transpose() + &rf;
-    let s_inv = s
-        .try_inverse()
-        .ok_or(DiscreteKalmanError::SingularInnovation)?;
-    let current_gain = &pf * cf.transpose() * &s_inv;
-    let gain = &af * &current_gain;
-    let ric = &af * &pf * af.transpose()
-        - &af * &pf * cf.transpose() * &s_inv * &cf * &pf * af.transpose()
-        + &gf * &qf * gf.transpose();
-    let residual = norm(&(&ric - &pf)) / norm(&pf).max(1e-300);
-    let closed = &af - &gain * &cf;
+    if !(spectral_radius < 1.0) {
+        return Err(DiscreteKalmanError::Unverified(format!(
+            "A − LC has spectral radius {spectral_radius:.6}, not below 1{}",
+            if exactly_decided {
+                ""
+            } else {
+                " (whether a unit-circle mode is unreached by the noise could not be decided exactly)"
+            }
+        )));
+    }
     let eigenvalues = closed
         .complex_eigenvalues()
         .iter()
@@ -177,6 +446,8 @@ pub fn discrete_kalman(
         current_gain,
         iterations,
         residual,
+        spectral_radius,
+        refined,
         eigenvalues,
         exact_p,
         exact_gain,

@@ -300,8 +300,12 @@ fn kalman_filter_with(
     let mut rhs = DMatrix::<f64>::zeros(2 * n, n);
     rhs.view_mut((0, 0), (n, n)).copy_from(&(-(&w11 + &eye)));
     rhs.view_mut((n, 0), (n, n)).copy_from(&(-&w21));
-    let mut p = lhs
-        .svd(true, true)
+    let mut p = crate::linalg::float::try_svd(&lhs, true, true)
+        .ok_or_else(|| {
+            KalmanError::NoConvergence(
+                "the sign iteration's result has infinite or NaN entries (overflow)".into(),
+            )
+        })?
         .solve(&rhs, 1e-14)
         .map_err(|e| KalmanError::NoConvergence(e.to_string()))?;
     p = (&p + p.transpose()) * 0.5;

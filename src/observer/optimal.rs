@@ -153,7 +153,7 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, 
             // Jacobian padded to square (its null space)
             let mut padded = DMatrix::zeros(m, m);
             padded.view_mut((0, 0), (r, m)).copy_from(&jac);
-            let svd = padded.svd(false, true);
+            let svd = crate::linalg::float::try_svd(&padded, false, true)?;
             let vt = svd.v_t?;
             let mut idx: Vec<usize> = (0..m).collect();
             idx.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));

@@ -234,6 +234,16 @@ pub fn robust_observer_gain(
     let n = a.nrows();
     let m = c.nrows();
     let partner = check_request(a, c, poles)?;
+    // Past 1e150 the products below overflow f64; a NaN would reach the SVDs.
+    let finite = |x: f64| x.is_finite() && x.abs() <= 1e150;
+    if !(a.iter().all(|x| finite(*x))
+        && c.iter().all(|x| finite(*x))
+        && poles.iter().all(|(re, im)| finite(*re) && finite(*im)))
+    {
+        return Err(RobustError::Failed(
+            "an entry of A, C or the poles is beyond 1e150 in magnitude (or not finite): the float method would overflow".into(),
+        ));
+    }
     // Dual problem: state feedback F for (Aᵀ, B = Cᵀ), eig(Aᵀ − B F) = poles, K = Fᵀ.
     let at = a.transpose();
     let b = c.transpose();

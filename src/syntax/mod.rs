@@ -33,6 +33,10 @@ pub const MAX_VALUE_BITS: u64 = 1 << 14;
 /// The deepest nesting of parentheses, signs and square roots accepted (each parenthesis
 /// counts twice: the sign and the term inside it).
 pub const MAX_NESTING: usize = 100;
+/// The longest chain of operations accepted (`1 + 1 + … + 1`, `2·2·…·2`), counting the chains
+/// an expression is nested in: every reader walks the expression tree recursively, and this
+/// bounds its height (a polynomial of the largest degree, 200, needs about 400).
+pub const MAX_CHAIN: usize = 1000;
 
 /// A parse or evaluation error, with the 1-based column where it was found.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

@@ -1,7 +1,7 @@
 //! Recursive-descent parser: expressions and matrices into [`Expr`] trees with columns.
 
 use super::lexer::{tokenize, Tok, Token};
-use super::{SyntaxError, MAX_EXPONENT, MAX_NESTING};
+use super::{SyntaxError, MAX_CHAIN, MAX_EXPONENT, MAX_NESTING};
 use crate::algebra::Rational;
 use num_bigint::BigInt;
 
@@ -46,6 +46,9 @@ struct Parser {
     in_matrix: bool,
     /// Current recursion depth (see [`MAX_NESTING`]).
     depth: usize,
+    /// Operators of the `+ − · /` chains being read, the enclosing ones included: a bound on
+    /// the height of the tree being built (see [`MAX_CHAIN`]).
+    chain: usize,
 }
 
 pub(crate) fn parse_expression(input: &str) -> Result<Expr, SyntaxError> {
@@ -88,6 +91,7 @@ impl Parser {
             pos: 0,
             in_matrix: false,
             depth: 0,
+            chain: 0,
         })
     }
     fn peek(&self) -> &Token {
@@ -228,13 +232,35 @@ impl Parser {
         self.in_matrix && self.peek().space_before && !self.peek_at(1).space_before
     }
 
+    /// One more operator in a chain (`1 + 1 + …`): the tree grows one level deeper, so chains
+    /// are bounded as nesting is, and every walker of the tree stays within its stack.
+    fn one_more_link(&mut self) -> Result<(), SyntaxError> {
+        if self.chain >= MAX_CHAIN {
+            return Err(SyntaxError::TooLarge {
+                column: self.peek().column,
+                what: "the chain of operations (+ − · / and nested chains)".into(),
+                limit: MAX_CHAIN,
+            });
+        }
+        self.chain += 1;
+        Ok(())
+    }
+
     fn expr(&mut self) -> Result<Expr, SyntaxError> {
+        let saved = self.chain;
+        let r = self.expr_chain();
+        self.chain = saved;
+        r
+    }
+
+    fn expr_chain(&mut self) -> Result<Expr, SyntaxError> {
         let mut lhs = self.term()?;
         loop {
             let op = self.peek().tok.clone();
             if !matches!(op, Tok::Plus | Tok::Minus) || self.starts_new_entry() {
                 break;
             }
+            self.one_more_link()?;
             let column = self.next().column;
             let rhs = self.term()?;
             let kind = if op == Tok::Plus {
@@ -248,11 +274,19 @@ impl Parser {
     }
 
     fn term(&mut self) -> Result<Expr, SyntaxError> {
+        let saved = self.chain;
+        let r = self.term_chain();
+        self.chain = saved;
+        r
+    }
+
+    fn term_chain(&mut self) -> Result<Expr, SyntaxError> {
         let mut lhs = self.unary()?;
         loop {
             let t = self.peek().clone();
             match t.tok {
                 Tok::Star | Tok::Slash => {
+                    self.one_more_link()?;
                     self.next();
                     let rhs = self.unary()?;
                     let kind = if t.tok == Tok::Star {
@@ -268,6 +302,7 @@ impl Parser {
                 // Juxtaposition: 9s, 2(s + 1), √2 s, k1 k2 (not across spaces inside matrices,
                 // and never number after number).
                 Tok::Ident(_) | Tok::LParen | Tok::Sqrt if !(self.in_matrix && t.space_before) => {
+                    self.one_more_link()?;
                     let rhs = self.power()?;
                     lhs = Expr {
                         kind: ExprKind::Mul(Box::new(lhs), Box::new(rhs)),
