@@ -23,6 +23,33 @@ pub fn matrix<T: FromExpr>(flag: &str, text: &str) -> Result<Matrix<T>> {
     Ok(m)
 }
 
+/// Refuses, for a command that computes in f64, an entry beyond f64's range (|x| > 1.8e308,
+/// which would become infinite) or a nonzero entry that would become 0 (|x| < 2.2e-308),
+/// naming the flag and the entry.
+pub fn float_range(flag: &str, m: &Matrix<Rational>) -> Result<()> {
+    for i in 0..m.rows() {
+        for j in 0..m.cols() {
+            let x = m.get(i, j);
+            let f = crate::algebra::rational_to_f64(x);
+            if !f.is_finite() {
+                bail!(
+                    "in {flag}: entry ({}, {}) is beyond the range of f64 (about 1.8e308), which this computation uses",
+                    i + 1,
+                    j + 1
+                );
+            }
+            if f.abs() < f64::MIN_POSITIVE && !num_traits::Zero::is_zero(x) {
+                bail!(
+                    "in {flag}: entry ({}, {}) is nonzero but below f64's smallest normal number (about 2.2e-308), which this computation uses",
+                    i + 1,
+                    j + 1
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Parses a rational flag, e.g. `--repeated 1/4`.
 pub fn rational(flag: &str, text: &str) -> Result<Rational> {
     parse_scalar::<Rational>(text)

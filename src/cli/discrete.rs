@@ -56,8 +56,9 @@ fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
     Ok(if let Some(p) = &args.poles {
         super::args::poles_flag("--poles", p, n)?
     } else if let Some(p) = &args.poly {
-        let poly = parse_polynomial::<Quadratic>(&p.replace('z', "s"), "s")
-            .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
+        let poly = parse_polynomial::<Quadratic>(p, "z")
+            .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?
+            .with_var("s");
         DesiredPolynomial::from_polynomial(poly, n)?
     } else if args.deadbeat {
         deadbeat_polynomial(n)
@@ -180,7 +181,14 @@ fn float_only(
     let s = parse_list::<Quadratic>(poles).map_err(|e| anyhow!("in --continuous-poles: {e}"))?;
     let t = super::args::rational("--period", args.period.as_deref().unwrap_or("0"))?;
     let z: Vec<(f64, f64)> = s.iter().map(|p| map_pole(p, &t)).collect();
+    super::args::float_range("--a", a)?;
+    super::args::float_range("--c", c)?;
+    // the float path needs an observable pair, decided exactly
+    crate::observability::require_observable(a, c)?;
     let check = float_check(a, c, &desired.float, None, None, 1e-6);
+    if check.float_gain.is_none() {
+        bail!("the float gain could not be computed (O_n is numerically singular, cond₂ = {:.3e}): no gain is reported", check.condition_number);
+    }
     let gain: Vec<f64> = check
         .float_gain
         .clone()
@@ -251,6 +259,8 @@ pub struct ZohArgs {
 pub fn zoh(args: ZohArgs) -> Result<Outcome> {
     let a = matrix::<Rational>("--a", &args.a)?;
     let b = matrix::<Rational>("--b", &args.b)?;
+    super::args::float_range("--a", &a)?;
+    super::args::float_range("--b", &b)?;
     let t = super::args::rational("--period", &args.period)?;
     let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
     let rows = |m: &[Vec<f64>]| -> Vec<Vec<String>> {
@@ -338,6 +348,9 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
     };
     let qn = matrix::<Rational>("--qn", &args.qn)?;
     let rn = matrix::<Rational>("--rn", &args.rn)?;
+    for (flag, m) in [("--a", &a), ("--c", &c), ("--g", &g), ("--qn", &qn), ("--rn", &rn)] {
+        super::args::float_range(flag, m)?;
+    }
     let k = discrete_kalman(&a, &g, &c, &qn, &rn)?;
     let rows = |m: &nalgebra::DMatrix<f64>| -> Vec<Vec<String>> {
         (0..m.nrows())

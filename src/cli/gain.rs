@@ -128,6 +128,10 @@ pub fn run(args: Args) -> Result<Outcome> {
         );
     }
     let desired = args.desired.parse(a.rows())?;
+    if args.float || desired.exact.is_none() || (c.rows() > 1 && args.output.is_none()) {
+        super::args::float_range("--a", &a)?;
+        super::args::float_range("--c", &c)?;
+    }
     if c.rows() > 1 {
         return multi_output(&args, &a, &c, &desired, method, convention);
     }

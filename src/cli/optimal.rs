@@ -37,6 +37,9 @@ pub struct Args {
     /// Seed of the starts (same seed, same report).
     #[arg(allow_hyphen_values = true, long, default_value_t = 2024)]
     seed: u64,
+    /// No new start after this many seconds (the report says how many starts ran).
+    #[arg(allow_hyphen_values = true, long, default_value_t = 10.0)]
+    time_limit: f64,
     /// Check this gain (e.g. a printed one): its exact observer polynomial, its poles, J1 and J2.
     #[arg(allow_hyphen_values = true, long)]
     check_gain: Option<String>,
@@ -103,6 +106,8 @@ struct Request {
 
 fn request(args: &Args) -> Result<Request> {
     let (a, c) = args.system.parse()?;
+    super::args::float_range("--a", &a)?;
+    super::args::float_range("--c", &c)?;
     if !a.is_square() || c.cols() != a.rows() {
         bail!(
             "in --a/--c: A must be square and C must have as many columns ({}×{} and {}×{})",
@@ -117,6 +122,12 @@ fn request(args: &Args) -> Result<Request> {
         bail!(
             "nothing to optimise: with {} output the gain that places the poles is unique (owb gain computes it exactly)",
             c.rows()
+        );
+    }
+    if !(args.time_limit.is_finite() && args.time_limit > 0.0 && args.time_limit <= 86_400.0) {
+        bail!(
+            "in --time-limit: {} s; give a number of seconds between 0 and 86400",
+            args.time_limit
         );
     }
     if args.starts == 0 || args.starts > MAX_STARTS {
@@ -171,7 +182,9 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
     let tell = || bar.inc();
     let r = minimum_norm_gain(
         &cons,
-        Multistart::new(args.starts, args.seed).reporting(&tell),
+        Multistart::new(args.starts, args.seed)
+            .within(std::time::Duration::from_secs_f64(args.time_limit))
+            .reporting(&tell),
     );
     bar.finish();
     text.push_str(&format!(
@@ -185,6 +198,12 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             "  {} seeded starts (seed {}), {} converged to a local minimum (Newton on the KKT system, second-order check)\n",
             r.starts, args.seed, r.converged
         ));
+    if r.starts < args.starts {
+        text.push_str(&format!(
+            "  (stopped at the time limit of {} s: {} of the {} starts asked ran)\n",
+            args.time_limit, r.starts, args.starts
+        ));
+    }
     for (i, m) in r.minima.iter().enumerate() {
         let g = DMatrix::from_fn(n, c.rows(), |row, col| m.gain[col * n + row]);
         text.push_str(&format!(
@@ -194,6 +213,13 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             m.starts,
             show(&g)
         ));
+    }
+    if r.converged == 0 || r.minima.is_empty() {
+        bail!(
+            "no start converged to a local minimum ({} seeded starts, seed {}): no minimum-norm gain is reported; try more --starts or another --seed",
+            r.starts,
+            args.seed
+        );
     }
     text.push_str(&format!(
         "  the best value is attained by {} gain(s): {}\n",
@@ -226,7 +252,9 @@ fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
         p,
         weight,
         args.placed_output - 1,
-        Multistart::new(args.starts, args.seed).reporting(&tell),
+        Multistart::new(args.starts, args.seed)
+            .within(std::time::Duration::from_secs_f64(args.time_limit))
+            .reporting(&tell),
     );
     bar.finish();
     let r = r?;
@@ -246,6 +274,12 @@ fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             r.spread,
             r.hessian_eigenvalues.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>().join(", ")
         ));
+    if r.starts < args.starts {
+        text.push_str(&format!(
+            "  (stopped at the time limit of {} s: {} of the {} starts asked ran)\n",
+            args.time_limit, r.starts, args.starts
+        ));
+    }
     text.push_str(&format!(
             "  flat directions: {}{} → the minimiser is {}\n  smallest-norm minimiser G = {}\n  rebuilt in rationals it places the polynomial exactly: {}\n",
             r.flat_directions,

@@ -80,8 +80,13 @@ pub fn run(args: Args) -> Result<Outcome> {
         outln!("  designed with output {} (the row of A₁₂ that observes the unmeasured states); the other columns of L are zero", k + 1);
     }
     outln!(
-        "  ẇ = F w + G y{}, x̂ = D_y y + M w, w = z₂ − L y",
-        if r.h.is_some() { " + H u" } else { "" }
+        "  ẇ = F w + G y{}, x̂ = D_y y + M w, w = z₂ {} L y",
+        if r.h.is_some() { " + H u" } else { "" },
+        if convention == Convention::AMinusKC {
+            "−"
+        } else {
+            "+"
+        }
     );
     outln!("  error polynomial det(sI − F) = {} (degree {order}; the full-order observer's has degree {})", r.error_polynomial, a.rows());
     outln!(

@@ -631,6 +631,22 @@ pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagno
     // holding numbers of thousands of bits matches none of them, and comparing it with each
     // (dozens of exact evaluations) is what would take long.
     if let Some(a) = &parsed {
+        // a matrix of a real system has real entries: an imaginary entry is no slip of a
+        // real answer, and no named mistake gets credit for it
+        let key_real = answer_matrix(key, &part.value.input())
+            .is_some_and(|m| m.entries().iter().all(Quadratic::is_real));
+        if let Some((k, _)) = a
+            .entries()
+            .iter()
+            .enumerate()
+            .find(|(_, x)| key_real && !x.is_real())
+        {
+            let (i, j) = (k / a.cols().max(1) + 1, k % a.cols().max(1) + 1);
+            notes.push(format!(
+                "entry ({i}, {j}) of your answer is not real; every entry of this answer is a real number"
+            ));
+            return (None, notes);
+        }
         let largest = a
             .entries()
             .iter()

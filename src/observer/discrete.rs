@@ -68,6 +68,9 @@ pub enum DiscreteError {
     /// The matrices do not fit.
     #[error("{0}")]
     Shape(String),
+    /// A float result beyond the range of f64 (or not computable there).
+    #[error("{0}")]
+    Float(String),
 }
 
 /// A discrete-time observer, designed exactly.
@@ -169,7 +172,7 @@ pub fn discrete_observer(
     if estimator == Estimator::Current {
         derivation.push(
             "det(zI − (A − L_c C A))",
-            "= det(zI − (A − KC)), since A − L_c C A = A⁻¹(A − KC)A",
+            "the polynomial of A − KC, since A − L_c C A = A⁻¹(A − KC)A (similar matrices)",
             &error_polynomial,
         );
     }
@@ -295,6 +298,16 @@ pub fn from_continuous_poles(
             poles.len(),
         ));
     }
+    // a real system's poles come in conjugate pairs, each as often as its partner
+    for p in poles.iter().filter(|p| !p.is_real()) {
+        let count = |x: &Quadratic| poles.iter().filter(|q| *q == x).count();
+        if count(p) != count(&p.conjugate()) {
+            return Err(DiscreteError::Shape(format!(
+                "the pole {p} comes without its conjugate {}: a real system's poles come in conjugate pairs",
+                p.conjugate()
+            )));
+        }
+    }
     // ∏ (z − z_i) in f64, complex pairs multiplied out
     let mut coeffs: Vec<(f64, f64)> = vec![(1.0, 0.0)];
     for p in poles {
@@ -307,6 +320,14 @@ pub fn from_continuous_poles(
             next[k].1 -= cr * zi + ci * zr;
         }
         coeffs = next;
+    }
+    if coeffs
+        .iter()
+        .any(|(re, im)| !re.is_finite() || !im.is_finite())
+    {
+        return Err(DiscreteError::Float(format!(
+            "z = e^(sT) overflows f64 for these poles at T = {t} (Re(s)·T beyond about 709)"
+        )));
     }
     let float = Poly::new(coeffs.iter().map(|c| c.0).collect(), "s");
     Ok(DesiredPolynomial {
@@ -384,7 +405,7 @@ pub fn zero_order_hold(
             index,
         });
     }
-    let (phi, gamma, error_estimate) = float_zoh(a, b, crate::algebra::rational_to_f64(t));
+    let (phi, gamma, error_estimate) = float_zoh(a, b, crate::algebra::rational_to_f64(t))?;
     Ok(Sampled::Float {
         phi,
         gamma,
@@ -394,7 +415,11 @@ pub fn zero_order_hold(
 
 type Rows = Vec<Vec<f64>>;
 
-fn float_zoh(a: &Matrix<Rational>, b: &Matrix<Rational>, t: f64) -> (Rows, Rows, f64) {
+fn float_zoh(
+    a: &Matrix<Rational>,
+    b: &Matrix<Rational>,
+    t: f64,
+) -> Result<(Rows, Rows, f64), DiscreteError> {
     use nalgebra::DMatrix;
     let (n, m) = (a.rows(), b.cols());
     let f = |x: &Rational| crate::algebra::rational_to_f64(x) * t;
@@ -404,14 +429,32 @@ fn float_zoh(a: &Matrix<Rational>, b: &Matrix<Rational>, t: f64) -> (Rows, Rows,
         (true, false) => f(b.get(i, j - n)),
         _ => 0.0,
     });
-    let pade = aug.clone().exp();
-    // scaling and squaring with a Taylor series of 30 terms
+    if aug.iter().any(|x| !x.is_finite()) {
+        return Err(DiscreteError::Float(
+            "an entry of A·T or B·T is beyond the range of f64 (about 1.8e308)".into(),
+        ));
+    }
+    let overflow = || {
+        DiscreteError::Float(
+            "e^(AT) overflows f64 (an eigenvalue λ of A with Re(λ)·T beyond about 709): Φ and Γ cannot be represented"
+                .into(),
+        )
+    };
+    // scaling and squaring with a Taylor series of 30 terms; the squarings are bounded (a
+    // norm near f64's limit needs about 1 030)
     let norm = aug.iter().map(|x| x.abs()).fold(0.0, f64::max) * (n + m) as f64;
+    if !norm.is_finite() {
+        return Err(overflow());
+    }
     let squarings = if norm > 0.5 {
-        (norm / 0.5).log2().ceil() as i32
+        ((norm / 0.5).log2().ceil() as i32).clamp(0, 1100)
     } else {
         0
     };
+    let pade = aug.clone().exp();
+    if pade.iter().any(|x| !x.is_finite()) {
+        return Err(overflow());
+    }
     let scaled = &aug / 2f64.powi(squarings);
     let mut term = DMatrix::<f64>::identity(n + m, n + m);
     let mut taylor = term.clone();
@@ -421,16 +464,26 @@ fn float_zoh(a: &Matrix<Rational>, b: &Matrix<Rational>, t: f64) -> (Rows, Rows,
     }
     for _ in 0..squarings {
         taylor = &taylor * &taylor;
+        if taylor.iter().any(|x| !x.is_finite()) {
+            return Err(overflow());
+        }
     }
-    let error = (&pade - &taylor)
-        .iter()
-        .map(|x| x.abs())
-        .fold(0.0, f64::max);
+    // the largest difference, a NaN counted as failure
+    let error = (&pade - &taylor).iter().map(|x| x.abs()).fold(0.0_f64, |acc, x| {
+        if acc.is_nan() || x.is_nan() {
+            f64::NAN
+        } else {
+            acc.max(x)
+        }
+    });
+    if !error.is_finite() {
+        return Err(overflow());
+    }
     let phi = (0..n)
         .map(|i| (0..n).map(|j| pade[(i, j)]).collect())
         .collect();
     let gamma = (0..n)
         .map(|i| (0..m).map(|j| pade[(i, n + j)]).collect())
         .collect();
-    (phi, gamma, error)
+    Ok((phi, gamma, error))
 }

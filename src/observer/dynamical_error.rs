@@ -168,7 +168,6 @@ pub fn minimal_dynamical_error(
     placed_column: usize,
     search: Multistart,
 ) -> Result<DynamicalErrorReport, DynamicalErrorError> {
-    let starts = search.starts;
     let (n, p) = (a.rows(), c.rows());
     let (af, cf, wf) = (to_nalgebra(a), to_nalgebra(c), to_nalgebra(weight));
     if placed_column >= p || wf.shape() != (n, n) || a.cols() != n || c.cols() != n {
@@ -206,7 +205,12 @@ pub fn minimal_dynamical_error(
     let mut uniform = super::search::seeded_uniform(search.seed);
     let mut runs: Vec<(Vec<f64>, DynamicalErrorMinimum)> = Vec::new();
     let mut converged = 0;
-    for _ in 0..starts {
+    let mut starts = 0;
+    for _ in 0..search.starts {
+        if search.out_of_time() {
+            break;
+        }
+        starts += 1;
         let start: Vec<f64> = free.iter().map(|_| 10.0 * uniform() - 5.0).collect();
         if !cost(&start).is_finite() {
             search.started();

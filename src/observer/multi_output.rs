@@ -35,6 +35,16 @@ pub enum MultiOutputError {
     /// The robust placement failed.
     #[error(transparent)]
     Robust(#[from] RobustError),
+    /// The chosen output alone does not observe the state (the pair with all outputs may).
+    #[error("output {output} alone does not observe the state: (A, c_{output}) with c_{output} = {row} — {reason}; choose another output, or omit --output for the robust method with every output")]
+    OutputNotObserving {
+        /// The output (1-based).
+        output: usize,
+        /// Its row of C, printed.
+        row: String,
+        /// Why, as the observability test says.
+        reason: String,
+    },
 }
 
 /// The gain designed exactly from output `output` (1-based) alone: its column placed by the
@@ -68,7 +78,16 @@ pub fn gain_from_output(
         return Err(MultiOutputError::NoSuchOutput { output, outputs: p });
     }
     let row = c.block(output - 1, output, 0, n);
-    let d = design_with(a, &row, desired, method, convention, detail)?;
+    let d = design_with(a, &row, desired, method, convention, detail).map_err(|e| match e {
+        DesignError::Observability(o) => MultiOutputError::OutputNotObserving {
+            output,
+            row: row.to_input(),
+            reason: o
+                .to_string()
+                .replace("the pair (A, C)", &format!("the pair (A, c_{output})")),
+        },
+        e => e.into(),
+    })?;
     let gain = Matrix::from_fn(n, p, |i, j| {
         if j == output - 1 {
             d.gain.matrix.get(i, 0).clone()

@@ -187,11 +187,15 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, 
 /// (entries uniform in [−15, 15]).
 pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormReport {
     let m = cons.variables.len();
-    let starts = search.starts;
+    let mut starts = 0;
     let mut uniform = super::search::seeded_uniform(search.seed);
     let mut minima: Vec<LocalMinimum> = Vec::new();
     let mut converged = 0;
-    for _ in 0..starts {
+    for _ in 0..search.starts {
+        if search.out_of_time() {
+            break;
+        }
+        starts += 1;
         let start = DVector::from_fn(m, |_, _| 30.0 * uniform() - 15.0);
         let found = newton_kkt(cons, start);
         search.started();

@@ -44,6 +44,9 @@ pub enum ReducedOrderError {
     /// Nothing to observe.
     #[error("C measures all {0} states: there is nothing left to observe (x = C⁻¹ y)")]
     NothingToObserve(usize),
+    /// The reduced pair is not observable (exactly when (A, C) is not).
+    #[error("the reduced pair (A₂₂, A₁₂) is not observable, so neither is (A, C): {0}")]
+    ReducedPairUnobservable(String),
     /// No single row of A₁₂ observes the unmeasured part.
     #[error("no single measured output observes the unmeasured states through A₁₂ = {0}; the pair (A, C) is not observable, or needs several outputs at once")]
     NoObservingRow(String),
@@ -178,7 +181,15 @@ pub fn reduced_order_observer(
                 method,
                 Convention::AMinusKC,
                 Detail::Full,
-            )?;
+            )
+            .map_err(|e| match e {
+                DesignError::Observability(o) => ReducedOrderError::ReducedPairUnobservable(
+                    o.to_string()
+                        .replace("the pair (A, C) is not observable: ", "")
+                        .replace("unobservable direction", "unobservable direction of z₂"),
+                ),
+                e => e.into(),
+            })?;
         }
         return Err(ReducedOrderError::NoObservingRow(a12.to_input()));
     };

@@ -21,6 +21,9 @@ pub struct Multistart<'a> {
     /// Seed of the starts: same seed, same result.
     pub seed: u64,
     on_start: &'a dyn Fn(),
+    /// No new start after this instant (the starts run so far are reported): a search is
+    /// bounded by time as well as by count.
+    deadline: Option<std::time::Instant>,
 }
 
 impl Multistart<'static> {
@@ -30,6 +33,7 @@ impl Multistart<'static> {
             starts,
             seed,
             on_start: &|| {},
+            deadline: None,
         }
     }
 }
@@ -41,7 +45,21 @@ impl<'a> Multistart<'a> {
             starts: self.starts,
             seed: self.seed,
             on_start: tell,
+            deadline: self.deadline,
         }
+    }
+
+    /// The same search, starting no new start once `budget` has passed (from now).
+    #[must_use]
+    pub fn within(mut self, budget: std::time::Duration) -> Self {
+        self.deadline = std::time::Instant::now().checked_add(budget);
+        self
+    }
+
+    /// Whether the time budget is spent: no further start may begin.
+    pub fn out_of_time(&self) -> bool {
+        self.deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
     }
 
     /// Called by the search after each start.
