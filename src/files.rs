@@ -233,9 +233,8 @@ fn check_target(path: &Path, inputs: &[&Path]) -> Result<PathBuf, FileError> {
             return Err(refuse(format!("it is {what}, not a regular file")));
         }
     }
-    let target = resolved(path).ok_or_else(|| {
-        refuse("its folder does not exist or cannot be resolved".into())
-    })?;
+    let target = resolved(path)
+        .ok_or_else(|| refuse("its folder does not exist or cannot be resolved".into()))?;
     for input in inputs {
         if resolved(input).is_some_and(|i| i == target) {
             return Err(refuse(format!(
@@ -273,10 +272,7 @@ pub fn write_safely(
     // a fresh name, created exclusively: never an existing file or a planted link
     let mut tmp = None;
     for attempt in 0..100u32 {
-        let candidate = folder.join(format!(
-            ".{name}.{}-{attempt}.tmp-owb",
-            std::process::id()
-        ));
+        let candidate = folder.join(format!(".{name}.{}-{attempt}.tmp-owb", std::process::id()));
         match std::fs::OpenOptions::new()
             .write(true)
             .create_new(true)

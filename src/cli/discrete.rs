@@ -348,7 +348,13 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
     };
     let qn = matrix::<Rational>("--qn", &args.qn)?;
     let rn = matrix::<Rational>("--rn", &args.rn)?;
-    for (flag, m) in [("--a", &a), ("--c", &c), ("--g", &g), ("--qn", &qn), ("--rn", &rn)] {
+    for (flag, m) in [
+        ("--a", &a),
+        ("--c", &c),
+        ("--g", &g),
+        ("--qn", &qn),
+        ("--rn", &rn),
+    ] {
         super::args::float_range(flag, m)?;
     }
     let k = discrete_kalman(&a, &g, &c, &qn, &rn)?;

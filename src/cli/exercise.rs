@@ -2,12 +2,12 @@
 //! a class and generate fresh exercises.
 
 use super::args::print_json;
-use crate::files::{csv_cell, escape_untrusted, write_safely};
 use super::Outcome;
 use crate::exercise::generate::{pole_placement, Kind, Settings};
 use crate::exercise::{
     answer_key, check_answers, load_answers, load_exercise, AnswerKey, ExerciseFile, PartVerdict,
 };
+use crate::files::{csv_cell, escape_untrusted, write_safely};
 use anyhow::{anyhow, bail, Context, Result};
 use std::path::{Path, PathBuf};
 
@@ -238,12 +238,7 @@ fn variant_key(
         .ok_or("a variant's answers name their student (student = \"…\")")?;
     let settings = Settings {
         kind: class.kind,
-        ..Settings::for_student(
-            student,
-            class.min_order,
-            class.max_order,
-            &class.convention,
-        )
+        ..Settings::for_student(student, class.min_order, class.max_order, &class.convention)
     };
     let id = settings.id();
     if let Some(theirs) = answers.exercise.as_deref() {
@@ -291,7 +286,11 @@ fn grade_one(target: &Target, file: &Path, tally: &mut Tally) -> Graded {
         Err(e) => {
             tally.invalid += 1;
             return Graded {
-                lines: vec![invalid(&student_name(file, None), &class_id, &e.to_string())],
+                lines: vec![invalid(
+                    &student_name(file, None),
+                    &class_id,
+                    &e.to_string(),
+                )],
                 feedback: None,
             };
         }
@@ -411,7 +410,12 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
         }
     };
     let mut files: Vec<PathBuf> = std::fs::read_dir(&args.submissions)
-        .with_context(|| format!("reading {}", escape_untrusted(&args.submissions.display().to_string())))?
+        .with_context(|| {
+            format!(
+                "reading {}",
+                escape_untrusted(&args.submissions.display().to_string())
+            )
+        })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();

@@ -193,7 +193,7 @@ pub fn main() -> ExitCode {
         Err(e) if e.use_stderr() && json_requested() => {
             // a script asked for JSON: a refused command line is the same JSON object as
             // any other refusal
-            let text = e.render().to_string();
+            let text = crate::files::escape_untrusted(&e.render().to_string());
             let first = text.lines().next().unwrap_or_default();
             let message = first.strip_prefix("error: ").unwrap_or(first).to_string();
             let causes: Vec<String> = text
@@ -235,23 +235,25 @@ pub fn main() -> ExitCode {
 
 /// The status of a finished command, its error printed (as JSON too when asked).
 fn report(result: anyhow::Result<Outcome>) -> ExitCode {
+    // an error may quote what the user typed: nothing invisible reaches the terminal or a script
+    let safe = |t: String| crate::files::escape_untrusted(&t);
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
         Ok(Outcome::Failed) => ExitCode::from(1),
         Err(e) if json_requested() => {
             // a script asked for JSON: it gets a JSON error object (and the status)
-            let causes: Vec<String> = e.chain().skip(1).map(|c| c.to_string()).collect();
+            let causes: Vec<String> = e.chain().skip(1).map(|c| safe(c.to_string())).collect();
             outln!(
                 "{}",
-                serde_json::json!({"error": e.to_string(), "causes": causes, "exit_status": 2})
+                serde_json::json!({"error": safe(e.to_string()), "causes": causes, "exit_status": 2})
             );
-            eprintln!("error: {e}");
+            eprintln!("error: {}", safe(e.to_string()));
             ExitCode::from(2)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", safe(e.to_string()));
             for cause in e.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+                eprintln!("  caused by: {}", safe(cause.to_string()));
             }
             ExitCode::from(2)
         }

@@ -17,7 +17,9 @@ thread_local! {
 static FAILED: std::sync::Mutex<Option<std::io::ErrorKind>> = std::sync::Mutex::new(None);
 
 fn failed() -> Option<std::io::ErrorKind> {
-    *FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    *FAILED
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// Writes formatted text to the capture buffer if one is active, else to standard output.
@@ -33,7 +35,9 @@ pub fn write(args: Arguments<'_>) {
     });
     if !captured && failed().is_none() {
         if let Err(e) = std::io::stdout().lock().write_fmt(args) {
-            let mut f = FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            let mut f = FAILED
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
             f.get_or_insert(e.kind());
         }
     }
@@ -43,7 +47,9 @@ pub fn write(args: Arguments<'_>) {
 /// arrived, else the kind of the first failure (a broken pipe, a full disk, a closed output).
 pub fn finish() -> Result<(), std::io::ErrorKind> {
     if let Err(e) = std::io::stdout().lock().flush() {
-        let mut f = FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut f = FAILED
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         f.get_or_insert(e.kind());
     }
     failed().map_or(Ok(()), Err)

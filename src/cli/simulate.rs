@@ -2,8 +2,8 @@
 //! CSV, and check the figures' statements by numbers.
 
 use super::args::{examples_folder, find_example, print_json};
-use crate::files::write_safely;
 use super::Outcome;
+use crate::files::write_safely;
 use crate::simulation::{csv::to_csv, plot::svg};
 use crate::worked::{load_example, load_folder, run_scenarios, ScenarioRun};
 use anyhow::{bail, Result};

@@ -216,7 +216,6 @@ fn rational_poly(p: &Poly<Quadratic>) -> Option<Poly<Rational>> {
     Some(Poly::new(c?, p.var()))
 }
 
-
 /// The smallest k ≤ n with Mᵏ = 0, or `None` when M is not nilpotent (Mⁿ ≠ 0).
 ///
 /// M is nilpotent exactly when det(zI − M) = zⁿ, which the characteristic polynomial decides
@@ -469,13 +468,16 @@ fn float_zoh(
         }
     }
     // the largest difference, a NaN counted as failure
-    let error = (&pade - &taylor).iter().map(|x| x.abs()).fold(0.0_f64, |acc, x| {
-        if acc.is_nan() || x.is_nan() {
-            f64::NAN
-        } else {
-            acc.max(x)
-        }
-    });
+    let error = (&pade - &taylor)
+        .iter()
+        .map(|x| x.abs())
+        .fold(0.0_f64, |acc, x| {
+            if acc.is_nan() || x.is_nan() {
+                f64::NAN
+            } else {
+                acc.max(x)
+            }
+        });
     if !error.is_finite() {
         return Err(overflow());
     }

@@ -119,10 +119,7 @@ pub fn has_unit_circle_root(u: &crate::poly::Poly<Rational>) -> Option<bool> {
     let Some(d) = u.degree() else {
         return Some(false);
     };
-    let reversed = Poly::new(
-        (0..=d).map(|k| u.coeff(d - k)).collect(),
-        u.var(),
-    );
+    let reversed = Poly::new((0..=d).map(|k| u.coeff(d - k)).collect(), u.var());
     let g = u.gcd(&reversed);
     if g.degree().unwrap_or(0) == 0 {
         return Some(false);
@@ -180,7 +177,8 @@ fn exact_conditions(
     if linalg::determinant(rn)? == Rational::from_integer(0.into()) {
         return Err(DiscreteKalmanError::NotCovariance {
             name: "R_n",
-            why: "it is singular; the measurement noise covariance must be positive definite".into(),
+            why: "it is singular; the measurement noise covariance must be positive definite"
+                .into(),
         });
     }
     let observed = crate::observability::observability_report(a, c)?;
@@ -375,7 +373,13 @@ pub fn discrete_kalman(
     }
     let exactly_decided = exact_conditions(a, g, c, qn, rn)?;
     let (af, gf, cf, qf, rf) = (to_f64(a), to_f64(g), to_f64(c), to_f64(qn), to_f64(rn));
-    for (name, m) in [("A", &af), ("G", &gf), ("C", &cf), ("Q_n", &qf), ("R_n", &rf)] {
+    for (name, m) in [
+        ("A", &af),
+        ("G", &gf),
+        ("C", &cf),
+        ("Q_n", &qf),
+        ("R_n", &rf),
+    ] {
         if m.iter().any(|x| !x.is_finite()) {
             return Err(DiscreteKalmanError::Range(format!(
                 "an entry of {name} is beyond the range of f64 (about 1.8e308)"
@@ -390,8 +394,9 @@ pub fn discrete_kalman(
     let (doubled, iterations) = doubling(&af, &cf, &wf, &r_inv);
     // the doubling's solution, kept when it is the stabilising one
     let stabilising = |p: &DMatrix<f64>| {
-        evaluate(&af, &cf, &wf, &rf, p)
-            .is_some_and(|(_, _, res, closed)| res <= RESIDUAL_TOLERANCE && spectral_radius(&closed) < 1.0)
+        evaluate(&af, &cf, &wf, &rf, p).is_some_and(|(_, _, res, closed)| {
+            res <= RESIDUAL_TOLERANCE && spectral_radius(&closed) < 1.0
+        })
     };
     let (pf, refined) = match doubled {
         Some(p) if stabilising(&p) => (p, false),

@@ -1,0 +1,766 @@
+//! Trust at the level users act (issue 26): each reproduction of the command-level sweep is a
+//! regression test here, and a sweep feeds every subcommand's flags hostile values and asserts
+//! a clean exit (0, 1, 2 — never a panic or a signal), a time budget, valid JSON under
+//! `--json`, and no temporary file left behind.
+
+mod common;
+use common::owb;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Runs `owb` with a deadline; `(status, stdout, stderr, elapsed)`; a run past the deadline is
+/// killed and reported as status -9.
+fn owb_within(args: &[&str], limit: Duration) -> (i32, String, String, Duration) {
+    let start = Instant::now();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_owb"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("owb starts");
+    // read both pipes on threads, so a large report cannot block the child
+    let mut out = child.stdout.take().expect("piped");
+    let mut err = child.stderr.take().expect("piped");
+    let t_out = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        std::io::Read::read_to_end(&mut out, &mut s).ok();
+        s
+    });
+    let t_err = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        std::io::Read::read_to_end(&mut err, &mut s).ok();
+        s
+    });
+    let code = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status.code().unwrap_or(-1);
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            break -9;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let elapsed = start.elapsed();
+    let out = String::from_utf8_lossy(&t_out.join().unwrap_or_default()).into_owned();
+    let err = String::from_utf8_lossy(&t_err.join().unwrap_or_default()).into_owned();
+    (code, out, err, elapsed)
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("owb-trust-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn no_temporaries(dir: &Path) {
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        assert!(!name.contains("tmp-owb"), "a temporary was left: {name}");
+    }
+}
+
+// ---- wrong answers with exit 0 ----------------------------------------------------------
+
+#[test]
+fn dlqe_returns_the_stabilising_solution_when_the_noise_misses_the_unstable_mode() {
+    // P = 0 also solves the equation, but A − LC = 2 is unstable; P = 3 gives L = 3/2
+    let (code, out, err) = owb(&[
+        "dlqe", "--a", "[2]", "--c", "[1]", "--qn", "[0]", "--rn", "[1]", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["exact_p"], serde_json::json!([["3"]]), "{out}");
+    assert_eq!(v["exact_gain"], serde_json::json!([["3/2"]]), "{out}");
+    assert!(v["spectral_radius"].as_f64().unwrap() < 1.0);
+}
+
+#[test]
+fn dlqe_refuses_what_has_no_stabilising_solution_or_is_no_covariance() {
+    for (args, why) in [
+        (["[2]", "[0]", "[1]", "[1]"], "not detectable"),
+        (["[1]", "[1]", "[0]", "[1]"], "unit circle"),
+        (
+            ["[1/2 1; 0 9/10]", "[1 0]", "[1 2; 0 1]", "[1]"],
+            "not symmetric",
+        ),
+        (
+            ["[1/2 1; 0 9/10]", "[1 0]", "[1 2; 2 1]", "[1]"],
+            "negative eigenvalue",
+        ),
+        (["[1/2]", "[1]", "[1]", "[0]"], "R_n"),
+    ] {
+        let (code, out, err) = owb(&[
+            "dlqe", "--a", args[0], "--c", args[1], "--qn", args[2], "--rn", args[3], "--json",
+        ]);
+        assert_eq!(code, 2, "{args:?}: {out}{err}");
+        assert!(err.contains(why), "{args:?}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert!(v["error"].as_str().unwrap().contains(why));
+    }
+}
+
+#[test]
+fn dlqe_never_reports_an_unverified_float_solution() {
+    // a dense 8×8 where the equation is too ill-conditioned for f64 (SciPy's residual: 0.18)
+    let a = "[-2 -4 4 3 -1 -8 8 3; -3 -5 2 -3 -2 0 4 -9; -2 -5 2 6 -9 -1 -5 3; 2 7 4 -9 -3 -1 -9 -3; 1 6 -4 7 9 -3 -4 -6; -1 -1 -4 6 -6 -4 -5 2; 7 -9 3 -9 -9 -8 0 -4; 0 -2 -7 8 7 0 -3 -2]";
+    let q = "[1 0 0 0 0 0 0 0; 0 1 0 0 0 0 0 0; 0 0 1 0 0 0 0 0; 0 0 0 1 0 0 0 0; 0 0 0 0 1 0 0 0; 0 0 0 0 0 1 0 0; 0 0 0 0 0 0 1 0; 0 0 0 0 0 0 0 1]";
+    let (code, out, err) = owb(&[
+        "dlqe",
+        "--a",
+        a,
+        "--c",
+        "[1 0 0 0 0 0 0 0]",
+        "--qn",
+        q,
+        "--rn",
+        "[1]",
+        "--json",
+    ]);
+    if code == 0 {
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert!(v["residual"].as_f64().unwrap() <= 1e-8, "{out}");
+        assert!(v["spectral_radius"].as_f64().unwrap() < 1.0, "{out}");
+    } else {
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("check"), "{err}");
+    }
+}
+
+#[test]
+fn continuous_poles_keep_their_imaginary_parts_or_are_refused() {
+    let (code, _, err) = owb(&[
+        "discrete",
+        "--a",
+        "[0 1; -2 -3]",
+        "--c",
+        "[1 0]",
+        "--continuous-poles",
+        "-1+2i, -3",
+        "--period",
+        "1/10",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("conjugate"), "{err}");
+    let (code, out, err) = owb(&[
+        "discrete",
+        "--a",
+        "[0 1; -2 -3]",
+        "--c",
+        "[1 0]",
+        "--continuous-poles",
+        "-1+2i, -1-2i",
+        "--period",
+        "1/10",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let z = v["z_poles"].as_array().unwrap();
+    assert!(
+        z.iter().any(|p| p["im"].as_f64().unwrap().abs() > 0.1),
+        "{out}"
+    );
+    // an unobservable pair on the float path: refused, no empty gain
+    let (code, _, err) = owb(&[
+        "discrete",
+        "--a",
+        "[1 0; 0 2]",
+        "--c",
+        "[1 0]",
+        "--continuous-poles",
+        "-1, -2",
+        "--period",
+        "1",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("not observable"), "{err}");
+}
+
+#[test]
+fn zoh_refuses_what_f64_cannot_hold() {
+    for args in [
+        ["--a", "[1]", "--b", "[1]", "--period", "1e300"],
+        ["--a", "[1e1000]", "--b", "[1]", "--period", "1"],
+    ] {
+        let mut all = vec!["zoh"];
+        all.extend(args);
+        let (code, out, err, took) = owb_within(&all, Duration::from_secs(10));
+        assert_eq!(code, 2, "{args:?}: {out}{err}");
+        assert!(took < Duration::from_secs(5), "{args:?} took {took:?}");
+        assert!(!out.contains("NaN"), "{out}");
+    }
+}
+
+#[test]
+fn empty_matrices_are_refused() {
+    for cmd in ["observe", "dlqe", "kalman", "perfect", "gain"] {
+        let mut args = vec![cmd, "--a", "[]", "--c", "[]"];
+        match cmd {
+            "dlqe" => args.extend(["--qn", "[]", "--rn", "[]"]),
+            "kalman" => args.extend(["--b", "[]", "--input-noise", "[]", "--output-noise", "[]"]),
+            "perfect" => args.extend(["--b", "[]"]),
+            "gain" => args.extend(["--poles", "-1"]),
+            _ => {}
+        }
+        let (code, _, err) = owb(&args);
+        assert_eq!(code, 2, "{cmd}: {err}");
+        assert!(err.contains("empty"), "{cmd}: {err}");
+    }
+}
+
+#[test]
+fn an_imaginary_entry_is_no_slip() {
+    let dir = temp_dir("slip");
+    let f = dir.join("a.toml");
+    std::fs::write(&f, "[answers]\nL = \"[i; -12]\"\n").unwrap();
+    let (_, out, _) = owb(&["check", "stoustrup-pole-assignment", f.to_str().unwrap()]);
+    let part = out
+        .lines()
+        .skip_while(|l| !l.contains(" L ("))
+        .take(3)
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(part.contains("(0/"), "{part}");
+    assert!(part.contains("not real"), "{part}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn optimal_says_when_no_start_converged() {
+    // one start with a one-millisecond budget still runs that start; the report never claims
+    // uniqueness without a converged minimum
+    let (code, out, err) = owb(&[
+        "optimal",
+        "--a",
+        "[0 1 0; 0 0 1; -1 -3 -3]",
+        "--c",
+        "[1 0 0; 0 1 0]",
+        "--poles",
+        "-1, -2, -3",
+        "--starts",
+        "1",
+        "--seed",
+        "7",
+    ]);
+    if code == 0 {
+        assert!(!out.contains("0 converged"), "{out}");
+    } else {
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("no start converged"), "{err}");
+    }
+}
+
+// ---- crashes ----------------------------------------------------------------------------
+
+#[test]
+fn long_chains_are_refused_not_a_stack_overflow() {
+    let chain = vec!["1"; 7000].join("+");
+    let (code, _, err) = owb(&[
+        "gain",
+        "--a",
+        &format!("[{chain}]"),
+        "--c",
+        "[1]",
+        "--poles",
+        "-1",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("chain of operations"), "{err}");
+    // a chain within the limit still reads, in a thread with the test harness's small stack
+    let short = vec!["1"; 900].join("+");
+    let h = std::thread::spawn(move || {
+        observer_workbench::syntax::parse_scalar::<observer_workbench::algebra::Rational>(&short)
+    });
+    assert_eq!(h.join().unwrap().unwrap().to_string(), "900");
+}
+
+#[test]
+fn huge_entries_on_the_float_paths_are_refused_not_a_panic() {
+    for args in [
+        vec![
+            "gain",
+            "--a",
+            "[1e400 1; 0 1]",
+            "--c",
+            "[1 0]",
+            "--poles",
+            "-1, -2",
+            "--float",
+        ],
+        vec![
+            "gain",
+            "--a",
+            "[1e300 1; 0 1]",
+            "--c",
+            "[1 0]",
+            "--poles",
+            "-1, -2",
+            "--float",
+        ],
+        vec![
+            "discrete",
+            "--a",
+            "[1e300 1; 0 1]",
+            "--c",
+            "[1 0]",
+            "--continuous-poles",
+            "-1, -2",
+            "--period",
+            "1",
+        ],
+        vec![
+            "kalman",
+            "--a",
+            "[1e300 1; 0 1]",
+            "--b",
+            "[0; 1]",
+            "--c",
+            "[1 0]",
+            "--input-noise",
+            "[1]",
+            "--output-noise",
+            "[1]",
+        ],
+        vec![
+            "dlqe",
+            "--a",
+            "[1e300 1; 0 1]",
+            "--c",
+            "[1 0]",
+            "--qn",
+            "[1 0; 0 1]",
+            "--rn",
+            "[1]",
+        ],
+    ] {
+        let (code, out, err, took) = owb_within(&args, Duration::from_secs(20));
+        assert!(matches!(code, 0 | 2), "{args:?}: status {code}: {err}");
+        assert!(took < Duration::from_secs(10), "{args:?} took {took:?}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        if code == 0 {
+            // a float result that could not be trusted says so
+            assert!(
+                !out.contains("NaN") || out.contains("NOT") || out.contains("wrong"),
+                "{args:?}: {out}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_full_or_closed_standard_output_is_an_error() {
+    let full = std::fs::OpenOptions::new().write(true).open("/dev/full");
+    if let Ok(full) = full {
+        let status = Command::new(env!("CARGO_BIN_EXE_owb"))
+            .args(["observe", "--a", "[0 1; -2 -3]", "--c", "[1 0]"])
+            .stdout(full)
+            .stderr(Stdio::piped())
+            .output()
+            .unwrap();
+        assert_eq!(status.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&status.stderr);
+        assert!(err.contains("writing standard output failed"), "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // a closed standard output (`>&-`), through the shell
+    let closed = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "'{}' observe --a '[0 1; -2 -3]' --c '[1 0]' >&-",
+            env!("CARGO_BIN_EXE_owb")
+        ))
+        .output();
+    if let Ok(o) = closed {
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}
+
+// ---- lost files and untrusted files -----------------------------------------------------
+
+#[test]
+fn outputs_never_replace_an_exercise_a_worked_example_a_device_or_an_input() {
+    let dir = temp_dir("writer");
+    let subs = dir.join("subs");
+    std::fs::create_dir_all(&subs).unwrap();
+    std::fs::write(subs.join("ada.toml"), "[answers]\nL = \"[-6; -12]\"\n").unwrap();
+    let exercise = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("worked_examples/exercises/stoustrup-pole-assignment.toml");
+    let before = std::fs::read_to_string(&exercise).unwrap();
+    for target in [
+        exercise.to_str().unwrap(),
+        "/dev/null",
+        subs.join("ada.toml").to_str().unwrap(),
+    ] {
+        let (code, _, err) = owb(&[
+            "grade",
+            "stoustrup-pole-assignment",
+            subs.to_str().unwrap(),
+            "--csv",
+            target,
+        ]);
+        assert_eq!(code, 2, "{target}: {err}");
+    }
+    assert_eq!(std::fs::read_to_string(&exercise).unwrap(), before);
+    let example =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("worked_examples/diruscio-example-7-1.toml");
+    let before = std::fs::read_to_string(&example).unwrap();
+    let (code, _, err) = owb(&[
+        "verify",
+        "diruscio-example-7-1",
+        "--errata",
+        example.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(std::fs::read_to_string(&example).unwrap(), before);
+    #[cfg(unix)]
+    {
+        let link = dir.join("link.csv");
+        std::os::unix::fs::symlink(dir.join("elsewhere.csv"), &link).unwrap();
+        let (code, _, err) = owb(&[
+            "grade",
+            "stoustrup-pole-assignment",
+            subs.to_str().unwrap(),
+            "--csv",
+            link.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{err}");
+        assert!(!dir.join("elsewhere.csv").exists());
+    }
+    no_temporaries(&dir);
+    no_temporaries(&subs);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_class_with_hostile_submissions_is_graded_and_the_report_is_safe() {
+    let dir = temp_dir("class");
+    let subs = dir.join("subs");
+    std::fs::create_dir_all(&subs).unwrap();
+    std::fs::write(
+        subs.join("a.toml"),
+        "student = \"=HYPERLINK(1)\"\n[answers]\nL = \"[-6; -12]\"\n",
+    )
+    .unwrap();
+    std::fs::write(
+        subs.join("b.toml"),
+        "student = \"Ada\\u202egnp.exe\"\n[answers]\nL = \"[1;\\u00072]\"\n",
+    )
+    .unwrap();
+    let chain = vec!["1"; 7000].join("+");
+    std::fs::write(
+        subs.join("c.toml"),
+        format!("[answers]\nL = \"[{chain}; 1]\"\n"),
+    )
+    .unwrap();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("/dev/zero", subs.join("d.toml")).unwrap();
+        let _ = Command::new("mkfifo").arg(subs.join("e.toml")).status();
+    }
+    let csv = dir.join("report.csv");
+    let (code, out, err, took) = owb_within(
+        &[
+            "grade",
+            "stoustrup-pole-assignment",
+            subs.to_str().unwrap(),
+            "--csv",
+            csv.to_str().unwrap(),
+            "--json",
+        ],
+        Duration::from_secs(20),
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(took < Duration::from_secs(10));
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["submissions"].as_u64().unwrap() >= 3);
+    let report = std::fs::read_to_string(&csv).unwrap();
+    for line in report.lines() {
+        assert!(
+            !line
+                .chars()
+                .any(|c| c.is_control() || ('\u{202a}'..='\u{202e}').contains(&c)),
+            "{line:?}"
+        );
+        for cell in line.split(',') {
+            assert!(!cell.starts_with(['=', '@', '+']), "{line}");
+        }
+    }
+    assert!(report.contains("'=HYPERLINK"), "{report}");
+    assert!(report.contains("\\u{202e}"), "{report}");
+    no_temporaries(&dir);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_scenario_name_never_leaves_the_output_folder() {
+    let dir = temp_dir("scenario");
+    let src = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("worked_examples/stoustrup-series-connection.toml");
+    let text = std::fs::read_to_string(&src).unwrap();
+    if !text.contains("[[scenarios]]") {
+        return;
+    }
+    let hostile = text.replacen("name = \"", "name = \"../../escape-", 1);
+    let example = dir.join("hostile.toml");
+    std::fs::write(&example, hostile).unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let svg = out.join("fig.svg");
+    let (code, _, err) = owb(&[
+        "simulate",
+        example.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(matches!(code, 0 | 1 | 2), "{err}");
+    assert!(!dir.join("escape-").exists());
+    for e in std::fs::read_dir(&dir).unwrap().flatten() {
+        assert!(
+            !e.file_name().to_string_lossy().starts_with("escape"),
+            "{:?}",
+            e.path()
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---- messages ---------------------------------------------------------------------------
+
+#[test]
+fn argument_errors_are_json_under_json() {
+    for cmd in ["gain", "observe", "grade", "dlqe", "zoh"] {
+        let (code, out, _) = owb(&[cmd, "--bogus", "--json"]);
+        assert_eq!(code, 2);
+        let v: serde_json::Value =
+            serde_json::from_str(&out).unwrap_or_else(|e| panic!("{cmd}: {e}: {out:?}"));
+        assert!(v["error"].as_str().unwrap().contains("--bogus"), "{out}");
+    }
+    let (code, out, err) = owb(&["exercise", "new", "--seed", "3", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["key"].as_array().is_some_and(|k| !k.is_empty()), "{out}");
+}
+
+#[test]
+fn messages_name_what_is_wrong() {
+    let (_, _, err) = owb(&[
+        "gain", "--a", "[1 2; 3]", "--c", "[1 0]", "--poles", "-1, -2",
+    ]);
+    assert!(err.contains("row 2 has 1 entries"), "{err}");
+    let (_, _, err) = owb(&[
+        "discrete",
+        "--a",
+        "[0 1; 0 0]",
+        "--c",
+        "[1 0]",
+        "--poly",
+        "zeta^2",
+    ]);
+    assert!(err.contains("'zeta'"), "{err}");
+    let (_, _, err) = owb(&[
+        "gain",
+        "--a",
+        "[-1 0; 0 -2]",
+        "--c",
+        "[1 0; 0 1]",
+        "--poles",
+        "-3, -4",
+        "--output",
+        "1",
+    ]);
+    assert!(err.contains("output 1 alone does not observe"), "{err}");
+    let (_, out, _) = owb(&[
+        "reduced",
+        "--a",
+        "[0 1; -2 -3]",
+        "--c",
+        "[1 0]",
+        "--poles",
+        "-5",
+        "--convention",
+        "a+lc",
+    ]);
+    assert!(out.contains("w = z₂ + L y"), "{out}");
+    let (_, _, err) = owb(&["gain", "--a", "[1\u{202e}2]", "--c", "[1]", "--poles", "-1"]);
+    assert!(!err.contains('\u{202e}'), "{err}");
+}
+
+#[test]
+fn built_in_exercises_need_no_checkout() {
+    let dir = temp_dir("builtin");
+    let f = dir.join("a.toml");
+    std::fs::write(&f, "[answers]\nL = \"[-6; -12]\"\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_owb"))
+        .args(["check", "stoustrup-pole-assignment", f.to_str().unwrap()])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("✔ L"),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---- the sweep --------------------------------------------------------------------------
+
+/// Hostile values for a matrix, a list or a number flag.
+fn hostile() -> Vec<String> {
+    let chain = vec!["1"; 7000].join("+");
+    vec![
+        "[1e1000]".into(),
+        "[1e-1000]".into(),
+        "[9^999]".into(),
+        "0".into(),
+        "[]".into(),
+        "[[]]".into(),
+        "[1 2; 3]".into(),
+        format!("[{chain}]"),
+        "[1\u{7}2]".into(),
+        "\u{202e}[1]".into(),
+        "".into(),
+        "-1e300".into(),
+        "nan".into(),
+    ]
+}
+
+#[test]
+fn every_subcommand_survives_hostile_flags() {
+    // a valid base per subcommand; each flag in turn gets each hostile value
+    let base: Vec<(&str, Vec<(&str, &str)>)> = vec![
+        ("observe", vec![("--a", "[0 1; -2 -3]"), ("--c", "[1 0]")]),
+        ("canonical", vec![("--a", "[0 1; -2 -3]"), ("--c", "[1 0]")]),
+        (
+            "gain",
+            vec![
+                ("--a", "[0 1; -2 -3]"),
+                ("--c", "[1 0]"),
+                ("--poles", "-4, -5"),
+            ],
+        ),
+        (
+            "feedback",
+            vec![
+                ("--a", "[0 1; -2 -3]"),
+                ("--b", "[0; 1]"),
+                ("--poles", "-4, -5"),
+            ],
+        ),
+        (
+            "discrete",
+            vec![
+                ("--a", "[0 1; -2 -3]"),
+                ("--c", "[1 0]"),
+                ("--poles", "0, 1/2"),
+            ],
+        ),
+        (
+            "zoh",
+            vec![
+                ("--a", "[0 1; -2 -3]"),
+                ("--b", "[0; 1]"),
+                ("--period", "1/10"),
+            ],
+        ),
+        (
+            "dlqe",
+            vec![
+                ("--a", "[1/2 1; 0 1/3]"),
+                ("--c", "[1 0]"),
+                ("--qn", "[1 0; 0 1]"),
+                ("--rn", "[1]"),
+            ],
+        ),
+        (
+            "reduced",
+            vec![("--a", "[0 1; -2 -3]"), ("--c", "[1 0]"), ("--poles", "-5")],
+        ),
+        (
+            "detectable",
+            vec![("--a", "[-1 0; 1 -1]"), ("--c", "[1 0]"), ("--poles", "-3")],
+        ),
+        (
+            "control",
+            vec![
+                ("--a", "[0 1; -2 -3]"),
+                ("--b", "[0; 1]"),
+                ("--c", "[1 0]"),
+                ("--l", "[-5; -6]"),
+                ("--f", "[-1 -1]"),
+            ],
+        ),
+        (
+            "kalman",
+            vec![
+                ("--a", "[0 1; -2 -3]"),
+                ("--b", "[0; 1]"),
+                ("--c", "[1 0]"),
+                ("--input-noise", "[1]"),
+                ("--output-noise", "[1]"),
+            ],
+        ),
+        (
+            "perfect",
+            vec![("--a", "[0 1; -2 -3]"), ("--b", "[0; 1]"), ("--c", "[1 0]")],
+        ),
+    ];
+    let budget = Duration::from_secs(20);
+    let mut failures = Vec::new();
+    for (cmd, flags) in &base {
+        for k in 0..flags.len() {
+            for value in hostile() {
+                let mut args: Vec<String> = vec![cmd.to_string()];
+                for (j, (flag, v)) in flags.iter().enumerate() {
+                    args.push(flag.to_string());
+                    args.push(if j == k { value.clone() } else { v.to_string() });
+                }
+                args.push("--json".into());
+                let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+                let (code, out, err, took) = owb_within(&refs, budget);
+                let shown = format!("{:?}", args).chars().take(200).collect::<String>();
+                if !matches!(code, 0 | 1 | 2) {
+                    failures.push(format!(
+                        "{shown}: status {code}: {}",
+                        err.chars().take(300).collect::<String>()
+                    ));
+                    continue;
+                }
+                if took > Duration::from_secs(10) {
+                    failures.push(format!("{shown}: took {took:?}"));
+                }
+                if err.contains("panicked") {
+                    failures.push(format!("{shown}: panic: {err}"));
+                }
+                if serde_json::from_str::<serde_json::Value>(&out).is_err() {
+                    failures.push(format!(
+                        "{shown}: stdout is not JSON: {}",
+                        out.chars().take(200).collect::<String>()
+                    ));
+                }
+                if out.chars().any(|c| c == '\u{7}' || c == '\u{202e}')
+                    || err.chars().any(|c| c == '\u{7}' || c == '\u{202e}')
+                {
+                    failures.push(format!("{shown}: an invisible character echoed"));
+                }
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
