@@ -522,7 +522,7 @@ fn a_scenario_name_never_leaves_the_output_folder() {
         "--svg",
         svg.to_str().unwrap(),
     ]);
-    assert!(matches!(code, 0 | 1 | 2), "{err}");
+    assert!(matches!(code, 0..=2), "{err}");
     assert!(!dir.join("escape-").exists());
     for e in std::fs::read_dir(&dir).unwrap().flatten() {
         assert!(
@@ -730,7 +730,7 @@ fn every_subcommand_survives_hostile_flags() {
                 let refs: Vec<&str> = args.iter().map(String::as_str).collect();
                 let (code, out, err, took) = owb_within(&refs, budget);
                 let shown = format!("{:?}", args).chars().take(200).collect::<String>();
-                if !matches!(code, 0 | 1 | 2) {
+                if !matches!(code, 0..=2) {
                     failures.push(format!(
                         "{shown}: status {code}: {}",
                         err.chars().take(300).collect::<String>()

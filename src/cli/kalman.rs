@@ -237,14 +237,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
     let cu = matrix::<Rational>("--input-noise", &args.input_noise)?;
     let cy = matrix::<Rational>("--output-noise", &args.output_noise)?;
-    for (flag, m) in [
-        ("--a", &a),
-        ("--b", &b),
-        ("--c", &c),
-        ("--d", &d),
-        ("--input-noise", &cu),
-        ("--output-noise", &cy),
-    ] {
+    for (flag, m) in [("--a", &a), ("--b", &b), ("--c", &c), ("--d", &d)] {
+        // (the noise intensities have their own range check below, which says more)
         super::args::float_range(flag, m)?;
     }
     let (m, p) = (b.cols(), c.rows());

@@ -202,14 +202,17 @@ fn exact_conditions(
     }
 }
 
-/// One filter step's pieces for P: (gain L, residual ‖Ric(P) − P‖/‖P‖, A − LC).
+/// A candidate P's pieces: (gain L, current gain M, residual ‖Ric(P) − P‖/‖P‖, A − LC).
+type Evaluated = (DMatrix<f64>, DMatrix<f64>, f64, DMatrix<f64>);
+
+/// One candidate P's pieces (see [`Evaluated`]).
 fn evaluate(
     af: &DMatrix<f64>,
     cf: &DMatrix<f64>,
     wf: &DMatrix<f64>,
     rf: &DMatrix<f64>,
     pf: &DMatrix<f64>,
-) -> Option<(DMatrix<f64>, DMatrix<f64>, f64, DMatrix<f64>)> {
+) -> Option<Evaluated> {
     let s = cf * pf * cf.transpose() + rf;
     let s_inv = s.try_inverse()?;
     let current = pf * cf.transpose() * &s_inv;
@@ -421,12 +424,13 @@ pub fn discrete_kalman(
         evaluate(&af, &cf, &wf, &rf, &pf).ok_or(DiscreteKalmanError::SingularInnovation)?;
     let spectral_radius = spectral_radius(&closed);
     // verified, or refused: a NaN fails both tests
-    if !(residual <= RESIDUAL_TOLERANCE) {
+    // written so that a NaN residual fails too
+    if residual.is_nan() || residual > RESIDUAL_TOLERANCE {
         return Err(DiscreteKalmanError::Unverified(format!(
             "Riccati residual {residual:.3e} above {RESIDUAL_TOLERANCE:.0e}"
         )));
     }
-    if !(spectral_radius < 1.0) {
+    if spectral_radius.is_nan() || spectral_radius >= 1.0 {
         return Err(DiscreteKalmanError::Unverified(format!(
             "A − LC has spectral radius {spectral_radius:.6}, not below 1{}",
             if exactly_decided {
