@@ -8,7 +8,7 @@
 //!   only when complete, and never over an input of the run, a worked example or exercise, a
 //!   symbolic link, a device or a FIFO; the temporary is removed on every failure path, and
 //!   errors name the file the user asked for.
-//! * [`escape_untrusted`] and [`refuse_invisible`]: text from a student's file is echoed with
+//! * [`escape_untrusted`] and [`first_invisible`]: text from a student's file is echoed with
 //!   its control and bidirectional characters made visible (`\u{202e}`), and answers that hold
 //!   them are refused with the position named.
 
