@@ -68,14 +68,27 @@ fn no_temporaries(dir: &Path) {
 
 #[test]
 fn dlqe_returns_the_stabilising_solution_when_the_noise_misses_the_unstable_mode() {
-    // P = 0 also solves the equation, but A − LC = 2 is unstable; P = 3 gives L = 3/2
+    // A = 2, C = 1, Q_n = 0, R_n = 1: P = 0 also solves the equation but leaves A − LC = 2
+    // unstable; the answer must solve it and make A − LC stable, both checked here exactly
+    use observer_workbench::algebra::Rational;
+    use observer_workbench::syntax::parse_scalar;
     let (code, out, err) = owb(&[
         "dlqe", "--a", "[2]", "--c", "[1]", "--qn", "[0]", "--rn", "[1]", "--json",
     ]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["exact_p"], serde_json::json!([["3"]]), "{out}");
-    assert_eq!(v["exact_gain"], serde_json::json!([["3/2"]]), "{out}");
+    let read = |key: &str| parse_scalar::<Rational>(v[key][0][0].as_str().unwrap()).unwrap();
+    let (p, l) = (read("exact_p"), read("exact_gain"));
+    let int = |k: i64| Rational::from_integer(k.into());
+    let (a, q, r) = (int(2), int(0), int(1));
+    // P = A P A − A P (P + R)⁻¹ P A + Q and L = A P (P + R)⁻¹, with C = 1
+    let riccati = a.clone() * p.clone() * a.clone()
+        - a.clone() * p.clone() * p.clone() * a.clone() / (p.clone() + r.clone())
+        + q;
+    assert_eq!(riccati, p, "{out}");
+    assert_eq!(l, a.clone() * p.clone() / (p + r), "{out}");
+    let closed = a - l;
+    assert!(closed.clone() * closed < int(1), "A − LC not stable: {out}");
     assert!(v["spectral_radius"].as_f64().unwrap() < 1.0);
 }
 
@@ -272,11 +285,12 @@ fn long_chains_are_refused_not_a_stack_overflow() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("chain of operations"), "{err}");
     // a chain within the limit still reads, in a thread with the test harness's small stack
-    let short = vec!["1"; 900].join("+");
+    let links = 900;
+    let short = vec!["1"; links].join("+");
     let h = std::thread::spawn(move || {
         observer_workbench::syntax::parse_scalar::<observer_workbench::algebra::Rational>(&short)
     });
-    assert_eq!(h.join().unwrap().unwrap().to_string(), "900");
+    assert_eq!(h.join().unwrap().unwrap().to_string(), links.to_string());
 }
 
 #[test]
@@ -557,6 +571,10 @@ fn messages_name_what_is_wrong() {
         "gain", "--a", "[1 2; 3]", "--c", "[1 0]", "--poles", "-1, -2",
     ]);
     assert!(err.contains("row 2 has 1 entries"), "{err}");
+    // the nested form too (it was "too large (limit 200)")
+    let (_, _, err) = owb(&["observe", "--a", "[[1,2],[3]]", "--c", "[1 0]"]);
+    assert!(err.contains("row 2 has 1 entries"), "{err}");
+    assert!(!err.contains("too large"), "{err}");
     let (_, _, err) = owb(&[
         "discrete",
         "--a",

@@ -11,7 +11,7 @@ use anyhow::{anyhow, bail, Context, Result};
 /// Parses a matrix flag, e.g. `--a "[2 -3; 4 -5]"`.
 pub fn matrix<T: FromExpr>(flag: &str, text: &str) -> Result<Matrix<T>> {
     let m = parse_matrix::<T>(text)
-        .map_err(|e| anyhow!("{}", e.show_in(&crate::files::escape_untrusted(text))))
+        .map_err(|e| anyhow!("{}", e.show_in(text)))
         .with_context(|| format!("in {flag}"))?;
     if m.rows() == 0 || m.cols() == 0 {
         bail!(

@@ -173,6 +173,18 @@ fn require_weight(weight: &Matrix<Rational>) -> Result<()> {
     Ok(())
 }
 
+/// A line saying the time limit cut the starts short, or nothing.
+fn stopped_early(args: &Args, ran: usize) -> String {
+    if ran < args.starts {
+        format!(
+            "  (stopped at the time limit of {} s: {ran} of the {} starts asked ran)\n",
+            args.time_limit, args.starts
+        )
+    } else {
+        String::new()
+    }
+}
+
 /// The minimum-norm gain (J1), told in `text`; its report as JSON.
 fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value> {
     let Request { a, c, p, .. } = req;
@@ -198,12 +210,7 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             "  {} seeded starts (seed {}), {} converged to a local minimum (Newton on the KKT system, second-order check)\n",
             r.starts, args.seed, r.converged
         ));
-    if r.starts < args.starts {
-        text.push_str(&format!(
-            "  (stopped at the time limit of {} s: {} of the {} starts asked ran)\n",
-            args.time_limit, r.starts, args.starts
-        ));
-    }
+    text.push_str(&stopped_early(args, r.starts));
     for (i, m) in r.minima.iter().enumerate() {
         let g = DMatrix::from_fn(n, c.rows(), |row, col| m.gain[col * n + row]);
         text.push_str(&format!(
@@ -274,12 +281,7 @@ fn j2(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             r.spread,
             r.hessian_eigenvalues.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>().join(", ")
         ));
-    if r.starts < args.starts {
-        text.push_str(&format!(
-            "  (stopped at the time limit of {} s: {} of the {} starts asked ran)\n",
-            args.time_limit, r.starts, args.starts
-        ));
-    }
+    text.push_str(&stopped_early(args, r.starts));
     text.push_str(&format!(
             "  flat directions: {}{} → the minimiser is {}\n  smallest-norm minimiser G = {}\n  rebuilt in rationals it places the polynomial exactly: {}\n",
             r.flat_directions,

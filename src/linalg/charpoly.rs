@@ -77,20 +77,12 @@ pub fn characteristic_polynomial<F: Field>(
     let n = a.require_square("characteristic polynomial")?;
     // Q(√d) entries that are all rational: the rational path (multimodular from
     // MODULAR_FROM_ORDER on), not the generic one with a gcd per operation
-    if let Some(q) = (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Quadratic>>() {
-        if q.entries().iter().all(|x| x.as_rational().is_some()) {
-            let r = q.map(|x| x.as_rational().cloned().unwrap_or_default());
-            let p = characteristic_polynomial(&r, var)?;
-            let lifted = Poly::new(
-                p.coeffs()
-                    .iter()
-                    .map(|c| crate::algebra::Quadratic::rational(c.clone()))
-                    .collect(),
-                var,
-            );
-            if let Some(p) = super::from_rational::<Poly<F>, _>(lifted) {
-                return Ok(p);
-            }
+    let quadratic = (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Quadratic>>();
+    if let Some(r) = quadratic.and_then(super::rational_entries) {
+        let p = characteristic_polynomial(&r, var)?;
+        let lifted = p.map(|c| crate::algebra::Quadratic::rational(c.clone()));
+        if let Some(p) = super::from_rational::<Poly<F>, _>(lifted) {
+            return Ok(p);
         }
     }
     let d = F::common_denominator(a.entries());

@@ -15,6 +15,24 @@ pub fn from_nalgebra(a: &DMatrix<f64>) -> Matrix<f64> {
     Matrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)])
 }
 
+/// The largest of non-negative values, NaN when any is NaN: a NaN never passes for small (a
+/// plain `fold(0.0, f64::max)` skips it). 0 for none.
+pub fn max_or_nan(values: impl IntoIterator<Item = f64>) -> f64 {
+    values.into_iter().fold(0.0, |acc, x| {
+        if acc.is_nan() || x.is_nan() {
+            f64::NAN
+        } else {
+            acc.max(x)
+        }
+    })
+}
+
+/// The spectral radius max |λ|, NaN when an eigenvalue cannot be computed (see
+/// [`eigenvalues`]).
+pub fn spectral_radius(a: &DMatrix<f64>) -> f64 {
+    max_or_nan(eigenvalues(a).iter().map(|z| z.norm()))
+}
+
 /// The eigenvalues (real Schur form), sorted by real part then imaginary part.
 ///
 /// The QR iteration is bounded (LAPACK's 30 sweeps per eigenvalue); when it does not converge

@@ -39,6 +39,17 @@ pub(crate) fn as_rational<F: crate::algebra::Ring>(
     (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Rational>>()
 }
 
+/// The rational matrix a Q(√d) matrix is, when every entry is rational: the way onto the
+/// rational (fraction-free, multimodular) path, which takes no gcd per Q(√d) operation.
+pub fn rational_entries(
+    m: &Matrix<crate::algebra::Quadratic>,
+) -> Option<Matrix<crate::algebra::Rational>> {
+    m.entries()
+        .iter()
+        .all(|x| x.as_rational().is_some())
+        .then(|| m.map(|x| x.as_rational().cloned().unwrap_or_default()))
+}
+
 /// Moves a value computed for a concrete type back into the generic type `T` (which is it).
 pub fn from_rational<T: 'static, S: 'static>(value: S) -> Option<T> {
     (Box::new(value) as Box<dyn std::any::Any>)

@@ -139,7 +139,7 @@ pub fn discrete_observer(
     let k = design.gain.to_convention(Convention::AMinusKC).matrix;
     let (aq, cq) = (lift(a), lift(c));
     // A − KC on the rational path when K is rational (no gcd per Q(√d) operation)
-    let a_minus_kc = match rational_matrix(&k) {
+    let a_minus_kc = match linalg::rational_entries(&k) {
         Some(kr) => lift(&a.sub(&kr.mul(c)?)?),
         None => aq.sub(&k.mul(&cq)?)?,
     };
@@ -147,7 +147,7 @@ pub fn discrete_observer(
         Estimator::Prediction => (a_minus_kc.clone(), None),
         Estimator::Current => {
             let a_inv = linalg::inverse(a).map_err(|_| DiscreteError::SingularA)?;
-            let (l_c, m) = match rational_matrix(&k) {
+            let (l_c, m) = match linalg::rational_entries(&k) {
                 Some(kr) => {
                     let l = a_inv.mul(&kr)?;
                     // L_c C A = L_c (C A): a column times a row
@@ -200,13 +200,6 @@ pub fn discrete_observer(
     })
 }
 
-fn rational_matrix(m: &Matrix<Quadratic>) -> Option<Matrix<Rational>> {
-    m.entries()
-        .iter()
-        .all(|x| x.as_rational().is_some())
-        .then(|| m.map(|x| x.as_rational().cloned().unwrap_or_default()))
-}
-
 fn rational_poly(p: &Poly<Quadratic>) -> Option<Poly<Rational>> {
     let c: Option<Vec<Rational>> = p
         .coeffs()
@@ -242,8 +235,7 @@ pub fn nilpotent_index_with(
     if chi.degree() != Some(n) || (0..n).any(|k| !chi.coeff(k).is_zero()) {
         return Ok(None);
     }
-    if m.entries().iter().all(|x| x.as_rational().is_some()) {
-        let r = m.map(|x| x.as_rational().cloned().unwrap_or_default());
+    if let Some(r) = linalg::rational_entries(m) {
         // a cyclic nilpotent matrix is one Jordan block: its index is n (the single-output
         // dead-beat observer always is, (A − KC, C) being observable)
         if linalg::modular::is_cyclic(&r) {
@@ -468,16 +460,7 @@ fn float_zoh(
         }
     }
     // the largest difference, a NaN counted as failure
-    let error = (&pade - &taylor)
-        .iter()
-        .map(|x| x.abs())
-        .fold(0.0_f64, |acc, x| {
-            if acc.is_nan() || x.is_nan() {
-                f64::NAN
-            } else {
-                acc.max(x)
-            }
-        });
+    let error = linalg::float::max_or_nan((&pade - &taylor).iter().map(|x| x.abs()));
     if !error.is_finite() {
         return Err(overflow());
     }

@@ -15,6 +15,7 @@
 //! and makes A − LC stable (exact unit-circle test) it is the stabilising solution, exactly.
 
 use crate::algebra::{rational_to_f64, Rational};
+use crate::linalg::float::{max_or_nan, spectral_radius};
 use crate::linalg::{self, LinalgError, Matrix};
 use crate::poly::is_schur;
 use nalgebra::DMatrix;
@@ -58,9 +59,6 @@ pub enum DiscreteKalmanError {
     /// The float solution failed its check.
     #[error("the computed solution failed its check ({0}): no verified stabilising solution; the problem is too ill-conditioned for f64")]
     Unverified(String),
-    /// An entry beyond the range of f64.
-    #[error("{0}")]
-    Range(String),
 }
 
 /// The steady-state discrete Kalman filter.
@@ -97,54 +95,11 @@ fn to_f64(m: &Matrix<Rational>) -> DMatrix<f64> {
 
 /// The largest absolute entry; NaN when any entry is NaN (a NaN never passes for small).
 fn norm(m: &DMatrix<f64>) -> f64 {
-    m.iter().map(|x| x.abs()).fold(0.0, |acc, x| {
-        if acc.is_nan() || x.is_nan() {
-            f64::NAN
-        } else {
-            acc.max(x)
-        }
-    })
+    max_or_nan(m.iter().map(|x| x.abs()))
 }
 
 /// The residual accepted for a verified solution: ‖Ric(P) − P‖ / ‖P‖.
 const RESIDUAL_TOLERANCE: f64 = 1e-8;
-
-/// Whether the real polynomial `u` has a root on the unit circle: `Some(true)` or
-/// `Some(false)` decided exactly, `None` when it cannot be (a self-reciprocal irreducible
-/// factor of degree ≥ 3). A root on the circle is a common root of `u` and its reversal
-/// `u*(z) = z^d u(1/z)` (its inverse 1/λ = λ̄ is a root); the common factor's exact roots are
-/// tested by |λ|² = 1, and an irreducible factor that is not self-reciprocal has none.
-pub fn has_unit_circle_root(u: &crate::poly::Poly<Rational>) -> Option<bool> {
-    use crate::poly::{exact_roots, Poly};
-    let Some(d) = u.degree() else {
-        return Some(false);
-    };
-    let reversed = Poly::new((0..=d).map(|k| u.coeff(d - k)).collect(), u.var());
-    let g = u.gcd(&reversed);
-    if g.degree().unwrap_or(0) == 0 {
-        return Some(false);
-    }
-    let roots = exact_roots(&g);
-    let one = Rational::from_integer(1.into());
-    if roots.roots.iter().any(|(l, _)| {
-        if l.is_real() {
-            l.clone() * l.clone() == crate::algebra::Quadratic::rational(one.clone())
-        } else {
-            l.norm() == one
-        }
-    }) {
-        return Some(true);
-    }
-    for (f, _) in &roots.unresolved {
-        let Some(e) = f.degree() else { continue };
-        let rev = Poly::new((0..=e).map(|k| f.coeff(e - k)).collect(), f.var());
-        let self_reciprocal = rev.monic() == f.monic();
-        if self_reciprocal {
-            return None;
-        }
-    }
-    Some(false)
-}
 
 /// The exact conditions for a stabilising solution (see [`discrete_kalman`]): covariances,
 /// detectability of (A, C) and no unit-circle mode of A unreached by G Q_n Gᵀ. Returns whether
@@ -193,7 +148,7 @@ fn exact_conditions(
     if reached.observable() {
         return Ok(true);
     }
-    match has_unit_circle_root(&reached.unobservable_polynomial) {
+    match crate::poly::has_unit_circle_root(&reached.unobservable_polynomial) {
         Some(true) => Err(DiscreteKalmanError::UnreachedUnitCircleMode {
             modes: reached.unobservable_eigenvalues.render(),
         }),
@@ -221,17 +176,6 @@ fn evaluate(
     let residual = norm(&(&ric - pf)) / norm(pf).max(1e-300);
     let closed = af - &gain * cf;
     Some((gain, current, residual, closed))
-}
-
-fn spectral_radius(m: &DMatrix<f64>) -> f64 {
-    let ev = crate::linalg::float::eigenvalues(m);
-    ev.iter().fold(0.0, |acc: f64, z| {
-        if acc.is_nan() || !z.norm().is_finite() {
-            f64::NAN
-        } else {
-            acc.max(z.norm())
-        }
-    })
 }
 
 /// P = M P Mᵀ + Q for ρ(M) < 1, by doubling (Smith): quadratic convergence, bounded.
@@ -376,19 +320,6 @@ pub fn discrete_kalman(
     }
     let exactly_decided = exact_conditions(a, g, c, qn, rn)?;
     let (af, gf, cf, qf, rf) = (to_f64(a), to_f64(g), to_f64(c), to_f64(qn), to_f64(rn));
-    for (name, m) in [
-        ("A", &af),
-        ("G", &gf),
-        ("C", &cf),
-        ("Q_n", &qf),
-        ("R_n", &rf),
-    ] {
-        if m.iter().any(|x| !x.is_finite()) {
-            return Err(DiscreteKalmanError::Range(format!(
-                "an entry of {name} is beyond the range of f64 (about 1.8e308)"
-            )));
-        }
-    }
     let wf = &gf * &qf * gf.transpose();
     let r_inv = rf
         .clone()
@@ -406,9 +337,10 @@ pub fn discrete_kalman(
         other => {
             // a stabilising start: the gain of the same filter with noise W + I (which always
             // has a stabilising solution for a detectable pair), then Hewer's iteration
-            let start = doubling(&af, &cf, &(&wf + DMatrix::identity(n, n)), &r_inv)
+            let full_noise = &wf + DMatrix::identity(n, n);
+            let start = doubling(&af, &cf, &full_noise, &r_inv)
                 .0
-                .and_then(|p| evaluate(&af, &cf, &(&wf + DMatrix::identity(n, n)), &rf, &p))
+                .and_then(|p| evaluate(&af, &cf, &full_noise, &rf, &p))
                 .map(|(gain, ..)| gain)
                 .filter(|gain| spectral_radius(&(&af - gain * &cf)) < 1.0);
             match start.and_then(|gain| hewer(&af, &cf, &wf, &rf, gain)) {
@@ -424,7 +356,6 @@ pub fn discrete_kalman(
         evaluate(&af, &cf, &wf, &rf, &pf).ok_or(DiscreteKalmanError::SingularInnovation)?;
     let spectral_radius = spectral_radius(&closed);
     // verified, or refused: a NaN fails both tests
-    // written so that a NaN residual fails too
     if residual.is_nan() || residual > RESIDUAL_TOLERANCE {
         return Err(DiscreteKalmanError::Unverified(format!(
             "Riccati residual {residual:.3e} above {RESIDUAL_TOLERANCE:.0e}"

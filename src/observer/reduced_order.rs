@@ -119,6 +119,42 @@ pub(crate) fn complete_with_unit_rows(rows: &Matrix<Rational>) -> Matrix<Rationa
     q
 }
 
+/// The gain for (A₂₂, one row of A₁₂): the first output whose row observes A₂₂, with its
+/// design. With one output, the design's own refusal says why (the reduced pair is
+/// unobservable exactly when (A, C) is).
+fn design_for_one_row(
+    a22: &Matrix<Rational>,
+    a12: &Matrix<Rational>,
+    desired: &DesiredPolynomial,
+    method: GainMethod,
+) -> Result<(usize, ObserverDesign), ReducedOrderError> {
+    let (p, m) = (a12.rows(), a12.cols());
+    for k in 0..p {
+        let row = a12.block(k, k + 1, 0, m);
+        match design_with(
+            a22,
+            &row,
+            desired,
+            method,
+            Convention::AMinusKC,
+            Detail::Full,
+        ) {
+            Ok(design) => return Ok((k, design)),
+            // one output: the design's own refusal is the reason, told of the reduced pair
+            Err(DesignError::Observability(o)) if p == 1 => {
+                return Err(ReducedOrderError::ReducedPairUnobservable(
+                    o.to_string()
+                        .replace("the pair (A, C) is not observable: ", "")
+                        .replace("unobservable direction", "unobservable direction of z₂"),
+                ))
+            }
+            Err(e) if p == 1 => return Err(e.into()),
+            Err(_) => {}
+        }
+    }
+    Err(ReducedOrderError::NoObservingRow(a12.to_input()))
+}
+
 /// Designs a reduced-order observer for (A, C) (and B, when given) whose error polynomial is
 /// `desired`, of degree n − p, in the convention asked for (the gain printed as L of
 /// A₂₂ − L A₁₂, or its negative for a+lc).
@@ -155,44 +191,7 @@ pub fn reduced_order_observer(
     let a12 = a_bar.block(0, p, p, n);
     let a21 = a_bar.block(p, n, 0, p);
     let a22 = a_bar.block(p, n, p, n);
-    // design for (A₂₂, a row of A₁₂): the first output whose row observes A₂₂
-    let mut chosen = None;
-    for k in 0..p {
-        let row = a12.block(k, k + 1, 0, n - p);
-        if let Ok(design) = design_with(
-            &a22,
-            &row,
-            desired,
-            method,
-            Convention::AMinusKC,
-            Detail::Full,
-        ) {
-            chosen = Some((k, design));
-            break;
-        }
-    }
-    let Some((k, design)) = chosen else {
-        // report the design error of the first row when there is one output
-        if p == 1 {
-            design_with(
-                &a22,
-                &a12,
-                desired,
-                method,
-                Convention::AMinusKC,
-                Detail::Full,
-            )
-            .map_err(|e| match e {
-                DesignError::Observability(o) => ReducedOrderError::ReducedPairUnobservable(
-                    o.to_string()
-                        .replace("the pair (A, C) is not observable: ", "")
-                        .replace("unobservable direction", "unobservable direction of z₂"),
-                ),
-                e => e.into(),
-            })?;
-        }
-        return Err(ReducedOrderError::NoObservingRow(a12.to_input()));
-    };
+    let (k, design) = design_for_one_row(&a22, &a12, desired, method)?;
     d.extend(design.derivation.clone());
     let column = design.gain.matrix.clone();
     let l = Matrix::from_fn(n - p, p, |i, j| {

@@ -14,5 +14,5 @@ mod univariate;
 
 pub use factor::{exact_roots, rational_roots, ExactRoots, Factored, RootSearch};
 pub use rational_function::RationalFunction;
-pub use stability::{is_hurwitz, is_schur};
+pub use stability::{has_unit_circle_root, is_hurwitz, is_schur};
 pub use univariate::Poly;

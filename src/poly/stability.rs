@@ -88,6 +88,41 @@ pub fn is_schur(p: &Poly<Rational>) -> bool {
     q.degree() == Some(n) && is_hurwitz(&q)
 }
 
+/// Whether the real polynomial `u` has a root on the unit circle: `Some(true)` or
+/// `Some(false)` decided exactly, `None` when it cannot be (a self-reciprocal irreducible
+/// factor of degree ≥ 3). A root on the circle is a common root of `u` and its reversal
+/// `u*(z) = z^d u(1/z)` (its inverse 1/λ = λ̄ is a root); the common factor's exact roots are
+/// tested by |λ|² = 1, and an irreducible factor that is not self-reciprocal has none.
+pub fn has_unit_circle_root(u: &Poly<Rational>) -> Option<bool> {
+    if u.degree().is_none() {
+        return Some(false);
+    }
+    let g = u.gcd(&u.reversed());
+    if g.degree().unwrap_or(0) == 0 {
+        return Some(false);
+    }
+    let roots = crate::poly::exact_roots(&g);
+    let one = Rational::from_integer(1.into());
+    if roots.roots.iter().any(|(l, _)| {
+        if l.is_real() {
+            l.clone() * l.clone() == crate::algebra::Quadratic::rational(one.clone())
+        } else {
+            l.norm() == one
+        }
+    }) {
+        return Some(true);
+    }
+    // an irreducible factor with a root on the circle holds its inverse too: self-reciprocal
+    if roots
+        .unresolved
+        .iter()
+        .any(|(f, _)| f.reversed().monic() == f.monic())
+    {
+        return None;
+    }
+    Some(false)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

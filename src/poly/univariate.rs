@@ -90,6 +90,14 @@ impl<R: Ring> Poly<R> {
             p * Poly::new(vec![-r.clone(), R::one()], var)
         })
     }
+    /// The reversal `zᵈ p(1/z)` (coefficients in the opposite order, d = the degree): its roots
+    /// are the inverses of p's nonzero roots.
+    pub fn reversed(&self) -> Self {
+        let mut coeffs = self.coeffs.clone();
+        coeffs.reverse();
+        Poly::new(coeffs, &self.var)
+    }
+
     /// The variable's name.
     pub fn var(&self) -> &str {
         &self.var

@@ -84,6 +84,28 @@ pub(crate) fn parse_matrix_rows(input: &str) -> Result<Vec<Vec<Expr>>, SyntaxErr
     Ok(rows)
 }
 
+/// Refuses rows of different lengths, naming the first that differs (`starts`: the column
+/// each row starts at).
+fn same_length(rows: &[Vec<Expr>], starts: &[usize]) -> Result<(), SyntaxError> {
+    let Some(first) = rows.first() else {
+        return Ok(());
+    };
+    match rows
+        .iter()
+        .enumerate()
+        .skip(1)
+        .find(|(_, r)| r.len() != first.len())
+    {
+        Some((k, r)) => Err(SyntaxError::RaggedRows {
+            column: starts.get(k).copied().unwrap_or(1),
+            row: k + 1,
+            found: r.len(),
+            expected: first.len(),
+        }),
+        None => Ok(()),
+    }
+}
+
 impl Parser {
     fn new(input: &str) -> Result<Self, SyntaxError> {
         Ok(Parser {
@@ -139,8 +161,10 @@ impl Parser {
         self.skip_newlines();
         let rows = if self.peek().tok == Tok::LBrack {
             let mut rows = Vec::new();
+            let mut starts = Vec::new();
             loop {
                 self.skip_newlines();
+                starts.push(self.peek().column);
                 self.expect(Tok::LBrack, "'[' starting a row")?;
                 rows.push(self.row()?);
                 self.expect(Tok::RBrack, "',' or ']' closing the row")?;
@@ -153,6 +177,7 @@ impl Parser {
                     _ => return Err(self.unexpected("',' or ']'")),
                 }
             }
+            same_length(&rows, &starts)?;
             rows
         } else {
             self.rows_until(&Tok::RBrack)?
@@ -191,18 +216,7 @@ impl Parser {
                 }
             }
         }
-        if let Some(first) = rows.first() {
-            for (k, r) in rows.iter().enumerate().skip(1) {
-                if r.len() != first.len() {
-                    return Err(SyntaxError::RaggedRows {
-                        column: starts.get(k).copied().unwrap_or(1),
-                        row: k + 1,
-                        found: r.len(),
-                        expected: first.len(),
-                    });
-                }
-            }
-        }
+        same_length(&rows, &starts)?;
         Ok(rows)
     }
 
