@@ -71,11 +71,11 @@ pub fn worked_example(data: &[u8]) {
 }
 
 /// The subcommands whose argument sets the `cli` target explores: those that compute from their
-/// flags alone ([`crate::cli::IN_MEMORY_SUBCOMMANDS`]). Those that read and write files
+/// flags alone ([`crate::api::Command::in_memory`]). Those that read and write files
 /// (`verify`, `simulate`, `check`, `grade`) take their hostile input through the file targets
 /// above; here they would touch the disk.
 #[cfg(feature = "cli")]
-pub use crate::cli::IN_MEMORY_SUBCOMMANDS as CLI_SUBCOMMANDS;
+pub const CLI_SUBCOMMANDS: [&str; 14] = crate::api::Command::IN_MEMORY;
 
 /// The most work a campaign input may ask for by its counts: seeded starts of `optimal`
 /// (40 by default, each a full local optimisation of up to 20 000 evaluations of J2, up to
@@ -118,8 +118,8 @@ pub fn warm_up() {
 
 /// A command line: the first byte picks one of [`CLI_SUBCOMMANDS`], the rest are its arguments,
 /// one per line. Arguments that would name a file (a path separator, `--out`) are dropped, so
-/// the campaign never writes to the disk. Runs the same code as the `owb` binary, its report
-/// captured.
+/// the campaign never writes to the disk. The words are read as the `owb` binary reads them
+/// and the request run by the same library function.
 #[cfg(feature = "cli")]
 pub fn cli(data: &[u8]) {
     let Some((&first, rest)) = data.split_first() else {
@@ -144,7 +144,11 @@ pub fn cli(data: &[u8]) {
         args.push(arg.to_string());
     }
     bound_requested_work(&mut args);
-    let _ = crate::cli::run_captured(&args);
+    if let Ok(command) = crate::api::Command::from_words(&args) {
+        if command.in_memory() && !command.writes_files() {
+            let _ = crate::api::run(command);
+        }
+    }
 }
 
 /// The book preprocessor's input: mdBook's `[context, book]` JSON with `{{#owb …}}` directives

@@ -6,8 +6,10 @@
 //! polynomials, rational functions) → [`syntax`] (reading and printing what users type) →
 //! [`system`], [`observability`], [`canonical_form`], [`observer`], [`control`] (the control
 //! engineering, each step recorded as a [`derivation`]) → [`worked`] and [`exercise`] (the
-//! documents' claims and students' answers as data) → [`simulation`], and, behind the default
-//! `cli` feature, [`cli`] and [`book`]. Every example below runs as a test.
+//! documents' claims and students' answers as data) → [`simulation`] → [`api`] (every command
+//! as a function from a request to a report, which every front end calls), and, behind the
+//! default `cli` feature, the front ends [`cli`] and [`book`]. Every example below runs as a
+//! test.
 //!
 //! [`algebra`] — exact numbers: rationals, `Q(√d)`, multivariate polynomials.
 //! ```
@@ -147,11 +149,16 @@
 //! observer_workbench::fuzzing::syntax(b"[((1)^1000)^1000");
 //! observer_workbench::fuzzing::answers(b"\xff\xfe not toml");
 //! ```
-//! [`cli`] — the `owb` command line, also callable in-process (its report captured).
+//! [`api`] — every command as a library function: a request (from JSON, or a command line's
+//! words) in, a report out; what the command line, the book and the browser call.
 //! ```
-//! let (outcome, text) = observer_workbench::cli::run_captured(&["observe", "--a", "[1 0; 0 2]", "--c", "[1 0]"]);
-//! assert!(outcome.is_ok() && text.contains("unobservable eigenvalues: 2"), "{text}");
+//! use observer_workbench::api::{run, Command};
+//! let request = Command::from_json(r#"{"command": "observe", "a": "[1 0; 0 2]", "c": "[1 0]"}"#).unwrap();
+//! let report = run(request).unwrap();
+//! assert!(report.text.contains("unobservable eigenvalues: 2"), "{}", report.text);
 //! ```
+//! [`cli`] — the `owb` command line: its arguments parsed into an [`api::Command`], the report
+//! printed.
 //! [`book`] — the mdBook preprocessor that renders the course from the code.
 //! ```
 //! let input = r#"[{"root": "book"}, {"items": [{"Chapter": {"name": "x", "content": "no directive", "sub_items": []}}]}]"#;
@@ -163,6 +170,7 @@
 mod names;
 
 pub mod algebra;
+pub mod api;
 #[cfg(feature = "cli")]
 pub mod book;
 pub mod canonical_form;

@@ -270,17 +270,25 @@
     var output = box.querySelector(".owb-output");
     box.querySelectorAll("button[data-run]").forEach(function (button) {
       button.addEventListener("click", function () {
-        var sub = button.getAttribute("data-run");
-        var args = [sub, "--a", value(".owb-a"), "--c", value(".owb-c")];
-        if (sub === "gain") {
-          args.push(value(".owb-family"), value(".owb-desired"), "--method", value(".owb-method"),
-            "--convention", value(".owb-pconvention"));
-          if (box.querySelector(".owb-float").checked) args.push("--float");
+        // the request, keys named as the command line's flags; the page shows the command
+        // line that makes the same request
+        var request = { command: button.getAttribute("data-run"), a: value(".owb-a"), c: value(".owb-c") };
+        if (request.command === "gain") {
+          request[value(".owb-family")] = value(".owb-desired");
+          request.method = value(".owb-method");
+          request.convention = value(".owb-pconvention");
+          if (box.querySelector(".owb-float").checked) request.float = true;
         }
+        var words = [request.command];
+        Object.keys(request).forEach(function (key) {
+          if (key === "command") return;
+          words.push("--" + key);
+          if (request[key] !== true) words.push(request[key]);
+        });
         workbench().then(function (owb) {
           var started = performance.now();
-          var out = JSON.parse(owb.run(JSON.stringify(args)));
-          command.textContent = "owb " + args.map(shellWord).join(" ");
+          var out = JSON.parse(owb.run(JSON.stringify(request)));
+          command.textContent = "owb " + words.map(shellWord).join(" ");
           mathBox.textContent = "";
           if (out.latex) math(mathBox, out.latex, true);
           output.className = "owb-output" + (out.status === 2 || out.error ? " owb-error" : "");

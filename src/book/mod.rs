@@ -372,15 +372,15 @@ impl BookContext {
     }
 
     fn run(&self, args: &[String]) -> Result<String, String> {
-        // the library runs the command (no subprocess): the same code as the `owb` binary
-        let (outcome, report) = crate::cli::run_captured(args);
-        match outcome {
-            Ok(crate::cli::Outcome::Ok) => {}
-            Ok(crate::cli::Outcome::Failed) => {
-                return Err(format!("owb {} reported a failure", args.join(" ")))
-            }
-            Err(e) => return Err(format!("owb {}: {e:#}", args.join(" "))),
-        }
+        // the directive's words are read as the command line reads them, and the request run
+        // by the same library function as the `owb` binary's
+        let command = crate::api::Command::from_words(args)
+            .map_err(|e| format!("owb {}: {e}", args.join(" ")))?;
+        let report = match crate::api::run(command) {
+            Ok(r) if r.outcome == crate::api::Outcome::Ok => r.text,
+            Ok(_) => return Err(format!("owb {} reported a failure", args.join(" "))),
+            Err(f) => return Err(format!("owb {}: {:#}", args.join(" "), f.error)),
+        };
         Ok(format!(
             "```text\n$ owb {}\n{}```\n",
             args.iter()

@@ -1,38 +1,14 @@
-//! `owb`, the observer workbench's command line (feature `cli`, on by default). One file per
-//! subcommand: parse the flags, call the library, render. The binary `src/bin/owb.rs` calls
-//! [`main`]; the book preprocessor and the CLI fuzz target call [`run_captured`], which runs the
-//! same code with the report captured in a string. Exit codes: 0 success, 1 a verification found
-//! a mismatch (or a check found a wrong answer), 2 bad input (malformed numbers, mismatched
-//! dimensions, an unobservable pair…).
-//!
-//! ```
-//! use observer_workbench::cli::{run_captured, Outcome};
-//! let (outcome, report) = run_captured(&["observe", "--a", "[0 1; -2 -3]", "--c", "[1 0]"]);
-//! assert!(matches!(outcome, Ok(Outcome::Ok)));
-//! assert!(report.contains("observable"));
-//! ```
+//! `owb`, the observer workbench's command line (feature `cli`, on by default): the process's
+//! arguments parsed into an [`api::Command`](crate::api::Command) (clap), the command run by
+//! [`api::run`](crate::api::run), its report printed. Exit codes: 0 success, 1 a verification
+//! found a mismatch (or a check found a wrong answer), 2 bad input (malformed numbers,
+//! mismatched dimensions, an unobservable pair…).
 
 #[macro_use]
 mod output;
 
-mod args;
-mod canonical;
-mod control;
-mod discrete;
-mod exercise;
-mod feedback;
-mod gain;
-mod kalman;
-mod observe;
-mod optimal;
-mod perfect;
-mod progress;
-mod reduced;
-#[cfg(feature = "cli")]
-mod simulate;
-mod verify;
-
-use clap::{Parser, Subcommand};
+use crate::api::{self, Command, Outcome};
+use clap::Parser;
 use std::process::ExitCode;
 
 /// The command line: one subcommand.
@@ -46,76 +22,6 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
-}
-
-/// The subcommands of `owb`.
-#[derive(Subcommand)]
-pub enum Command {
-    /// Recompute the worked examples of the source documents and compare with what they printed.
-    Verify(verify::Args),
-    /// Observability report: O_n, rank, unobservable subspace and eigenvalues.
-    Observe(observe::Args),
-    /// Observer canonical form (Di Ruscio's ss2ocf and Stoustrup's procedure).
-    Canonical(canonical::Args),
-    /// Observer gain for a desired polynomial, exact, with the float path checked.
-    Gain(gain::Args),
-    /// State feedback on its own: controllability, the gain by duality (exact derivation), u = Fx or u = −Kx.
-    Feedback(feedback::Args),
-    /// Discrete-time observer: prediction or current estimator, dead-beat, poles from z = e^(sT).
-    Discrete(discrete::Args),
-    /// A continuous plant sampled with a zero-order hold (exact for nilpotent A).
-    Zoh(discrete::ZohArgs),
-    /// The discrete-time steady-state Kalman filter (Riccati equation by doubling, checked, exact when rational).
-    Dlqe(discrete::DlqeArgs),
-    /// Reduced-order observer (Gopinath): only the n − p unmeasured states, error polynomial of degree n − p.
-    Reduced(reduced::Args),
-    /// Observer for an unobservable pair: detectability, the observable part placed exactly, the fixed poles named.
-    Detectable(reduced::DetectableArgs),
-    /// Observer-based control: separation principle, controller and closed-loop transfer functions.
-    Control(control::Args),
-    /// Multi-output gains chosen by optimality: minimum norm (J1) or minimal dynamical error (J2).
-    Optimal(optimal::Args),
-    /// Kalman filter versus chosen poles: noise let through, bandwidth, weighted-derivative observer.
-    Kalman(kalman::Args),
-    /// Perfect (descriptor) observer: construction, reconstruction formula, robustness conditions.
-    Perfect(perfect::Args),
-    /// Simulate a worked example's scenarios (its figures): SVG, CSV and the figures' claims checked.
-    #[cfg(feature = "cli")]
-    Simulate(simulate::Args),
-    /// Check a student's answers to an exercise: per part ✔/✘ with the mistake named.
-    Check(exercise::CheckArgs),
-    /// Grade a folder of submissions into a CSV report (and feedback files).
-    Grade(exercise::GradeArgs),
-    /// Exercises: generate new ones.
-    Exercise(exercise::ExerciseArgs),
-}
-
-/// The subcommands that compute from their flags alone, reading and writing no file (but
-/// `exercise new --out`): what the browser runs and what the CLI fuzz target explores.
-pub const IN_MEMORY_SUBCOMMANDS: [&str; 14] = [
-    "observe",
-    "canonical",
-    "gain",
-    "control",
-    "optimal",
-    "kalman",
-    "perfect",
-    "exercise",
-    "feedback",
-    "discrete",
-    "zoh",
-    "reduced",
-    "detectable",
-    "dlqe",
-];
-
-/// What a subcommand reports back.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Outcome {
-    /// All good.
-    Ok,
-    /// A verification or check found something wrong.
-    Failed,
 }
 
 /// Whether a panic is `println!` finding its reader gone (`owb verify | head -1`).
@@ -134,42 +40,24 @@ fn json_requested() -> bool {
     std::env::args().skip(1).any(|a| a == "--json")
 }
 
-/// Runs a parsed command line, its report going to the current output.
-///
-/// # Errors
-///
-/// Whatever the subcommand refuses: bad input, an impossible design, an unreadable file.
-pub fn dispatch(command: Command) -> anyhow::Result<Outcome> {
-    match command {
-        Command::Verify(a) => verify::run(a),
-        Command::Observe(a) => observe::run(a),
-        Command::Canonical(a) => canonical::run(a),
-        Command::Gain(a) => gain::run(a),
-        Command::Feedback(a) => feedback::run(a),
-        Command::Control(a) => control::run(a),
-        Command::Discrete(a) => discrete::run(a),
-        Command::Zoh(a) => discrete::zoh(a),
-        Command::Dlqe(a) => discrete::dlqe(a),
-        Command::Reduced(a) => reduced::run(a),
-        Command::Detectable(a) => reduced::detectable(a),
-        Command::Optimal(a) => optimal::run(a),
-        Command::Kalman(a) => kalman::run(a),
-        Command::Perfect(a) => perfect::run(a),
-        #[cfg(feature = "cli")]
-        Command::Simulate(a) => simulate::run(a),
-        Command::Check(a) => exercise::check(a),
-        Command::Grade(a) => exercise::grade(a),
-        Command::Exercise(a) => exercise::exercise(a),
-    }
-}
-
-/// Runs `owb` with these arguments (without the program name) and returns the outcome with
-/// the report it printed. A command line clap refuses is an error whose text is clap's message.
-pub fn run_captured<S: AsRef<str>>(args: &[S]) -> (anyhow::Result<Outcome>, String) {
-    let argv = std::iter::once("owb").chain(args.iter().map(AsRef::as_ref));
-    match Cli::try_parse_from(argv) {
-        Ok(cli) => output::capture(|| dispatch(cli.command)),
-        Err(e) => (Err(anyhow::anyhow!("{}", e.render())), String::new()),
+/// Runs a parsed command: its report printed (warnings on standard error), its outcome
+/// returned. A failure's partial report is printed before the error.
+fn dispatch(command: Command) -> anyhow::Result<Outcome> {
+    let print = |r: &api::Report| {
+        out!("{}", r.text);
+        for w in &r.warnings {
+            eprintln!("{w}");
+        }
+    };
+    match api::run(command) {
+        Ok(report) => {
+            print(&report);
+            Ok(report.outcome)
+        }
+        Err(failure) => {
+            print(&failure.partial);
+            Err(failure.error)
+        }
     }
 }
 

@@ -1,16 +1,11 @@
-//! Where the command line's report goes: standard output when `owb` runs, a buffer when the
-//! library runs a command for someone else (the book preprocessor's `run` directive, the CLI
-//! fuzz target, tests). `outln!` and `out!` are `println!` and `print!` that honour the buffer.
+//! Where the command line's report goes: standard output, with a failed write remembered (not
+//! panicked on) and turned into the program's status by [`finish`]. `outln!` and `out!` are
+//! `println!` and `print!` that do so.
 
-use std::cell::RefCell;
 use std::fmt::Arguments;
 use std::io::Write;
 #[cfg(target_os = "linux")]
 use std::path::Path;
-
-thread_local! {
-    static CAPTURE: RefCell<Option<Vec<u8>>> = const { RefCell::new(None) };
-}
 
 /// The first error writing standard output met (a full disk, a closed descriptor, a reader
 /// gone): later writes are skipped and [`finish`] reports it.
@@ -22,18 +17,10 @@ fn failed() -> Option<std::io::ErrorKind> {
         .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
-/// Writes formatted text to the capture buffer if one is active, else to standard output.
-/// A write that fails (a full disk, a closed descriptor, the reader gone) is remembered, not
+/// Writes formatted text to standard output. A write that fails (a full disk, a closed descriptor, the reader gone) is remembered, not
 /// panicked on: [`finish`] turns it into the program's status.
 pub fn write(args: Arguments<'_>) {
-    let captured = CAPTURE.with(|c| match c.borrow_mut().as_mut() {
-        Some(buf) => {
-            let _ = buf.write_fmt(args);
-            true
-        }
-        None => false,
-    });
-    if !captured && failed().is_none() {
+    if failed().is_none() {
         if let Err(e) = std::io::stdout().lock().write_fmt(args) {
             let mut f = FAILED
                 .lock()
@@ -53,14 +40,6 @@ pub fn finish() -> Result<(), std::io::ErrorKind> {
         f.get_or_insert(e.kind());
     }
     failed().map_or(Ok(()), Err)
-}
-
-/// Runs `f` with its report captured, and returns the report beside `f`'s result.
-pub fn capture<R>(f: impl FnOnce() -> R) -> (R, String) {
-    let previous = CAPTURE.with(|c| c.replace(Some(Vec::new())));
-    let result = f();
-    let buf = CAPTURE.with(|c| c.replace(previous)).unwrap_or_default();
-    (result, String::from_utf8_lossy(&buf).into_owned())
 }
 
 /// `println!` into the command's report.

@@ -9,11 +9,9 @@
 //! (`book/browser-test/`). Nothing here panics on bad input: every refusal is a JSON
 //! `{"error": …}` naming what is wrong and where.
 
-use observer_workbench::cli::{run_captured, Outcome, IN_MEMORY_SUBCOMMANDS};
-use observer_workbench::derivation::{Derivation, Step};
+use observer_workbench::api::{self, Command, Outcome};
 use observer_workbench::exercise::check::check_text;
-use observer_workbench::exercise::generate::{pole_placement, Kind, Settings};
-use observer_workbench::exercise::{answer_key, ExerciseFile};
+use observer_workbench::exercise::ExerciseFile;
 use observer_workbench::worked::{parse_example, render_table, report_json, verify_example};
 use serde_json::{json, Value};
 use wasm_bindgen::prelude::wasm_bindgen;
@@ -82,33 +80,36 @@ fn answer_latex(text: &str) -> Option<String> {
 }
 
 /// A student's own exercise, as `owb exercise new --kind KIND --student ID --order ORDER
-/// --convention C` generates it. Returns `{"id", "command", "toml", "title", "statement", "parts": [{"id",
-/// "prompt", "points"}]}` or `{"error": …}`.
+/// --convention C` generates it (the same request, run by the same library function). Returns
+/// `{"id", "command", "toml", "title", "statement", "parts": [{"id", "prompt", "points"}]}` or
+/// `{"error": …}`.
 #[wasm_bindgen]
 pub fn variant(student: &str, order: &str, convention: &str, kind: &str) -> String {
     if student.trim().is_empty() {
         return error("type your student id first");
     }
-    let (lo, hi) = match order.split_once("..") {
-        Some((l, h)) => (l.trim().parse::<usize>(), h.trim().parse::<usize>()),
-        None => (order.trim().parse::<usize>(), order.trim().parse::<usize>()),
-    };
-    let (Ok(lo), Ok(hi)) = (lo, hi) else {
-        return error(format!("order '{order}': give N or N..M"));
-    };
-    let Some(kind) = Kind::parse(kind) else {
-        return error(format!(
-            "kind '{kind}': {}",
-            Kind::ALL.map(Kind::name).join(", ")
-        ));
-    };
-    let settings = Settings {
-        kind,
-        ..Settings::for_student(student, lo, hi, convention)
-    };
-    let text = match pole_placement(&settings) {
-        Ok(t) => t,
+    let request = json!({
+        "command": "exercise",
+        "action": {"new": {
+            "student": student, "order": order, "convention": convention, "kind": kind,
+            "json": true,
+        }},
+    });
+    let command = match Command::from_value(&request) {
+        Ok(c) => c,
         Err(e) => return error(e),
+    };
+    let report = match api::run(command) {
+        Ok(r) => r,
+        Err(f) => return error(format!("{:#}", f.error)),
+    };
+    let Some(text) = report
+        .json
+        .as_ref()
+        .and_then(|j| j["exercise"].as_str())
+        .map(str::to_string)
+    else {
+        return error("the exercise generator gave no exercise (a bug)");
     };
     let ex: ExerciseFile = match toml::from_str(&text) {
         Ok(ex) => ex,
@@ -118,16 +119,11 @@ pub fn variant(student: &str, order: &str, convention: &str, kind: &str) -> Stri
             ))
         }
     };
-    // the key must be computable, as `owb exercise new` insists
-    if let Err(e) = answer_key(&settings.id(), &ex) {
-        return error(e);
-    }
     json!({
-        "id": settings.id(),
+        "id": ex.id,
         "student": student.trim(),
         "command": format!(
-            "owb exercise new --kind {} --student {:?} --order {order} --convention {convention}",
-            kind.name(),
+            "owb exercise new --kind {kind} --student {:?} --order {order} --convention {convention}",
             student.trim()
         ),
         "toml": text,
@@ -140,68 +136,51 @@ pub fn variant(student: &str, order: &str, convention: &str, kind: &str) -> Stri
     .to_string()
 }
 
-/// Runs one `owb` subcommand that computes from its flags alone (observe, canonical, gain,
-/// feedback, control, optimal, kalman, perfect, exercise): `args` is a JSON array of strings,
-/// the command line after `owb`. Returns `{"status": 0|1|2, "output": text, "error": text?}`
-/// and, when the command derives something, `"latex"`: its derivation typeset (the same steps
-/// as `--json`'s).
+/// Runs one workbench command that computes from its request alone (observe, canonical, gain,
+/// feedback, discrete, zoh, dlqe, reduced, detectable, control, optimal, kalman, perfect,
+/// exercise): `request` is the command's JSON request, `{"command": "gain", "a": "[0 1; -2
+/// -3]", "c": "[1 0]", "poles": "-4, -5"}` (keys named as the command line's flags). Returns
+/// `{"status": 0|1|2, "output": text, "error": text?, "causes": […]?}` and, when the command
+/// derives something, `"latex"`: its derivation typeset — from the one computation.
 #[wasm_bindgen]
-pub fn run(args: &str) -> String {
-    let args: Vec<String> = match serde_json::from_str(args) {
-        Ok(a) => a,
-        Err(e) => {
-            return error(format!(
-                "the command line is not a JSON list of strings: {e}"
-            ))
-        }
+pub fn run(request: &str) -> String {
+    let command = match Command::from_json(request) {
+        Ok(c) => c,
+        Err(e) => return error(e),
     };
-    let Some(sub) = args.first() else {
-        return error("no subcommand");
-    };
-    if !IN_MEMORY_SUBCOMMANDS.contains(&sub.as_str()) {
+    if !command.in_memory() {
         return error(format!(
-            "'{sub}' is not run in the browser (it reads or writes files); here: {}",
-            IN_MEMORY_SUBCOMMANDS.join(", ")
+            "'{}' is not run in the browser (it reads or writes files); here: {}",
+            command.name(),
+            Command::IN_MEMORY.join(", ")
         ));
     }
-    if args.iter().any(|a| a.starts_with("--out")) {
-        return error("--out writes a file; the browser shows the result instead");
+    if command.writes_files() {
+        return error("out writes a file; the browser shows the result instead");
     }
-    let (outcome, text) = run_captured(&args);
-    let mut out = match outcome {
-        Ok(Outcome::Ok) => json!({ "status": 0, "output": text }),
-        Ok(Outcome::Failed) => json!({ "status": 1, "output": text }),
-        Err(e) => {
-            let causes: Vec<String> = e.chain().skip(1).map(|c| c.to_string()).collect();
-            json!({ "status": 2, "output": text, "error": e.to_string(), "causes": causes })
+    match api::run(command) {
+        Ok(report) => {
+            let status = match report.outcome {
+                Outcome::Ok => 0,
+                Outcome::Failed => 1,
+            };
+            let mut out = json!({ "status": status, "output": report.text });
+            if status == 0 {
+                if let Some(latex) = report.latex() {
+                    out["latex"] = Value::String(latex);
+                }
+            }
+            if !report.warnings.is_empty() {
+                out["warnings"] = json!(report.warnings);
+            }
+            out.to_string()
         }
-    };
-    if out["status"] == 0 {
-        if let Some(latex) = derivation_latex(&args) {
-            out["latex"] = Value::String(latex);
+        Err(f) => {
+            let causes: Vec<String> = f.error.chain().skip(1).map(|c| c.to_string()).collect();
+            json!({ "status": 2, "output": f.partial.text, "error": f.error.to_string(), "causes": causes })
+                .to_string()
         }
     }
-    out.to_string()
-}
-
-/// The derivation of a command, typeset: the command run again with `--json`, its `steps`.
-fn derivation_latex(args: &[String]) -> Option<String> {
-    if args.iter().any(|a| a == "--json") {
-        return None;
-    }
-    let mut with_json = args.to_vec();
-    with_json.push("--json".into());
-    let (outcome, text) = run_captured(&with_json);
-    outcome.ok()?;
-    let v: Value = serde_json::from_str(&text).ok()?;
-    let steps: Vec<Step> = serde_json::from_value(v.get("steps")?.clone()).ok()?;
-    (!steps.is_empty()).then(|| {
-        Derivation {
-            title: String::new(),
-            steps,
-        }
-        .to_latex()
-    })
 }
 
 /// Verifies a worked example (its TOML), as `owb verify` does for one file: returns

@@ -1,8 +1,8 @@
 //! `owb optimal`: multi-output gains chosen by optimality (Baranowski): minimum norm `J1` or
 //! minimal dynamical error `J2 = λ_max(H)`, and the check of a given (printed) gain.
 
-use super::args::{matrix, print_json};
-use super::Outcome;
+use super::args::matrix;
+use super::{Outcome, Report};
 use crate::algebra::{Rational, ToF64};
 use crate::linalg::definiteness::{definiteness, Definiteness};
 use crate::linalg::float::{eigenvalues, to_nalgebra};
@@ -16,36 +16,65 @@ use nalgebra::DMatrix;
 use serde_json::json;
 
 /// Arguments of `owb optimal`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: super::args::SystemPair,
-    #[command(flatten)]
-    desired: super::args::DesiredArgs,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: super::args::SystemPair,
+    /// The desired polynomial (`poles`, `poly`, `repeated`, `butterworth`, `bessel`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub desired: super::args::DesiredArgs,
     /// j1 (minimum norm Σ k_i², default) or j2 (minimal dynamical error λ_max(H)).
-    #[arg(allow_hyphen_values = true, long, default_value = "j1")]
-    index: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "j1")
+    )]
+    #[serde(default = "super::args::defaults::j1")]
+    pub index: String,
     /// The weight D of J2 (Fᵀ H + H F = −D), default the identity.
-    #[arg(allow_hyphen_values = true, long)]
-    weight: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub weight: Option<String>,
     /// For J2: the output whose gain column is placed exactly from the others (1-based).
-    #[arg(allow_hyphen_values = true, long, default_value_t = 1)]
-    placed_output: usize,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value_t = 1)
+    )]
+    #[serde(default = "super::args::defaults::one")]
+    pub placed_output: usize,
     /// Seeded random starts of the search.
-    #[arg(allow_hyphen_values = true, long, default_value_t = 40)]
-    starts: usize,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value_t = 40)
+    )]
+    #[serde(default = "super::args::defaults::forty")]
+    pub starts: usize,
     /// Seed of the starts (same seed, same report).
-    #[arg(allow_hyphen_values = true, long, default_value_t = 2024)]
-    seed: u64,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value_t = 2024)
+    )]
+    #[serde(default = "super::args::defaults::seed_2024")]
+    pub seed: u64,
     /// No new start after this many seconds (the report says how many starts ran).
-    #[arg(allow_hyphen_values = true, long, default_value_t = 10.0)]
-    time_limit: f64,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value_t = 10.0)
+    )]
+    #[serde(default = "super::args::defaults::ten_seconds")]
+    pub time_limit: f64,
     /// Check this gain (e.g. a printed one): its exact observer polynomial, its poles, J1 and J2.
-    #[arg(allow_hyphen_values = true, long)]
-    check_gain: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub check_gain: Option<String>,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 /// The most seeded starts accepted (each is a full local optimisation).
@@ -375,7 +404,12 @@ fn check_gain(gtext: &str, req: &Request, text: &mut String) -> Result<serde_jso
     }))
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb optimal`: multi-output gains chosen by optimality.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let r = request(&args)?;
     let mut out = json!({"desired": r.p.to_string(), "convention": "a-kc", "index": args.index});
     let mut text = String::new();
@@ -388,9 +422,9 @@ pub fn run(args: Args) -> Result<Outcome> {
         out["check"] = check_gain(gtext, &r, &mut text)?;
     }
     if args.json {
-        print_json(&out);
+        rep.json(&out);
     } else {
-        out!("{text}");
+        out!(rep, "{text}");
     }
     Ok(Outcome::Ok)
 }

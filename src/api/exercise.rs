@@ -1,8 +1,7 @@
 //! `owb check`, `owb grade` and `owb exercise new`: students check their answers, teachers grade
 //! a class and generate fresh exercises.
 
-use super::args::print_json;
-use super::Outcome;
+use super::{Outcome, Report};
 use crate::exercise::generate::{pole_placement, Kind, Settings};
 use crate::exercise::{
     answer_key, check_answers, load_answers, load_exercise, AnswerKey, ExerciseFile, PartVerdict,
@@ -12,93 +11,150 @@ use anyhow::{anyhow, bail, Context, Result};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `owb check`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct CheckArgs {
     /// The exercise (id in worked_examples/exercises or a file path).
-    exercise: String,
+    pub exercise: String,
     /// The answers file (TOML: [answers] K = "[-6; -12]").
-    answers: PathBuf,
+    pub answers: PathBuf,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 /// Arguments of `owb grade`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct GradeArgs {
     /// The exercise (id or file path), or `variants`: each submission answers its own generated
     /// exercise (its `exercise` id, as the course book's per-student variants write it), which
     /// is regenerated, and must be the variant of the submission's `student`.
-    exercise: String,
+    pub exercise: String,
     /// The folder of submissions (*.toml, one per student).
-    submissions: PathBuf,
+    pub submissions: PathBuf,
     /// The CSV report (one row per student and part), written atomically.
-    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
-    csv: PathBuf,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "FILE")
+    )]
+    pub csv: PathBuf,
     /// A folder for one feedback file per student.
-    #[arg(allow_hyphen_values = true, long, value_name = "DIR")]
-    feedback: Option<PathBuf>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "DIR")
+    )]
+    #[serde(default)]
+    pub feedback: Option<PathBuf>,
     /// With `variants`: the kind of exercise the class was set (pole-placement, dead-beat,
     /// reduced-order). Each student's variant is derived from their id and these settings,
     /// never from the submission.
-    #[arg(allow_hyphen_values = true, long, default_value = "pole-placement")]
-    kind: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "pole-placement")
+    )]
+    #[serde(default = "super::args::defaults::pole_placement")]
+    pub kind: String,
     /// With `variants`: the order the class was set (N or N..M; the book's default is 3).
-    #[arg(allow_hyphen_values = true, long, default_value = "3")]
-    order: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "3")
+    )]
+    #[serde(default = "super::args::defaults::order_3")]
+    pub order: String,
     /// With `variants`: the convention the class was set (a-kc or a+lc).
-    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+    )]
+    #[serde(default = "super::args::defaults::a_minus_kc")]
+    pub convention: String,
     /// Machine-readable summary.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 /// Arguments of `owb exercise`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct ExerciseArgs {
-    #[command(subcommand)]
-    command: ExerciseCommand,
+    /// What to do with exercises.
+    #[cfg_attr(feature = "commands", command(subcommand))]
+    pub action: ExerciseCommand,
 }
 
-#[derive(clap::Subcommand)]
-enum ExerciseCommand {
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Subcommand))]
+/// What `owb exercise` does.
+pub enum ExerciseCommand {
     /// Generate a fresh exercise with its answer key (the same seed gives the same exercise).
     New(NewArgs),
 }
 
-#[derive(clap::Args)]
-struct NewArgs {
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
+/// Arguments of `owb exercise new`.
+pub struct NewArgs {
     /// The kind of exercise: pole-placement, dead-beat or reduced-order.
-    #[arg(allow_hyphen_values = true, long, default_value = "pole-placement")]
-    kind: String,
-    /// Order, or a range like 2..4.
-    #[arg(allow_hyphen_values = true, long, default_value = "2..3")]
-    order: String,
-    /// Seed.
-    #[arg(
-        allow_hyphen_values = true,
-        long,
-        required_unless_present = "student",
-        conflicts_with = "student"
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "pole-placement")
     )]
-    seed: Option<u64>,
+    #[serde(default = "super::args::defaults::pole_placement")]
+    pub kind: String,
+    /// Order, or a range like 2..4.
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "2..3")
+    )]
+    #[serde(default = "super::args::defaults::orders_2_to_3")]
+    pub order: String,
+    /// Seed.
+    #[cfg_attr(
+        feature = "commands",
+        arg(
+            allow_hyphen_values = true,
+            long,
+            required_unless_present = "student",
+            conflicts_with = "student"
+        )
+    )]
+    #[serde(default)]
+    pub seed: Option<u64>,
     /// A student's id instead of a seed: the student's own variant, the same one the course
     /// book generates in the browser for this id (seed = FNV-1a of the id, lower-cased).
-    #[arg(allow_hyphen_values = true, long)]
-    student: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub student: Option<String>,
     /// a-kc (default) or a+lc.
-    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+    )]
+    #[serde(default = "super::args::defaults::a_minus_kc")]
+    pub convention: String,
     /// Write the exercise here (default: print it).
-    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
-    out: Option<PathBuf>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "FILE")
+    )]
+    #[serde(default)]
+    pub out: Option<PathBuf>,
     /// Also print the answer key.
-    #[arg(long)]
-    key: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub key: bool,
     /// Machine-readable output: the exercise's id, text and computed key.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 /// An exercise found: a file, or one built into the program.
@@ -157,7 +213,21 @@ fn student_name(path: &Path, given: Option<&str>) -> String {
     })
 }
 
-pub fn check(args: CheckArgs) -> Result<Outcome> {
+impl ExerciseArgs {
+    /// Whether the request writes a file (`exercise new --out`).
+    pub fn writes_file(&self) -> bool {
+        match &self.action {
+            ExerciseCommand::New(n) => n.out.is_some(),
+        }
+    }
+}
+
+/// `owb check`: a student's answers checked, the mistake named.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn check(args: CheckArgs, rep: &mut Report) -> Result<Outcome> {
     let (ex, key, _) = key_of(&args.exercise)?;
     let (answers, _) = load_answers(&args.answers)?;
     if let Some(id) = &answers.exercise {
@@ -176,9 +246,9 @@ pub fn check(args: CheckArgs) -> Result<Outcome> {
         &student_name(&args.answers, answers.student.as_deref()),
     );
     if args.json {
-        print_json(&serde_json::to_value(&report)?);
+        rep.json(&serde_json::to_value(&report)?);
     } else {
-        out!("{}", report.text());
+        out!(rep, "{}", report.text());
     }
     Ok(if report.all_correct() {
         Outcome::Ok
@@ -390,7 +460,12 @@ fn kind_flag(kind: &str) -> Result<Kind> {
     })
 }
 
-pub fn grade(args: GradeArgs) -> Result<Outcome> {
+/// `owb grade`: a folder of submissions graded into a CSV report.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn grade(args: GradeArgs, rep: &mut Report) -> Result<Outcome> {
     let mut exercise_file = None;
     let target = if args.exercise == "variants" {
         let (lo, hi) = order_range("--order", &args.order)?;
@@ -484,7 +559,7 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
         ),
     };
     if args.json {
-        print_json(&serde_json::json!({
+        rep.json(&serde_json::json!({
             "exercise": what,
             "submissions": students,
             "fully_correct": perfect,
@@ -492,7 +567,7 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
             "report": args.csv.display().to_string(),
         }));
     } else {
-        outln!(
+        outln!(rep,
             "{students} submissions graded for {what}: {perfect} fully correct, {invalid} invalid (reported in {}); report written to {}",
             args.csv.display(),
             args.csv.display()
@@ -501,21 +576,30 @@ pub fn grade(args: GradeArgs) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
-pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
-    match args.command {
+/// `owb exercise new`: a fresh exercise with its computed key.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn exercise(args: ExerciseArgs, rep: &mut Report) -> Result<Outcome> {
+    match args.action {
         ExerciseCommand::New(a) => {
             let kind = kind_flag(&a.kind)?;
             let (lo, hi) = order_range("--order", &a.order)?;
             let settings = match (&a.student, a.seed) {
-                (Some(student), _) => Settings {
+                (Some(_), Some(_)) => {
+                    bail!("--seed and --student both given: a student's variant has its own seed")
+                }
+                (None, None) => bail!("give --seed N or --student ID"),
+                (Some(student), None) => Settings {
                     kind,
                     ..Settings::for_student(student, lo, hi, &a.convention)
                 },
-                (None, seed) => Settings {
+                (None, Some(seed)) => Settings {
                     kind,
                     min_order: lo,
                     max_order: hi,
-                    seed: seed.unwrap_or_default(),
+                    seed,
                     convention: a.convention.clone(),
                 },
             };
@@ -529,7 +613,7 @@ pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
                     .map_err(|e| anyhow!("in --out: {e}"))?;
             }
             if a.json {
-                print_json(&serde_json::json!({
+                rep.json(&serde_json::json!({
                     "id": ex.id,
                     "exercise": text,
                     "out": a.out.as_ref().map(|p| p.display().to_string()),
@@ -541,12 +625,12 @@ pub fn exercise(args: ExerciseArgs) -> Result<Outcome> {
                 return Ok(Outcome::Ok);
             }
             if a.out.is_none() {
-                out!("{text}");
+                out!(rep, "{text}");
             }
             if a.key {
-                outln!("# answer key (computed)");
+                outln!(rep, "# answer key (computed)");
                 for p in &key.parts {
-                    outln!("# {} = \"{}\"", p.spec.id, p.value.input());
+                    outln!(rep, "# {} = \"{}\"", p.spec.id, p.value.input());
                 }
             }
             Ok(Outcome::Ok)

@@ -1,7 +1,7 @@
 //! `owb canonical`: observer canonical form by both textbook procedures.
 
-use super::args::{json_matrix, matrix, print_json};
-use super::Outcome;
+use super::args::{json_matrix, matrix};
+use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::canonical_form::{observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm};
 use crate::derivation::Derivation;
@@ -9,16 +9,22 @@ use anyhow::Result;
 use serde_json::json;
 
 /// Arguments of `owb canonical`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: super::args::SystemPair,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: super::args::SystemPair,
     /// The input matrix B (optional).
-    #[arg(allow_hyphen_values = true, long = "b")]
-    b: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "b"))]
+    #[serde(default)]
+    pub b: Option<String>,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Derivation {
@@ -40,7 +46,12 @@ fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Deri
     d
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb canonical`: the observer canonical form of a request.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let b = args
         .b
@@ -56,15 +67,17 @@ pub fn run(args: Args) -> Result<Outcome> {
             json!({"T": json_matrix(&f.t), "T_inv": json_matrix(&f.t_inv), "A_o": json_matrix(&f.a),
                    "B_o": json_matrix(&f.b), "C_o": json_matrix(&f.c), "open_loop": f.open_loop.to_input()})
         };
-        print_json(
+        rep.json(
             &json!({"di_ruscio": one(&di), "stoustrup": one(&st), "same_transformation": same}),
         );
     } else {
         out!(
+            rep,
             "{}",
             derivation("Di Ruscio ss2ocf: T_o = (Mᵀ O_n)⁻¹", "(Mᵀ O_n)⁻¹", &di).render()
         );
         out!(
+            rep,
             "{}",
             derivation(
                 "Stoustrup: t_n = O⁻¹ e_n, t_(k−1) = A t_k",
@@ -73,7 +86,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             )
             .render()
         );
-        outln!(
+        outln!(rep,
             "Both procedures give {} transformation; A_o has −a_i (Di Ruscio's a_i) = Stoustrup's a_i in its first column.",
             if same { "the same" } else { "different" }
         );

@@ -1,8 +1,8 @@
 //! `owb feedback`: a state feedback designed on its own, with controllability and the exact
 //! derivation, in the convention asked for (`u = F x` or `u = −K x`).
 
-use super::args::{json_matrix, matrix, print_json};
-use super::Outcome;
+use super::args::{json_matrix, matrix};
+use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::feedback::{design_feedback, FeedbackConvention, FeedbackError};
 use crate::observer::{Detail, GainMethod};
@@ -10,28 +10,46 @@ use anyhow::{anyhow, Result};
 use serde_json::json;
 
 /// Arguments of `owb feedback`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
     /// The system matrix A (n×n).
-    #[arg(allow_hyphen_values = true, long)]
-    a: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub a: String,
     /// The input matrix B (n×1).
-    #[arg(allow_hyphen_values = true, long)]
-    b: String,
-    #[command(flatten)]
-    desired: super::args::DesiredArgs,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub b: String,
+    /// The desired polynomial (`poles`, `poly`, `repeated`, `butterworth`, `bessel`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub desired: super::args::DesiredArgs,
     /// ackermann (default), bass-gura or canonical (on the dual pair (Aᵀ, Bᵀ)).
-    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
-    method: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+    )]
+    #[serde(default = "super::args::defaults::ackermann")]
+    pub method: String,
     /// u=-kx (default: closed loop A − BK) or u=fx (A + BF).
-    #[arg(allow_hyphen_values = true, long, default_value = "u=-kx")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "u=-kx")
+    )]
+    #[serde(default = "super::args::defaults::u_minus_kx")]
+    pub convention: String,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb feedback`: state feedback by duality.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let a = matrix::<Rational>("--a", &args.a)?;
     let b = matrix::<Rational>("--b", &args.b)?;
     super::args::check_plant(
@@ -62,7 +80,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         },
     )?;
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "gain": json_matrix(&d.gain),
             "convention": convention.flag(),
             "method": method.flag(),
@@ -73,8 +91,9 @@ pub fn run(args: Args) -> Result<Outcome> {
             "steps": serde_json::to_value(&d.derivation.steps)?,
         }));
     } else {
-        out!("{}", d.derivation.render());
+        rep.derivation(&d.derivation);
         outln!(
+            rep,
             "Result (u = {} x, closed loop {}, {method} method on the dual pair):",
             if convention == FeedbackConvention::UEqualsFx {
                 "F"
@@ -83,8 +102,9 @@ pub fn run(args: Args) -> Result<Outcome> {
             },
             convention.closed_loop()
         );
-        outln!("  {} = {}", convention.letter(), d.gain.to_input());
+        outln!(rep, "  {} = {}", convention.letter(), d.gain.to_input());
         outln!(
+            rep,
             "  closed-loop polynomial = {} ({})",
             d.achieved,
             if d.places_exactly() {

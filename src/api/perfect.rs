@@ -2,8 +2,8 @@
 //! reconstruction of x̂ from y, u and their derivatives, and the exact conditions under which
 //! the same observer stays perfect for a changed plant.
 
-use super::args::{json_matrix, matrix, print_json};
-use super::Outcome;
+use super::args::{json_matrix, matrix};
+use super::{Outcome, Report};
 use crate::algebra::{Rational, Ring};
 use crate::derivation::Show;
 use crate::linalg::Matrix;
@@ -15,24 +15,34 @@ use anyhow::Result;
 use serde_json::json;
 
 /// Arguments of `owb perfect`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: super::args::SystemPair,
-    #[command(flatten)]
-    inputs: super::args::InputMatrices,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: super::args::SystemPair,
+    /// The plant's B and D (`b`, `d`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub inputs: super::args::InputMatrices,
     /// A changed plant to test the observer on: its A (default: unchanged).
-    #[arg(allow_hyphen_values = true, long)]
-    changed_a: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub changed_a: Option<String>,
     /// … its B (default: unchanged).
-    #[arg(allow_hyphen_values = true, long)]
-    changed_b: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub changed_b: Option<String>,
     /// … its C (default: unchanged).
-    #[arg(allow_hyphen_values = true, long)]
-    changed_c: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub changed_c: Option<String>,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 /// A changed plant matrix (`--changed-*`), the original when not given; it must keep the
@@ -56,7 +66,12 @@ fn changed_matrix(
     Ok(m)
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb perfect`: the perfect (descriptor) observer.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let (b, d) = args.inputs.parse()?;
     super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
@@ -75,7 +90,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     };
     let fits = fit.as_ref().map(|(ra, rb)| ra.is_zero() && rb.is_zero());
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "E": json_matrix(&p.e),
             "F": json_matrix(&p.f),
             "G_u": json_matrix(&p.input_matrix),
@@ -89,18 +104,23 @@ pub fn run(args: Args) -> Result<Outcome> {
             "steps": serde_json::to_value(&p.derivation.steps)?,
         }));
     } else {
-        out!("{}", p.derivation.render());
-        outln!("The observer stays perfect for a changed plant (A', B', C', D') exactly when:");
+        rep.derivation(&p.derivation);
+        outln!(
+            rep,
+            "The observer stays perfect for a changed plant (A', B', C', D') exactly when:"
+        );
         for cond in &conditions {
-            outln!("  {cond} = 0");
+            outln!(rep, "  {cond} = 0");
         }
         if let Some((ra, rb)) = &fit {
             outln!(
+                rep,
                 "Changed plant: E A' − F − G_y C' =\n{}\n  E B' − G_u − G_y D' =\n{}",
                 ra.render(),
                 rb.render()
             );
             outln!(
+                rep,
                 "  {}",
                 if fits == Some(true) {
                     "the observer reconstructs the changed plant's state exactly (error zero for t > 0)"

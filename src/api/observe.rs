@@ -1,26 +1,36 @@
 //! `owb observe`: the observability report.
 
-use super::args::{json_matrix, print_json};
-use super::Outcome;
+use super::args::json_matrix;
+use super::{Outcome, Report};
 use crate::observability::observability_report;
 use anyhow::Result;
 use serde_json::json;
 
 /// Arguments of `owb observe`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: super::args::SystemPair,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: super::args::SystemPair,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb observe`: the observability report.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let r = observability_report(&a, &c)?;
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "observability_matrix": json_matrix(&r.matrix),
             "rank": r.rank,
             "order": r.order,
@@ -32,32 +42,35 @@ pub fn run(args: Args) -> Result<Outcome> {
             "pbh_confirmed": r.pbh_confirmed,
         }));
     } else {
-        outln!("Observability of (A, C)");
-        outln!("  O_n = [C; CA; …; CA^(n−1)]:");
+        outln!(rep, "Observability of (A, C)");
+        outln!(rep, "  O_n = [C; CA; …; CA^(n−1)]:");
         for line in r.matrix.render().lines() {
-            outln!("      {line}");
+            outln!(rep, "      {line}");
         }
         if let Some(d) = &r.determinant {
-            outln!("  det O_n = {d}");
+            outln!(rep, "  det O_n = {d}");
         }
-        outln!("  rank O_n = {} (order n = {})", r.rank, r.order);
+        outln!(rep, "  rank O_n = {} (order n = {})", r.rank, r.order);
         if r.observable() {
-            outln!("  observable");
+            outln!(rep, "  observable");
         } else {
-            outln!("  NOT observable");
-            outln!("  unobservable subspace ker O_n, basis:");
+            outln!(rep, "  NOT observable");
+            outln!(rep, "  unobservable subspace ker O_n, basis:");
             for v in &r.unobservable_subspace {
-                outln!("      {}", v.to_input());
+                outln!(rep, "      {}", v.to_input());
             }
             outln!(
+                rep,
                 "  unobservable modes: det(sI − A|ker O_n) = {}",
                 r.unobservable_polynomial
             );
             outln!(
+                rep,
                 "  unobservable eigenvalues: {}",
                 r.unobservable_eigenvalues.render()
             );
             outln!(
+                rep,
                 "  PBH test rank [λI − A; C] < n at each: {}",
                 if r.pbh_confirmed {
                     "confirmed"

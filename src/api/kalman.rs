@@ -1,8 +1,8 @@
 //! `owb kalman`: the steady-state Kalman filter of a plant with noisy input and outputs, and
 //! the noise let through by observers with chosen poles (Furlan et al.'s comparison).
 
-use super::args::{matrix, print_json};
-use super::Outcome;
+use super::args::matrix;
+use super::{Outcome, Report};
 use crate::algebra::{Rational, Zero};
 use crate::linalg::definiteness::{definiteness, Definiteness};
 use crate::linalg::float::{eigenvalues, to_nalgebra};
@@ -22,34 +22,48 @@ use nalgebra::{Complex, DMatrix};
 use serde_json::json;
 
 /// Arguments of `owb kalman`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: super::args::SystemPair,
-    #[command(flatten)]
-    inputs: super::args::InputMatrices,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: super::args::SystemPair,
+    /// The plant's B and D (`b`, `d`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub inputs: super::args::InputMatrices,
     /// White-noise intensity C_U of the measured input (m×m), e.g. "[4.47e-8]".
-    #[arg(allow_hyphen_values = true, long)]
-    input_noise: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub input_noise: String,
     /// White-noise intensity C_Y of the outputs (p×p), e.g. "[5.08e-16 0; 0 4.47e-6]".
-    #[arg(allow_hyphen_values = true, long)]
-    output_noise: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub output_noise: String,
     /// Chosen observer poles (rational) to compare with the Kalman filter, e.g. "-548, -670".
-    #[arg(allow_hyphen_values = true, long)]
-    poles: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub poles: Option<String>,
     /// With --poles: the output that measures a state's derivative (1-based), for the
     /// weighted-derivative observer (l = w·e_state in its column).
-    #[arg(allow_hyphen_values = true, long)]
-    derivative_output: Option<usize>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub derivative_output: Option<usize>,
     /// … and that state (1-based).
-    #[arg(allow_hyphen_values = true, long)]
-    derivative_state: Option<usize>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub derivative_state: Option<usize>,
     /// Grid points of the weight search in [0, 1].
-    #[arg(allow_hyphen_values = true, long, default_value_t = 1001)]
-    grid: usize,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value_t = 1001)
+    )]
+    #[serde(default = "super::args::defaults::grid_1001")]
+    pub grid: usize,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 struct Row {
@@ -230,7 +244,12 @@ fn tabulate(
     Ok(json_rows)
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb kalman`: the Kalman filter against chosen poles.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let (b, d) = args.inputs.parse()?;
     super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
@@ -320,13 +339,13 @@ pub fn run(args: Args) -> Result<Outcome> {
         ));
     }
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "convention": "a-lc",
             "kalman": k,
             "comparison": json_rows,
         }));
     } else {
-        out!("{text}");
+        out!(rep, "{text}");
     }
     Ok(Outcome::Ok)
 }

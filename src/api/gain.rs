@@ -4,8 +4,8 @@
 //! `owb gain --a M --c M (--poles L | --poly P | --repeated T | --butterworth T) [--method M]
 //! [--convention a-kc|a+lc] [--float] [--json]`.
 
-use super::args::{json_matrix, print_json};
-use super::Outcome;
+use super::args::json_matrix;
+use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::observer::float_check::{float_check, FloatCheck, FloatVerdict};
 use crate::observer::{design_with, Convention, DesiredPolynomial, Detail, GainMethod};
@@ -13,36 +13,58 @@ use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 
 /// Arguments of `owb gain`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: super::args::SystemPair,
-    #[command(flatten)]
-    desired: super::args::DesiredArgs,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: super::args::SystemPair,
+    /// The desired polynomial (`poles`, `poly`, `repeated`, `butterworth`, `bessel`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub desired: super::args::DesiredArgs,
     /// ackermann (default), bass-gura, canonical or lemma-3.1.
-    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
-    method: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+    )]
+    #[serde(default = "super::args::defaults::ackermann")]
+    pub method: String,
     /// a-kc (default: observer matrix A − KC) or a+lc (A + LC).
-    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+    )]
+    #[serde(default = "super::args::defaults::a_minus_kc")]
+    pub convention: String,
     /// Also run the float path and report how far it can be trusted.
-    #[arg(long)]
-    float: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub float: bool,
     /// With several outputs: design exactly from this output alone (1-based); the other
     /// columns of the gain are zero. Without it, several outputs use the robust float method.
-    #[arg(allow_hyphen_values = true, long)]
-    output: Option<usize>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub output: Option<usize>,
     /// Relative tolerance for the float check.
-    #[arg(allow_hyphen_values = true, long, default_value_t = 1e-6)]
-    tolerance: f64,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value_t = 1e-6)
+    )]
+    #[serde(default = "super::args::defaults::tolerance_1e_6")]
+    pub tolerance: f64,
     /// Record only the polynomials and the gain in the derivation, not the intermediate
     /// matrices (O_n, q_n, M, T_o, A − KC), which run to millions of digits for large systems.
     /// The computation and its exact check are the same.
-    #[arg(long)]
-    summary: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub summary: bool,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 impl Args {
@@ -59,52 +81,73 @@ fn float_json(f: &FloatCheck) -> serde_json::Value {
     serde_json::to_value(f).unwrap_or_default()
 }
 
-fn print_float(f: &FloatCheck) {
-    outln!("Float path (f64, same Ackermann algorithm, nalgebra LU and eigenvalues):");
+fn print_float(rep: &mut Report, f: &FloatCheck) {
     outln!(
+        rep,
+        "Float path (f64, same Ackermann algorithm, nalgebra LU and eigenvalues):"
+    );
+    outln!(
+        rep,
         "  cond₂(O_n)                         = {:.3e}",
         f.condition_number
     );
     if let Some(g) = &f.float_gain {
         let list: Vec<String> = g.iter().map(|x| format!("{x:.10e}")).collect();
         outln!(
+            rep,
             "  float gain (A − KC)                = [{}]",
             list.join("; ")
         );
     }
     if f.compared_with_exact {
         outln!(
+            rep,
             "  relative gain error vs exact       = {:.3e} (a-priori bound n·cond·ε = {:.3e})",
             f.gain_relative_error,
             f.gain_error_bound
         );
     } else {
-        outln!("  no exact gain to compare with (desired polynomial known in f64 only)");
+        outln!(
+            rep,
+            "  no exact gain to compare with (desired polynomial known in f64 only)"
+        );
     }
     outln!(
+        rep,
         "  largest pole distance              = {:.3e}",
         f.max_pole_distance
     );
-    outln!("  multiplicity of the repeated root  = {}", f.multiplicity);
     outln!(
+        rep,
+        "  multiplicity of the repeated root  = {}",
+        f.multiplicity
+    );
+    outln!(
+        rep,
         "  predicted scatter (ε‖A−KC‖)^(1/m)  = {:.3e}",
         f.predicted_scatter
     );
     outln!(
+        rep,
         "  predicted with the gain error      = {:.3e}",
         f.predicted_scatter_with_gain_error
     );
     if let Some(p) = f.polynomial_relative_error {
-        outln!("  exact det(sI − (A − K_float C)) vs desired, largest relative coefficient error = {p:.3e}");
+        outln!(rep, "  exact det(sI − (A − K_float C)) vs desired, largest relative coefficient error = {p:.3e}");
     }
     if !f.compared_with_exact && f.verdict == FloatVerdict::Reliable {
-        outln!("  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
+        outln!(rep, "  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
     } else {
-        outln!("  verdict: {}", f.verdict.explain());
+        outln!(rep, "  verdict: {}", f.verdict.explain());
     }
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb gain`: the exact observer gain, with the float path checked on request.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     if !a.is_square() {
         bail!("in --a: A must be square, it is {}×{}", a.rows(), a.cols());
@@ -133,7 +176,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         super::args::float_range("--c", &c)?;
     }
     if c.rows() > 1 {
-        return multi_output(&args, &a, &c, &desired, method, convention);
+        return multi_output(rep, &args, &a, &c, &desired, method, convention);
     }
     let exact = match &desired.exact {
         Some(_) => Some(design_with(
@@ -189,27 +232,36 @@ pub fn run(args: Args) -> Result<Outcome> {
         if let Some(f) = &check {
             out["float"] = float_json(f);
         }
-        print_json(&out);
+        rep.json(&out);
     } else {
         match &exact {
             Some(d) => {
-                out!("{}", d.derivation.render());
+                rep.derivation(&d.derivation);
                 let letter = convention.letter();
-                outln!("Result ({convention} convention, {method} method):");
-                outln!("  {letter} = {}", d.gain.matrix.to_input());
+                outln!(rep, "Result ({convention} convention, {method} method):");
+                outln!(rep, "  {letter} = {}", d.gain.matrix.to_input());
                 let shown = d
                     .achieved_factored()
                     .map_or_else(|| d.achieved.to_string(), |f| f.to_string());
-                outln!("  observer polynomial = {shown}");
-                outln!("  {}", d.verdict().0);
+                outln!(rep, "  observer polynomial = {shown}");
+                outln!(rep, "  {}", d.verdict().0);
             }
             None => {
-                outln!("Desired polynomial ({}): {}", desired.family, desired.float);
-                outln!("  {}", desired.inexact_reason.clone().unwrap_or_default());
+                outln!(
+                    rep,
+                    "Desired polynomial ({}): {}",
+                    desired.family,
+                    desired.float
+                );
+                outln!(
+                    rep,
+                    "  {}",
+                    desired.inexact_reason.clone().unwrap_or_default()
+                );
             }
         }
         if let Some(f) = &check {
-            print_float(f);
+            print_float(rep, f);
         }
     }
     Ok(Outcome::Ok)
@@ -218,6 +270,7 @@ pub fn run(args: Args) -> Result<Outcome> {
 /// Several outputs: exact from one chosen output, or the robust float method
 /// ([`crate::observer::multi_output`] decides; this renders).
 fn multi_output(
+    rep: &mut Report,
     args: &Args,
     a: &crate::linalg::Matrix<Rational>,
     c: &crate::linalg::Matrix<Rational>,
@@ -234,7 +287,7 @@ fn multi_output(
                 e => e.into(),
             })?;
         if args.json {
-            print_json(&json!({
+            rep.json(&json!({
                 "gain": json_matrix(&gain),
                 "convention": convention.flag(),
                 "method": method.flag(),
@@ -245,10 +298,10 @@ fn multi_output(
                 "steps": serde_json::to_value(&d.derivation.steps)?,
             }));
         } else {
-            out!("{}", d.derivation.render());
-            outln!("Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");
-            outln!("  {} = {}", convention.letter(), gain.to_input());
-            outln!("  {}", d.verdict().0);
+            rep.derivation(&d.derivation);
+            outln!(rep, "Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");
+            outln!(rep, "  {} = {}", convention.letter(), gain.to_input());
+            outln!(rep, "  {}", d.verdict().0);
         }
         return Ok(Outcome::Ok);
     }
@@ -262,7 +315,7 @@ fn multi_output(
         .map(|row| row.iter().map(|x| format!("{x:e}")).collect())
         .collect();
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "gain": gain,
             "convention": convention.flag(),
             "method": "knv-robust",
@@ -271,24 +324,30 @@ fn multi_output(
             "robust": serde_json::to_value(&r)?,
         }));
     } else {
-        outln!("Robust pole placement (Kautsky–Nichols–Van Dooren, f64) for {p} outputs, {convention} convention:");
+        outln!(rep, "Robust pole placement (Kautsky–Nichols–Van Dooren, f64) for {p} outputs, {convention} convention:");
         for row in &gain {
-            outln!("  [ {} ]", row.join("  "));
+            outln!(rep, "  [ {} ]", row.join("  "));
         }
         outln!(
+            rep,
             "  largest distance of the computed poles from the requested ones = {:.3e}",
             r.residual
         );
         outln!(
+            rep,
             "  relative residual ‖(A − KC) − XΛX⁻¹‖/‖A‖ = {:.3e}",
             r.relative_residual
         );
         outln!(
+            rep,
             "  condition number of the eigenvectors = {:.3e} ({} sweeps)",
             r.eigenvector_condition,
             r.sweeps
         );
-        outln!("  (float result; for an exact gain fix the free parameters, e.g. --output k)");
+        outln!(
+            rep,
+            "  (float result; for an exact gain fix the free parameters, e.g. --output k)"
+        );
     }
     Ok(Outcome::Ok)
 }

@@ -1,8 +1,8 @@
 //! `owb simulate`: run a worked example's scenarios (the document's figures), write SVG and
 //! CSV, and check the figures' statements by numbers.
 
-use super::args::{examples_folder, find_example, print_json};
-use super::Outcome;
+use super::args::{examples_folder, find_example};
+use super::{Outcome, Report};
 use crate::files::write_safely;
 use crate::simulation::{csv::to_csv, plot::svg};
 use crate::worked::{load_example, load_folder, run_scenarios, ScenarioRun};
@@ -11,25 +11,41 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `owb simulate`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
     /// The worked example (id or file path).
-    example: String,
+    pub example: String,
     /// Only this scenario (all are run, since checks may compare them).
-    #[arg(allow_hyphen_values = true, long)]
-    scenario: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub scenario: Option<String>,
     /// Write the figure as SVG (with several scenarios: FILE-stem-NAME.svg each).
-    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
-    svg: Option<PathBuf>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "FILE")
+    )]
+    #[serde(default)]
+    pub svg: Option<PathBuf>,
     /// Write the time series as CSV (with several scenarios: one file per scenario, as for --svg).
-    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
-    csv: Option<PathBuf>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "FILE")
+    )]
+    #[serde(default)]
+    pub csv: Option<PathBuf>,
     /// The folder of worked examples.
-    #[arg(allow_hyphen_values = true, long, default_value = "worked_examples")]
-    dir: PathBuf,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "worked_examples")
+    )]
+    #[serde(default = "super::args::defaults::worked_examples")]
+    pub dir: PathBuf,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 fn target(path: &Path, name: &str, several: bool) -> PathBuf {
@@ -77,7 +93,12 @@ fn describe(run: &ScenarioRun) -> String {
     out
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb simulate`: a worked example's scenarios simulated.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     super::args::distinct_outputs(&[
         ("--svg", args.svg.as_deref()),
         ("--csv", args.csv.as_deref()),
@@ -131,7 +152,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         .collect();
     let failed = shown_checks.iter().any(|c| !c.holds);
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "example": ex.id,
             "scenarios": chosen.iter().map(|r| json!({
                 "name": r.name,
@@ -145,12 +166,13 @@ pub fn run(args: Args) -> Result<Outcome> {
         }));
     } else {
         for r in &chosen {
-            out!("{}", describe(r));
+            out!(rep, "{}", describe(r));
         }
         if !shown_checks.is_empty() {
-            outln!("Figure statements checked:");
+            outln!(rep, "Figure statements checked:");
             for c in &shown_checks {
                 outln!(
+                    rep,
                     "  [{}] {} — {}: {} → {}",
                     c.scenario,
                     c.source,

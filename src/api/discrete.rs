@@ -2,8 +2,8 @@
 //! from a continuous specification) and `owb zoh` (a continuous plant sampled with a
 //! zero-order hold).
 
-use super::args::{json_matrix, matrix, print_json, SystemPair};
-use super::Outcome;
+use super::args::{json_matrix, matrix, SystemPair};
+use super::{Outcome, Report};
 use crate::algebra::{Quadratic, Rational};
 use crate::observer::discrete::{
     deadbeat_polynomial, discrete_observer, from_continuous_poles, map_pole, zero_order_hold,
@@ -16,37 +16,71 @@ use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 
 /// Arguments of `owb discrete`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: SystemPair,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: SystemPair,
     /// Desired observer poles in the z-plane, e.g. "1/2, 1/4" or "0.5+0.2i, 0.5-0.2i".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poles: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired")
+    )]
+    #[serde(default)]
+    pub poles: Option<String>,
     /// Desired observer polynomial in z, e.g. "z^2 - z + 1/4".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poly: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired")
+    )]
+    #[serde(default)]
+    pub poly: Option<String>,
     /// Dead-beat: every pole at z = 0 (the error is zero after at most n steps).
-    #[arg(long, group = "desired")]
-    deadbeat: bool,
+    #[cfg_attr(feature = "commands", arg(long, group = "desired"))]
+    #[serde(default)]
+    pub deadbeat: bool,
     /// Continuous-time poles s, mapped to z = e^(sT) with --period.
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    continuous_poles: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired")
+    )]
+    #[serde(default)]
+    pub continuous_poles: Option<String>,
     /// The sampling period T (with --continuous-poles).
-    #[arg(allow_hyphen_values = true, long, value_name = "T")]
-    period: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "T")
+    )]
+    #[serde(default)]
+    pub period: Option<String>,
     /// prediction (default) or current (filtered: corrects x̂(k) with y(k)).
-    #[arg(allow_hyphen_values = true, long, default_value = "prediction")]
-    estimator: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "prediction")
+    )]
+    #[serde(default = "super::args::defaults::prediction")]
+    pub estimator: String,
     /// ackermann (default), bass-gura or canonical.
-    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
-    method: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+    )]
+    #[serde(default = "super::args::defaults::ackermann")]
+    pub method: String,
     /// a-kc (default: A − KC) or a+lc (A + LC).
-    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+    )]
+    #[serde(default = "super::args::defaults::a_minus_kc")]
+    pub convention: String,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
 fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
@@ -82,7 +116,12 @@ fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
     })
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb discrete`: a discrete-time observer.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     if !a.is_square() || c.cols() != a.rows() {
         bail!(
@@ -103,7 +142,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     })?;
     let desired = desired(&args, a.rows())?;
     if desired.exact.is_none() {
-        return float_only(&args, &a, &c, &desired, convention);
+        return float_only(rep, &args, &a, &c, &desired, convention);
     }
     let d = discrete_observer(
         &a,
@@ -131,22 +170,25 @@ pub fn run(args: Args) -> Result<Outcome> {
         if let Some(l) = &d.current_gain {
             out["current_gain"] = json_matrix(l);
         }
-        print_json(&out);
+        rep.json(&out);
         return Ok(Outcome::Ok);
     }
-    out!("{}", d.derivation.render());
+    rep.derivation(&d.derivation);
     outln!(
+        rep,
         "Result (discrete time, {} estimator, {convention} convention, {method} method):",
         estimator.flag()
     );
     outln!(
+        rep,
         "  {letter} = {} (prediction gain)",
         d.design.gain.matrix.to_input()
     );
     if let Some(l) = &d.current_gain {
-        outln!("  {letter}_c = {} (current estimator: x̂(k) = x̄(k) + {letter}_c (y(k) − C x̄(k)) in the A − KC sign)", l.to_input());
+        outln!(rep, "  {letter}_c = {} (current estimator: x̂(k) = x̄(k) + {letter}_c (y(k) − C x̄(k)) in the A − KC sign)", l.to_input());
     }
     outln!(
+        rep,
         "  error polynomial det(zI − {}) = {}",
         if estimator == Estimator::Current {
             "(A − L_c C A)"
@@ -156,18 +198,19 @@ pub fn run(args: Args) -> Result<Outcome> {
         d.error_polynomial
     );
     match d.stable {
-        Some(true) => outln!("  every root strictly inside the unit circle (exact test): the estimation error decays"),
-        Some(false) => outln!("  NOT every root inside the unit circle (exact test): the estimation error does not decay"),
-        None => outln!("  stability not decided exactly (irrational coefficients)"),
+        Some(true) => outln!(rep, "  every root strictly inside the unit circle (exact test): the estimation error decays"),
+        Some(false) => outln!(rep, "  NOT every root inside the unit circle (exact test): the estimation error does not decay"),
+        None => outln!(rep, "  stability not decided exactly (irrational coefficients)"),
     }
     if let Some(k) = d.nilpotent_index {
-        outln!("  dead-beat: the error matrix is nilpotent, (error matrix)^{k} = 0 exactly, so e({k}) = 0 for every initial error");
+        outln!(rep, "  dead-beat: the error matrix is nilpotent, (error matrix)^{k} = 0 exactly, so e({k}) = 0 for every initial error");
     }
     Ok(Outcome::Ok)
 }
 
 /// Poles mapped from continuous time are known in f64 only: the gain by the float path, checked.
 fn float_only(
+    rep: &mut Report,
     args: &Args,
     a: &crate::linalg::Matrix<Rational>,
     c: &crate::linalg::Matrix<Rational>,
@@ -197,7 +240,7 @@ fn float_only(
         .map(|x| convention.sign() * x)
         .collect();
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "convention": convention.flag(),
             "exact": false,
             "z_poles": z.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
@@ -208,55 +251,77 @@ fn float_only(
         }));
         return Ok(Outcome::Ok);
     }
-    outln!("Poles mapped from continuous time, z = e^(sT), T = {t}:");
+    outln!(
+        rep,
+        "Poles mapped from continuous time, z = e^(sT), T = {t}:"
+    );
     for (p, (re, im)) in s.iter().zip(&z) {
         outln!(
+            rep,
             "  s = {p}  →  z = {re:.12} {} {:.12}i",
             if *im < 0.0 { "−" } else { "+" },
             im.abs()
         );
     }
-    outln!("  {}", desired.inexact_reason.clone().unwrap_or_default());
     outln!(
+        rep,
+        "  {}",
+        desired.inexact_reason.clone().unwrap_or_default()
+    );
+    outln!(
+        rep,
         "  desired polynomial (f64): {}",
         desired.float.to_string().replace('s', "z")
     );
     let letter = convention.letter();
     let list: Vec<String> = gain.iter().map(|x| format!("{x:.10e}")).collect();
     outln!(
+        rep,
         "  {letter} (f64, prediction estimator) = [{}]",
         list.join("; ")
     );
     outln!(
+        rep,
         "  largest distance of the placed poles from the mapped ones = {:.3e}",
         check.max_pole_distance
     );
     if check.verdict == crate::observer::float_check::FloatVerdict::Reliable {
-        outln!("  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
+        outln!(rep, "  verdict: the float gain places the poles within tolerance (there is no exact gain to compare with)");
     } else {
-        outln!("  verdict: {}", check.verdict.explain());
+        outln!(rep, "  verdict: {}", check.verdict.explain());
     }
     Ok(Outcome::Ok)
 }
 
 /// Arguments of `owb zoh`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct ZohArgs {
     /// The continuous system matrix A.
-    #[arg(allow_hyphen_values = true, long)]
-    a: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub a: String,
     /// The input matrix B.
-    #[arg(allow_hyphen_values = true, long)]
-    b: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub b: String,
     /// The sampling period T.
-    #[arg(allow_hyphen_values = true, long, value_name = "T")]
-    period: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "T")
+    )]
+    pub period: String,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
-pub fn zoh(args: ZohArgs) -> Result<Outcome> {
+/// `owb zoh`: a continuous plant sampled with a zero-order hold.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
     let a = matrix::<Rational>("--a", &args.a)?;
     let b = matrix::<Rational>("--b", &args.b)?;
     super::args::float_range("--a", &a)?;
@@ -269,7 +334,7 @@ pub fn zoh(args: ZohArgs) -> Result<Outcome> {
             .collect()
     };
     match (&s, args.json) {
-        (Sampled::Exact { phi, gamma, index }, true) => print_json(&json!({
+        (Sampled::Exact { phi, gamma, index }, true) => rep.json(&json!({
             "exact": true, "phi": json_matrix(phi), "gamma": json_matrix(gamma), "nilpotent_index": index,
         })),
         (
@@ -279,13 +344,13 @@ pub fn zoh(args: ZohArgs) -> Result<Outcome> {
                 error_estimate,
             },
             true,
-        ) => print_json(&json!({
+        ) => rep.json(&json!({
             "exact": false, "phi": rows(phi), "gamma": rows(gamma), "error_estimate": error_estimate,
         })),
         (Sampled::Exact { phi, gamma, index }, false) => {
-            outln!("Zero-order hold, T = {t}: exact (A is nilpotent, A^{index} = 0, so e^(AT) = Σ_(k<{index}) (AT)^k/k!)");
-            outln!("  Φ = e^(AT) = {}", phi.to_input());
-            outln!("  Γ = ∫_0^T e^(Aτ) dτ B = {}", gamma.to_input());
+            outln!(rep, "Zero-order hold, T = {t}: exact (A is nilpotent, A^{index} = 0, so e^(AT) = Σ_(k<{index}) (AT)^k/k!)");
+            outln!(rep, "  Φ = e^(AT) = {}", phi.to_input());
+            outln!(rep, "  Γ = ∫_0^T e^(Aτ) dτ B = {}", gamma.to_input());
         }
         (
             Sampled::Float {
@@ -295,7 +360,7 @@ pub fn zoh(args: ZohArgs) -> Result<Outcome> {
             },
             false,
         ) => {
-            outln!("Zero-order hold, T = {t}: f64 (A is not nilpotent; e^(λT) is transcendental for rational λT ≠ 0)");
+            outln!(rep, "Zero-order hold, T = {t}: f64 (A is not nilpotent; e^(λT) is transcendental for rational λT ≠ 0)");
             let show = |m: &[Vec<f64>]| {
                 m.iter()
                     .map(|r| {
@@ -307,38 +372,47 @@ pub fn zoh(args: ZohArgs) -> Result<Outcome> {
                     .collect::<Vec<_>>()
                     .join("; ")
             };
-            outln!("  Φ = e^(AT) ≈ [{}]", show(phi));
-            outln!("  Γ = ∫_0^T e^(Aτ) dτ B ≈ [{}]", show(gamma));
-            outln!("  two independent evaluations (Padé, scaled Taylor) differ by at most {error_estimate:.3e}");
+            outln!(rep, "  Φ = e^(AT) ≈ [{}]", show(phi));
+            outln!(rep, "  Γ = ∫_0^T e^(Aτ) dτ B ≈ [{}]", show(gamma));
+            outln!(rep, "  two independent evaluations (Padé, scaled Taylor) differ by at most {error_estimate:.3e}");
         }
     }
     Ok(Outcome::Ok)
 }
 
 /// Arguments of `owb dlqe`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct DlqeArgs {
     /// The discrete system matrix A.
-    #[arg(allow_hyphen_values = true, long)]
-    a: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub a: String,
     /// The output matrix C.
-    #[arg(allow_hyphen_values = true, long)]
-    c: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub c: String,
     /// How the process noise enters, x(k+1) = A x(k) + G w(k) (default: the identity).
-    #[arg(allow_hyphen_values = true, long)]
-    g: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub g: Option<String>,
     /// The process-noise covariance Q_n.
-    #[arg(allow_hyphen_values = true, long)]
-    qn: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub qn: String,
     /// The measurement-noise covariance R_n.
-    #[arg(allow_hyphen_values = true, long)]
-    rn: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    pub rn: String,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
-pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
+/// `owb dlqe`: the discrete-time steady-state Kalman filter.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
     use crate::observer::discrete_kalman::discrete_kalman;
     let a = matrix::<Rational>("--a", &args.a)?;
     let c = matrix::<Rational>("--c", &args.c)?;
@@ -379,7 +453,7 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
             out["exact_p"] = json_matrix(p);
             out["exact_gain"] = json_matrix(l);
         }
-        print_json(&out);
+        rep.json(&out);
         return Ok(Outcome::Ok);
     }
     let show = |m: &nalgebra::DMatrix<f64>| {
@@ -393,13 +467,19 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
             .collect::<Vec<_>>()
             .join("; ")
     };
-    outln!("Discrete Kalman filter (steady state), P = A P Aᵀ − A P Cᵀ (C P Cᵀ + R_n)⁻¹ C P Aᵀ + G Q_n Gᵀ:");
-    outln!("  P (a-priori error covariance, f64) = [{}]", show(&k.p));
+    outln!(rep, "Discrete Kalman filter (steady state), P = A P Aᵀ − A P Cᵀ (C P Cᵀ + R_n)⁻¹ C P Aᵀ + G Q_n Gᵀ:");
     outln!(
+        rep,
+        "  P (a-priori error covariance, f64) = [{}]",
+        show(&k.p)
+    );
+    outln!(
+        rep,
         "  L = A P Cᵀ (C P Cᵀ + R_n)⁻¹ (prediction gain, A − LC) = [{}]",
         show(&k.gain)
     );
     outln!(
+        rep,
         "  M = P Cᵀ (C P Cᵀ + R_n)⁻¹ (current-form gain, L = A M) = [{}]",
         show(&k.current_gain)
     );
@@ -414,8 +494,9 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
             )
         })
         .collect();
-    outln!("  eigenvalues of A − LC: {}", eig.join(", "));
+    outln!(rep, "  eigenvalues of A − LC: {}", eig.join(", "));
     outln!(
+        rep,
         "  {} doublings{}, Riccati residual ‖Ric(P) − P‖/‖P‖ = {:.3e}",
         k.iterations,
         if k.refined {
@@ -426,16 +507,17 @@ pub fn dlqe(args: DlqeArgs) -> Result<Outcome> {
         k.residual
     );
     outln!(
+        rep,
         "  spectral radius of A − LC = {:.6} < 1: the stabilising solution (checked)",
         k.spectral_radius
     );
     match (&k.exact_p, &k.exact_gain) {
         (Some(p), Some(l)) => {
-            outln!("  exact: P read back as fractions satisfies the Riccati equation exactly, and A − LC is stable (exact test):");
-            outln!("    P = {}", p.to_input());
-            outln!("    L = {}", l.to_input());
+            outln!(rep, "  exact: P read back as fractions satisfies the Riccati equation exactly, and A − LC is stable (exact test):");
+            outln!(rep, "    P = {}", p.to_input());
+            outln!(rep, "    L = {}", l.to_input());
         }
-        _ => outln!("  no small-fraction P satisfies the equation exactly: the solution is known in f64 (residual above)"),
+        _ => outln!(rep, "  no small-fraction P satisfies the equation exactly: the solution is known in f64 (residual above)"),
     }
     Ok(Outcome::Ok)
 }

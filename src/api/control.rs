@@ -1,7 +1,7 @@
 //! `owb control`: observer-based control of a SISO plant.
 
-use super::args::{matrix, print_json};
-use super::Outcome;
+use super::args::matrix;
+use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::control::{observer_based_control, state_feedback};
 use crate::observer::Convention;
@@ -11,31 +11,53 @@ use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 
 /// Arguments of `owb control`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: super::args::SystemPair,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: super::args::SystemPair,
     /// The input matrix B (one column).
-    #[arg(allow_hyphen_values = true, long = "b")]
-    b: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "b"))]
+    pub b: String,
     /// The observer gain (in the convention of --convention).
-    #[arg(allow_hyphen_values = true, long = "l")]
-    l: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "l"))]
+    pub l: String,
     /// The state feedback row F in u = F x̂.
-    #[arg(allow_hyphen_values = true, long = "f", group = "feedback")]
-    f: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "f", group = "feedback")
+    )]
+    #[serde(default)]
+    pub f: Option<String>,
     /// Or: the desired polynomial of A + BF, e.g. "s^2 + 9s + 20".
-    #[arg(allow_hyphen_values = true, long = "feedback-poly", group = "feedback")]
-    feedback_poly: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "feedback-poly", group = "feedback")
+    )]
+    #[serde(default)]
+    pub feedback_poly: Option<String>,
     /// Convention of the observer gain: a+lc (default, Stoustrup) or a-kc.
-    #[arg(allow_hyphen_values = true, long, default_value = "a+lc")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "a+lc")
+    )]
+    #[serde(default = "super::args::defaults::a_plus_lc")]
+    pub convention: String,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb control`: observer-based control, the separation principle checked.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let b = matrix::<Rational>("--b", &args.b)?;
     let mut l = matrix::<Rational>("--l", &args.l)?;
@@ -63,7 +85,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     let plant = StateSpace::new(a, Some(b), c, None)?;
     let r = observer_based_control(&plant, &f, &l)?;
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "F": f.to_input(),
             "L": l.to_input(),
             "convention": "a+lc",
@@ -76,12 +98,14 @@ pub fn run(args: Args) -> Result<Outcome> {
         }));
     } else {
         outln!(
+            rep,
             "F = {} (u = F x̂), L = {} (A + LC)",
             f.to_input(),
             l.to_input()
         );
-        out!("{}", r.derivation.render());
+        rep.derivation(&r.derivation);
         outln!(
+            rep,
             "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC))",
             if r.separation_holds { "=" } else { "≠" }
         );

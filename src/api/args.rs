@@ -57,14 +57,6 @@ pub fn rational(flag: &str, text: &str) -> Result<Rational> {
         .with_context(|| format!("in {flag}"))
 }
 
-/// Prints a JSON value, pretty.
-pub fn print_json(v: &serde_json::Value) {
-    outln!(
-        "{}",
-        serde_json::to_string_pretty(v).unwrap_or_else(|_| "{}".into())
-    );
-}
-
 /// A matrix as a JSON list of rows of strings in input syntax.
 pub fn json_matrix<T: crate::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value {
     serde_json::Value::Array(
@@ -82,14 +74,16 @@ pub fn json_matrix<T: crate::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value 
 }
 
 /// The pair `(A, C)` every design subcommand starts from (`--a`, `--c`), in MATLAB syntax.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct SystemPair {
     /// The system matrix A, e.g. "[2 -3; 4 -5]".
-    #[arg(allow_hyphen_values = true, long = "a")]
-    a: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "a"))]
+    pub a: String,
     /// The output matrix C, e.g. "[-3 2]".
-    #[arg(allow_hyphen_values = true, long = "c")]
-    c: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "c"))]
+    pub c: String,
 }
 
 impl SystemPair {
@@ -135,7 +129,7 @@ pub fn find_example(
         })
 }
 
-#[cfg(feature = "cli")]
+#[cfg(feature = "plot")]
 /// Refuses two output flags naming the same file (`--svg f --csv f` would keep only one).
 pub fn distinct_outputs(outputs: &[(&str, Option<&std::path::Path>)]) -> Result<()> {
     let named: Vec<(&str, &std::path::Path)> = outputs
@@ -175,14 +169,17 @@ pub fn float_matrix_text(m: &nalgebra::DMatrix<f64>, entry: impl Fn(f64) -> Stri
 
 /// The input side of a plant (`--b`, and `--d` defaulting to zero), for the subcommands that
 /// need the whole (A, B, C, D).
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct InputMatrices {
     /// The input matrix B.
-    #[arg(allow_hyphen_values = true, long = "b")]
-    b: String,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "b"))]
+    pub b: String,
     /// The feedthrough D (default zero).
-    #[arg(allow_hyphen_values = true, long = "d")]
-    d: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "d"))]
+    #[serde(default)]
+    pub d: Option<String>,
 }
 
 impl InputMatrices {
@@ -200,23 +197,45 @@ impl InputMatrices {
 
 /// The desired observer polynomial (`--poles`, `--poly`, `--repeated T`, `--butterworth T`,
 /// `--bessel T`), shared by the design subcommands.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct DesiredArgs {
     /// Desired observer poles, e.g. "-4, -5" or "-1+2i, -1-2i, -3".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poles: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired")
+    )]
+    #[serde(default)]
+    pub poles: Option<String>,
     /// Desired observer polynomial, e.g. "s^2 + 9s + 20".
-    #[arg(allow_hyphen_values = true, long, group = "desired")]
-    poly: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired")
+    )]
+    #[serde(default)]
+    pub poly: Option<String>,
     /// All n poles at −1/T.
-    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
-    repeated: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")
+    )]
+    #[serde(default)]
+    pub repeated: Option<String>,
     /// Order-n Butterworth polynomial with time constant T.
-    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
-    butterworth: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")
+    )]
+    #[serde(default)]
+    pub butterworth: Option<String>,
     /// Order-n Bessel (Thomson) polynomial with low-frequency delay T.
-    #[arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")]
-    bessel: Option<String>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")
+    )]
+    #[serde(default)]
+    pub bessel: Option<String>,
 }
 
 /// `n` poles from a flag (`--poles "-4, -5"`), as the desired polynomial; errors name the flag.
@@ -304,4 +323,57 @@ pub fn expect_shape<T: crate::algebra::Ring>(
         );
     }
     Ok(())
+}
+
+/// The defaults of the requests' fields (the same as the command line's), for requests read
+/// from JSON.
+pub(crate) mod defaults {
+    pub fn grid_1001() -> usize {
+        1001
+    }
+    pub fn ten_seconds() -> f64 {
+        10.0
+    }
+    pub fn one() -> usize {
+        1
+    }
+    pub fn tolerance_1e_6() -> f64 {
+        1e-6
+    }
+    pub fn seed_2024() -> u64 {
+        2024
+    }
+    pub fn orders_2_to_3() -> String {
+        "2..3".into()
+    }
+    pub fn order_3() -> String {
+        "3".into()
+    }
+    pub fn forty() -> usize {
+        40
+    }
+    pub fn ackermann() -> String {
+        "ackermann".into()
+    }
+    pub fn a_minus_kc() -> String {
+        "a-kc".into()
+    }
+    pub fn a_plus_lc() -> String {
+        "a+lc".into()
+    }
+    pub fn j1() -> String {
+        "j1".into()
+    }
+    pub fn pole_placement() -> String {
+        "pole-placement".into()
+    }
+    pub fn prediction() -> String {
+        "prediction".into()
+    }
+    pub fn u_minus_kx() -> String {
+        "u=-kx".into()
+    }
+    pub fn worked_examples() -> std::path::PathBuf {
+        "worked_examples".into()
+    }
 }

@@ -1,8 +1,8 @@
 //! `owb reduced` (a reduced-order observer, Gopinath's construction) and `owb detectable` (an
 //! observer for the observable part of an unobservable pair, with the fixed modes named).
 
-use super::args::{json_matrix, matrix, print_json, SystemPair};
-use super::Outcome;
+use super::args::{json_matrix, matrix, SystemPair};
+use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::observer::detectability::detectable_design;
 use crate::observer::reduced_order::reduced_order_observer;
@@ -11,28 +11,48 @@ use anyhow::{anyhow, Result};
 use serde_json::json;
 
 /// Arguments of `owb reduced`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
-    #[command(flatten)]
-    system: SystemPair,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: SystemPair,
     /// The input matrix B (optional: gives the observer's input term H).
-    #[arg(allow_hyphen_values = true, long)]
-    b: Option<String>,
+    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
+    #[serde(default)]
+    pub b: Option<String>,
     /// The error polynomial, of degree n − p (the unmeasured states).
-    #[command(flatten)]
-    desired: super::args::DesiredArgs,
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub desired: super::args::DesiredArgs,
     /// ackermann (default), bass-gura or canonical.
-    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
-    method: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+    )]
+    #[serde(default = "super::args::defaults::ackermann")]
+    pub method: String,
     /// a-kc (default: A₂₂ − L A₁₂) or a+lc (A₂₂ + L A₁₂).
-    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+    )]
+    #[serde(default = "super::args::defaults::a_minus_kc")]
+    pub convention: String,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb reduced`: the reduced-order observer.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     let b = args
         .b
@@ -65,21 +85,25 @@ pub fn run(args: Args) -> Result<Outcome> {
         if let Some(h) = &r.h {
             out["h"] = json_matrix(h);
         }
-        print_json(&out);
+        rep.json(&out);
         return Ok(Outcome::Ok);
     }
-    out!("{}", r.derivation.render());
+    rep.derivation(&r.derivation);
     let letter = if convention == Convention::AMinusKC {
         "L (A₂₂ − L A₁₂)"
     } else {
         "L (A₂₂ + L A₁₂)"
     };
-    outln!("Result (reduced-order observer of order {order}, {method} method):");
-    outln!("  {letter} = {}", r.gain(convention).to_input());
+    outln!(
+        rep,
+        "Result (reduced-order observer of order {order}, {method} method):"
+    );
+    outln!(rep, "  {letter} = {}", r.gain(convention).to_input());
     if let Some(k) = r.output {
-        outln!("  designed with output {} (the row of A₁₂ that observes the unmeasured states); the other columns of L are zero", k + 1);
+        outln!(rep, "  designed with output {} (the row of A₁₂ that observes the unmeasured states); the other columns of L are zero", k + 1);
     }
     outln!(
+        rep,
         "  ẇ = F w + G y{}, x̂ = D_y y + M w, w = z₂ {} L y",
         if r.h.is_some() { " + H u" } else { "" },
         if convention == Convention::AMinusKC {
@@ -88,8 +112,8 @@ pub fn run(args: Args) -> Result<Outcome> {
             "+"
         }
     );
-    outln!("  error polynomial det(sI − F) = {} (degree {order}; the full-order observer's has degree {})", r.error_polynomial, a.rows());
-    outln!(
+    outln!(rep, "  error polynomial det(sI − F) = {} (degree {order}; the full-order observer's has degree {})", r.error_polynomial, a.rows());
+    outln!(rep,
         "  measurement noise: y reaches x̂ directly through D_y, Σ D_y² = {} (the full-order observer filters y: no direct term)",
         r.noise_gain
     );
@@ -97,25 +121,44 @@ pub fn run(args: Args) -> Result<Outcome> {
 }
 
 /// Arguments of `owb detectable`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct DetectableArgs {
-    #[command(flatten)]
-    system: SystemPair,
+    /// The plant's A and C (`a`, `c`).
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub system: SystemPair,
     /// The polynomial of the observable part, of degree r = rank O_n.
-    #[command(flatten)]
-    desired: super::args::DesiredArgs,
+    #[serde(flatten)]
+    #[cfg_attr(feature = "commands", command(flatten))]
+    pub desired: super::args::DesiredArgs,
     /// ackermann (default), bass-gura or canonical.
-    #[arg(allow_hyphen_values = true, long, default_value = "ackermann")]
-    method: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+    )]
+    #[serde(default = "super::args::defaults::ackermann")]
+    pub method: String,
     /// a-kc (default) or a+lc.
-    #[arg(allow_hyphen_values = true, long, default_value = "a-kc")]
-    convention: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+    )]
+    #[serde(default = "super::args::defaults::a_minus_kc")]
+    pub convention: String,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
 }
 
-pub fn detectable(args: DetectableArgs) -> Result<Outcome> {
+/// `owb detectable`: an observer for an unobservable but detectable pair.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
     super::args::check_plant(&a, None, &c, None)?;
     let (method, convention) = (
@@ -137,7 +180,7 @@ pub fn detectable(args: DetectableArgs) -> Result<Outcome> {
     let d = detectable_design(&a, &c, &desired, method, convention)?;
     let fixed = d.report.unobservable_eigenvalues.render();
     if args.json {
-        print_json(&json!({
+        rep.json(&json!({
             "convention": convention.flag(),
             "method": method.flag(),
             "rank": rank,
@@ -154,17 +197,19 @@ pub fn detectable(args: DetectableArgs) -> Result<Outcome> {
         }));
         return Ok(Outcome::Ok);
     }
-    out!("{}", d.derivation.render());
-    outln!("Result ({convention} convention, {method} method):");
+    rep.derivation(&d.derivation);
+    outln!(rep, "Result ({convention} convention, {method} method):");
     outln!(
+        rep,
         "  rank O_n = {rank} of {}: {} observable mode(s) placed, {} fixed",
         a.rows(),
         rank,
         a.rows() - rank
     );
-    outln!("  fixed (unobservable) poles: {fixed}");
-    outln!("  {} = {}", convention.letter(), d.gain.to_input());
+    outln!(rep, "  fixed (unobservable) poles: {fixed}");
+    outln!(rep, "  {} = {}", convention.letter(), d.gain.to_input());
     outln!(
+        rep,
         "  observer polynomial = {} = desired × det(sI − A_uu): {}",
         d.observer_polynomial,
         if d.polynomial_checks() {
@@ -174,9 +219,13 @@ pub fn detectable(args: DetectableArgs) -> Result<Outcome> {
         }
     );
     if d.detectable {
-        outln!("  detectable: every unobservable mode is stable, so this observer's error decays");
+        outln!(
+            rep,
+            "  detectable: every unobservable mode is stable, so this observer's error decays"
+        );
     } else {
         outln!(
+            rep,
             "  NOT detectable: an unobservable mode is not stable; no gain makes the error decay"
         );
     }

@@ -6,8 +6,7 @@
 //! whole folder is verified, `"coverage": [{"document", "title", "statements", "recorded",
 //! "inputs", "not_checked": {reason: count}}]`.
 
-use super::args::print_json;
-use super::Outcome;
+use super::{Outcome, Report};
 use crate::worked::{
     errata_markdown_titled, load_example, load_folder, render_derivations, render_table,
     report_json, verify_example, Summary,
@@ -16,25 +15,42 @@ use anyhow::{bail, Result};
 use std::path::PathBuf;
 
 /// Arguments of `owb verify`.
-#[derive(clap::Args)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
     /// Examples to run (ids or file paths); all examples of the folder when none is given.
-    examples: Vec<String>,
+    pub examples: Vec<String>,
     /// The folder of worked examples.
-    #[arg(allow_hyphen_values = true, long, default_value = "worked_examples")]
-    dir: PathBuf,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, default_value = "worked_examples")
+    )]
+    #[serde(default = "super::args::defaults::worked_examples")]
+    pub dir: PathBuf,
     /// Machine-readable output.
-    #[arg(long)]
-    json: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub json: bool,
     /// Also print every claim's derivation (text and LaTeX).
-    #[arg(long)]
-    derivations: bool,
+    #[cfg_attr(feature = "commands", arg(long))]
+    #[serde(default)]
+    pub derivations: bool,
     /// Write the errata report (markdown) to this file.
-    #[arg(allow_hyphen_values = true, long, value_name = "FILE")]
-    errata: Option<PathBuf>,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "FILE")
+    )]
+    #[serde(default)]
+    pub errata: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
+/// `owb verify`: the worked examples recomputed and compared with the print.
+///
+/// # Errors
+///
+/// What the request gets wrong (named by its flag) or what the computation refuses.
+pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let dir = super::args::examples_folder(&args.dir);
     let all = load_folder(&dir)?;
     let selected: Vec<PathBuf> = if args.examples.is_empty() {
@@ -77,15 +93,15 @@ pub fn run(args: Args) -> Result<Outcome> {
         if !coverage.is_empty() {
             out["coverage"] = serde_json::to_value(&coverage)?;
         }
-        print_json(&out);
+        rep.json(&out);
     } else {
         for r in &reports {
-            outln!("{}", render_table(r));
+            outln!(rep, "{}", render_table(r));
             if args.derivations {
-                outln!("{}", render_derivations(r));
+                outln!(rep, "{}", render_derivations(r));
             }
         }
-        outln!(
+        outln!(rep,
             "{} examples: {} claims hold, {} hold approximately (within a documented tolerance), {} documented errata (each explanation checked), {} unreproducible (undefined in the document; every reading computed), {} mismatches",
             reports.len(),
             summary.holds,
@@ -95,9 +111,12 @@ pub fn run(args: Args) -> Result<Outcome> {
             summary.mismatch
         );
         if !coverage.is_empty() {
-            outln!("Coverage of the documents (worked_examples/coverage/):");
+            outln!(
+                rep,
+                "Coverage of the documents (worked_examples/coverage/):"
+            );
             for t in &coverage {
-                outln!("  {}", t.line());
+                outln!(rep, "  {}", t.line());
             }
         }
     }

@@ -1,0 +1,213 @@
+//! One request, every front end, one answer: the `owb` binary, the browser module's `run` (its
+//! JSON request) and the book's `run` directive give the same report for the same request,
+//! because all three call `api::run`. A front end that rebuilt a command or post-processed the
+//! report would fail here.
+
+mod common;
+
+use observer_workbench::book::BookContext;
+use observer_workbench::derivation::{Derivation, Step};
+use serde_json::Value;
+
+/// Requests as the browser sends them, and the same request as a command line.
+const CASES: [(&str, &[&str]); 9] = [
+    (
+        r#"{"command": "observe", "a": "[1 0; 0 2]", "c": "[1 0]"}"#,
+        &["observe", "--a", "[1 0; 0 2]", "--c", "[1 0]"],
+    ),
+    (
+        r#"{"command": "canonical", "a": "[2 -3; 4 -5]", "c": "[-3 2]"}"#,
+        &["canonical", "--a", "[2 -3; 4 -5]", "--c", "[-3 2]"],
+    ),
+    (
+        r#"{"command": "gain", "a": "[2 -3; 4 -5]", "c": "[-3 2]", "butterworth": "1/2", "float": true}"#,
+        &[
+            "gain",
+            "--a",
+            "[2 -3; 4 -5]",
+            "--c",
+            "[-3 2]",
+            "--butterworth",
+            "1/2",
+            "--float",
+        ],
+    ),
+    (
+        r#"{"command": "gain", "a": "[0 1; -2 -3]", "c": "[1 0]", "poles": "-4, -5", "method": "bass-gura", "convention": "a+lc"}"#,
+        &[
+            "gain",
+            "--a",
+            "[0 1; -2 -3]",
+            "--c",
+            "[1 0]",
+            "--poles",
+            "-4, -5",
+            "--method",
+            "bass-gura",
+            "--convention",
+            "a+lc",
+        ],
+    ),
+    (
+        r#"{"command": "feedback", "a": "[0 1; -2 -3]", "b": "[0; 1]", "repeated": "1/3"}"#,
+        &[
+            "feedback",
+            "--a",
+            "[0 1; -2 -3]",
+            "--b",
+            "[0; 1]",
+            "--repeated",
+            "1/3",
+        ],
+    ),
+    (
+        r#"{"command": "discrete", "a": "[1 1; 0 1]", "c": "[1 0]", "deadbeat": true, "estimator": "current"}"#,
+        &[
+            "discrete",
+            "--a",
+            "[1 1; 0 1]",
+            "--c",
+            "[1 0]",
+            "--deadbeat",
+            "--estimator",
+            "current",
+        ],
+    ),
+    (
+        r#"{"command": "reduced", "a": "[0 1 0; 0 0 1; -1 -2 -3]", "c": "[1 0 0]", "poles": "-5, -6"}"#,
+        &[
+            "reduced",
+            "--a",
+            "[0 1 0; 0 0 1; -1 -2 -3]",
+            "--c",
+            "[1 0 0]",
+            "--poles",
+            "-5, -6",
+        ],
+    ),
+    (
+        r#"{"command": "dlqe", "a": "[2]", "c": "[1]", "qn": "[0]", "rn": "[1]"}"#,
+        &[
+            "dlqe", "--a", "[2]", "--c", "[1]", "--qn", "[0]", "--rn", "[1]",
+        ],
+    ),
+    (
+        r#"{"command": "exercise", "action": {"new": {"student": "ada", "order": "3", "key": true}}}"#,
+        &[
+            "exercise",
+            "new",
+            "--student",
+            "ada",
+            "--order",
+            "3",
+            "--key",
+        ],
+    ),
+];
+
+/// The book's `run` directive for these words, its report (the fenced block's body after the
+/// `$ owb …` line).
+fn book_report(words: &[&str]) -> String {
+    let ctx = BookContext {
+        root: env!("CARGO_MANIFEST_DIR").into(),
+        run_commands: true,
+    };
+    let quoted: Vec<String> = words
+        .iter()
+        .map(|w| {
+            if w.contains(' ') {
+                format!("\"{w}\"")
+            } else {
+                (*w).to_string()
+            }
+        })
+        .collect();
+    let block = ctx
+        .directive(&format!("run {}", quoted.join(" ")))
+        .unwrap_or_else(|e| panic!("the book's directive failed: {e}"));
+    let body = block
+        .strip_prefix("```text\n")
+        .and_then(|b| b.strip_suffix("```\n"))
+        .unwrap_or_else(|| panic!("not a text block: {block}"));
+    let (command_line, report) = body
+        .split_once('\n')
+        .expect("a command line, then the report");
+    assert!(command_line.starts_with("$ owb "), "{command_line}");
+    report.to_string()
+}
+
+#[test]
+fn one_request_gives_one_report_in_the_command_line_the_browser_and_the_book() {
+    for (json, words) in CASES {
+        let (status, cli, stderr) = common::owb(words);
+        assert_eq!(status, 0, "owb {words:?}: {stderr}");
+        let web: Value = serde_json::from_str(&owb_web::run(json)).unwrap();
+        assert_eq!(web["status"], 0, "{web}");
+        assert_eq!(
+            web["output"].as_str().unwrap(),
+            cli,
+            "the browser differs from owb for {json}"
+        );
+        assert_eq!(
+            book_report(words),
+            cli,
+            "the book differs from owb for {json}"
+        );
+    }
+}
+
+#[test]
+fn the_browsers_typeset_derivation_is_the_command_lines_json_steps() {
+    for (json, words) in CASES {
+        if words[0] == "exercise" {
+            continue;
+        }
+        let mut with_json = words.to_vec();
+        with_json.push("--json");
+        let (status, text, _) = common::owb(&with_json);
+        assert_eq!(status, 0);
+        let v: Value = serde_json::from_str(&text).unwrap();
+        let web: Value = serde_json::from_str(&owb_web::run(json)).unwrap();
+        match v.get("steps") {
+            Some(steps) => {
+                let steps: Vec<Step> = serde_json::from_value(steps.clone()).unwrap();
+                let latex = Derivation {
+                    title: String::new(),
+                    steps,
+                }
+                .to_latex();
+                assert_eq!(web["latex"].as_str(), Some(latex.as_str()), "{json}");
+            }
+            None => assert!(web.get("latex").is_none(), "{json}: {web}"),
+        }
+    }
+}
+
+#[test]
+fn a_refusal_is_the_same_message_everywhere() {
+    let json = r#"{"command": "gain", "a": "[1 2; 3]", "c": "[1 0]", "poles": "-1, -2"}"#;
+    let words = [
+        "gain", "--a", "[1 2; 3]", "--c", "[1 0]", "--poles", "-1, -2",
+    ];
+    let (status, _, stderr) = common::owb(&words);
+    assert_eq!(status, 2);
+    let web: Value = serde_json::from_str(&owb_web::run(json)).unwrap();
+    assert_eq!(web["status"], 2);
+    let first = stderr.lines().next().unwrap();
+    assert_eq!(
+        first,
+        format!("error: {}", web["error"].as_str().unwrap()),
+        "{web}"
+    );
+    let ctx = BookContext {
+        root: env!("CARGO_MANIFEST_DIR").into(),
+        run_commands: true,
+    };
+    let book = ctx
+        .directive("run gain --a \"[1 2; 3]\" --c \"[1 0]\" --poles \"-1, -2\"")
+        .unwrap_err();
+    assert!(
+        book.contains(web["error"].as_str().unwrap()),
+        "{book} / {web}"
+    );
+}
