@@ -135,3 +135,73 @@ proptest! {
         }
     }
 }
+
+/// Every family set by a time constant is the unit polynomial with its poles scaled by 1/T
+/// (coefficient of sᵏ times T^(k−n)), is Hurwitz, and is placed exactly by the gain; ITAE is
+/// tabulated for orders 1 to 6 and refuses 7 by name.
+#[test]
+fn time_constant_families_scale_by_one_over_t_and_are_placed_exactly() {
+    use observer_workbench::algebra::Field;
+    use observer_workbench::observer::Family;
+    use observer_workbench::poly::is_hurwitz;
+    let one = Rational::from_i64(1);
+    let t = Rational::new(3.into(), 7.into());
+    for family in Family::ALL.iter().copied() {
+        for n in 1..=6usize {
+            let unit = family.polynomial(&one, n).unwrap();
+            let scaled = family.polynomial(&t, n).unwrap();
+            let (Some(u), Some(p)) = (unit.exact.as_ref(), scaled.exact.as_ref()) else {
+                // Butterworth 4 and 6 are known in f64 only
+                assert_eq!(family, Family::Butterworth, "{family} {n}");
+                continue;
+            };
+            let t_q = observer_workbench::algebra::Quadratic::rational(t.clone());
+            for k in 0..=n {
+                let mut expected = u.coeff(k);
+                for _ in k..n {
+                    expected = expected.checked_div(&t_q).unwrap();
+                }
+                assert_eq!(p.coeff(k), expected, "{family} order {n}, s^{k}");
+            }
+            if let Some(r) = scaled.rational() {
+                assert!(is_hurwitz(&r), "{family} {n}: {r}");
+            }
+        }
+    }
+    let e = Family::Itae.polynomial(&one, 7).unwrap_err();
+    assert!(e.to_string().contains("orders 1 to 6"), "{e}");
+}
+
+#[test]
+fn owb_gain_itae_1_places_s2_plus_1_4s_plus_1() {
+    let (status, out, err) = common::owb(&[
+        "gain",
+        "--a",
+        "[0 1; -2 -3]",
+        "--c",
+        "[1 0]",
+        "--itae",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(status, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let placed = v["observer_polynomial"].as_str().unwrap();
+    let p = observer_workbench::syntax::parse_polynomial::<Rational>(placed, "s").unwrap();
+    let wanted =
+        observer_workbench::syntax::parse_polynomial::<Rational>("s^2 + 1.4s + 1", "s").unwrap();
+    assert_eq!(p, wanted);
+    assert_eq!(v["places_exactly"], true);
+    assert!(v["desired"].as_str().unwrap().contains("ITAE"), "{v}");
+    let (status, _, err) = common::owb(&[
+        "gain",
+        "--a",
+        "[0 1; -2 -3]",
+        "--c",
+        "[1 0]",
+        "--itae",
+        "-1",
+    ]);
+    assert_eq!(status, 2);
+    assert!(err.contains("in --itae"), "{err}");
+}

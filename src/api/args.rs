@@ -196,7 +196,7 @@ impl InputMatrices {
 }
 
 /// The desired observer polynomial (`--poles`, `--poly`, `--repeated T`, `--butterworth T`,
-/// `--bessel T`), shared by the design subcommands.
+/// `--bessel T`, `--itae T`), shared by the design subcommands.
 #[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 #[cfg_attr(feature = "commands", derive(clap::Args))]
@@ -236,6 +236,13 @@ pub struct DesiredArgs {
     )]
     #[serde(default)]
     pub bessel: Option<String>,
+    /// Order-n ITAE polynomial (orders 1 to 6) with time constant T.
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, group = "desired", value_name = "T")
+    )]
+    #[serde(default)]
+    pub itae: Option<String>,
 }
 
 /// `n` poles from a flag (`--poles "-4, -5"`), as the desired polynomial; errors name the flag.
@@ -268,6 +275,16 @@ pub fn observer_convention(text: &str) -> Result<crate::observer::Convention> {
 }
 
 impl DesiredArgs {
+    /// The family set by a time constant, if one is given, with its value.
+    pub fn family(&self) -> Option<(crate::observer::Family, &String)> {
+        crate::observer::Family::given([
+            self.repeated.as_ref(),
+            self.butterworth.as_ref(),
+            self.bessel.as_ref(),
+            self.itae.as_ref(),
+        ])
+    }
+
     /// The desired polynomial of degree `n`; errors name the flag.
     pub fn parse(&self, n: usize) -> Result<DesiredPolynomial> {
         Ok(if let Some(p) = &self.poles {
@@ -276,14 +293,13 @@ impl DesiredArgs {
             let poly = parse_polynomial::<Quadratic>(p, "s")
                 .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
             DesiredPolynomial::from_polynomial(poly, n)?
-        } else if let Some(t) = &self.repeated {
-            DesiredPolynomial::repeated(&rational("--repeated", t)?, n)?
-        } else if let Some(t) = &self.butterworth {
-            DesiredPolynomial::butterworth(&rational("--butterworth", t)?, n)?
-        } else if let Some(t) = &self.bessel {
-            DesiredPolynomial::bessel(&rational("--bessel", t)?, n)?
+        } else if let Some((family, t)) = self.family() {
+            let flag = format!("--{family}");
+            family
+                .polynomial(&rational(&flag, t)?, n)
+                .with_context(|| format!("in {flag}"))?
         } else {
-            bail!("give the desired observer polynomial: --poles, --poly, --repeated T, --butterworth T or --bessel T")
+            bail!("give the desired observer polynomial: --poles, --poly, --repeated T, --butterworth T, --bessel T or --itae T")
         })
     }
 }

@@ -10,7 +10,8 @@ use super::Mistake;
 use crate::algebra::{Quadratic, Rational};
 use crate::linalg::{characteristic_polynomial, Matrix};
 use crate::observer::float_check::companion_roots;
-use crate::observer::{Convention, DesiredPolynomial, ObserverGain};
+use crate::observer::Family;
+use crate::observer::{Convention, ObserverGain};
 use crate::poly::Poly;
 use crate::syntax::{evaluate_with, parse_matrix_expressions};
 use crate::worked::{compare, ClaimSpec, Computation, Identity, Inputs, Value};
@@ -326,12 +327,8 @@ fn asked_family(key: &AnswerKey, part: &KeyPart) -> String {
     let c = &part.claim;
     let t =
         |text: &String| time_constant(key, text).map_or_else(|| text.clone(), |r| r.to_string());
-    if let Some(x) = &c.repeated {
-        format!("a repeated root with T = {}", t(x))
-    } else if let Some(x) = &c.butterworth {
-        format!("a Butterworth polynomial with T = {}", t(x))
-    } else if let Some(x) = &c.bessel {
-        format!("a Bessel polynomial with T = {}", t(x))
+    if let Some((family, x)) = c.family() {
+        format!("{} with T = {}", family.indefinite(), t(x))
     } else if let Some(p) = &c.poles {
         format!("the poles {p}")
     } else {
@@ -351,34 +348,16 @@ fn other_families(key: &AnswerKey, part: &KeyPart) -> Vec<(String, Poly<Quadrati
     .map(|a| a.rows()) else {
         return Vec::new();
     };
-    let t_text = c
-        .repeated
-        .as_ref()
-        .or(c.butterworth.as_ref())
-        .or(c.bessel.as_ref());
-    let Some(t) = t_text.and_then(|t| time_constant(key, t)) else {
+    let Some((asked, t)) = c.family() else {
+        return Vec::new();
+    };
+    let Some(t) = time_constant(key, t) else {
         return Vec::new();
     };
     let mut out = Vec::new();
-    for (name, asked, poly) in [
-        (
-            "repeated-root",
-            c.repeated.is_some(),
-            DesiredPolynomial::repeated(&t, n),
-        ),
-        (
-            "Butterworth",
-            c.butterworth.is_some(),
-            DesiredPolynomial::butterworth(&t, n),
-        ),
-        (
-            "Bessel",
-            c.bessel.is_some(),
-            DesiredPolynomial::bessel(&t, n),
-        ),
-    ] {
-        if let (false, Ok(Some(p))) = (asked, poly.map(|d| d.exact)) {
-            out.push((format!("{name} (T = {t})"), p));
+    for family in Family::ALL.iter().copied().filter(|f| *f != asked) {
+        if let Ok(Some(p)) = family.polynomial(&t, n).map(|d| d.exact) {
+            out.push((format!("{} (T = {t})", family.title()), p));
         }
     }
     out
@@ -521,14 +500,10 @@ fn identify_family(
     if c0 <= 0.0 || pf.degree() != Some(n) {
         return None;
     }
-    for (name, make) in [
-        (
-            "a repeated root",
-            DesiredPolynomial::repeated as fn(&Rational, usize) -> _,
-        ),
-        ("the Butterworth polynomial", DesiredPolynomial::butterworth),
-        ("the Bessel polynomial", DesiredPolynomial::bessel),
-    ] {
+    for family in Family::ALL.iter().copied() {
+        let (name, make) = (family.described(), |t: &Rational, n| {
+            family.polynomial(t, n)
+        });
         let Ok(unit) = make(&Rational::from_integer(1.into()), n) else {
             continue;
         };

@@ -31,6 +31,21 @@ pub struct ExerciseFile {
     pub parts: Vec<PartSpec>,
 }
 
+impl DesignSpec {
+    /// Whether the design names a desired polynomial (poles, coefficients or a family).
+    pub fn names_desired(&self) -> bool {
+        self.poles.is_some()
+            || self.poly.is_some()
+            || crate::observer::Family::given([
+                self.repeated.as_ref(),
+                self.butterworth.as_ref(),
+                self.bessel.as_ref(),
+                self.itae.as_ref(),
+            ])
+            .is_some()
+    }
+}
+
 /// The design the parts refer to.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -49,6 +64,8 @@ pub struct DesignSpec {
     pub butterworth: Option<String>,
     /// Bessel with time constant T.
     pub bessel: Option<String>,
+    /// ITAE with time constant T.
+    pub itae: Option<String>,
     /// State feedback `F` for control parts (u = F x̂).
     pub feedback: Option<String>,
     /// The observer gain for control parts (default: the computed `gain` part).

@@ -54,11 +54,7 @@ pub fn claim_for(ex: &ExerciseFile, part: &PartSpec, gain: Option<String>) -> Cl
     let base = &ex.design;
     let over = part.design.clone().unwrap_or_default();
     let pick = |o: &Option<String>, b: &Option<String>| o.clone().or_else(|| b.clone());
-    let family_given = over.poles.is_some()
-        || over.poly.is_some()
-        || over.repeated.is_some()
-        || over.butterworth.is_some()
-        || over.bessel.is_some();
+    let family_given = over.names_desired();
     let fam =
         |o: &Option<String>, b: &Option<String>| if family_given { o.clone() } else { b.clone() };
     let d = super::format::DesignSpec {
@@ -69,6 +65,7 @@ pub fn claim_for(ex: &ExerciseFile, part: &PartSpec, gain: Option<String>) -> Cl
         repeated: fam(&over.repeated, &base.repeated),
         butterworth: fam(&over.butterworth, &base.butterworth),
         bessel: fam(&over.bessel, &base.bessel),
+        itae: fam(&over.itae, &base.itae),
         feedback: pick(&over.feedback, &base.feedback),
         gain: pick(&over.gain, &base.gain),
     };
@@ -85,6 +82,7 @@ pub fn claim_for(ex: &ExerciseFile, part: &PartSpec, gain: Option<String>) -> Cl
         repeated: d.repeated.clone(),
         butterworth: d.butterworth.clone(),
         bessel: d.bessel.clone(),
+        itae: d.itae.clone(),
         feedback: d.feedback.clone(),
         gain,
         ..ClaimSpec::default()

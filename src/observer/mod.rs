@@ -29,4 +29,4 @@ pub use gain::{
     ackermann_gain, bass_gura_gain, canonical_gain, design, design_with, lemma_3_1_gain,
     CanonicalGain, DesignError, Detail, GainMethod, ObserverDesign,
 };
-pub use polynomial::{DesiredPolynomial, PolynomialFamily};
+pub use polynomial::{DesiredPolynomial, Family, PolynomialFamily};

@@ -16,6 +16,88 @@ use crate::poly::Poly;
 use num_bigint::BigInt;
 use std::fmt;
 
+crate::names::named_enum! {
+    /// The desired-polynomial families set by a time constant `T`, each `P_T(s) = T⁻ⁿ P₁(T s)`
+    /// made monic (the poles of `P₁` scaled by `1/T`). The one list of them: the command
+    /// line's flags (`--repeated T` …), the worked examples' and exercises' keys (`repeated =
+    /// "T"` …) and the checker's guesses at a student's family all read it.
+    pub enum Family ("desired-polynomial family") {
+        /// All n poles at `−1/T`.
+        Repeated = "repeated",
+        /// Butterworth.
+        Butterworth = "butterworth",
+        /// Bessel (Thomson), `T` the low-frequency group delay.
+        Bessel = "bessel",
+        /// ITAE (Graham and Lathrop's standard forms for a step input).
+        Itae = "itae",
+    }
+}
+
+impl Family {
+    /// The family's polynomial of degree `n` with time constant `T`.
+    ///
+    /// # Errors
+    /// [`PolynomialError::TimeConstant`] for `T ≤ 0`; [`PolynomialError::Order`] for an order
+    /// the family has no polynomial of.
+    pub fn polynomial(self, t: &Rational, n: usize) -> Result<DesiredPolynomial, PolynomialError> {
+        match self {
+            Family::Repeated => DesiredPolynomial::repeated(t, n),
+            Family::Butterworth => DesiredPolynomial::butterworth(t, n),
+            Family::Bessel => DesiredPolynomial::bessel(t, n),
+            Family::Itae => DesiredPolynomial::itae(t, n),
+        }
+    }
+
+    /// The family in a sentence: "the Butterworth polynomial".
+    pub fn described(self) -> &'static str {
+        match self {
+            Family::Repeated => "a repeated root",
+            Family::Butterworth => "the Butterworth polynomial",
+            Family::Bessel => "the Bessel polynomial",
+            Family::Itae => "the ITAE polynomial",
+        }
+    }
+
+    /// The family with an indefinite article: "a Butterworth polynomial".
+    pub fn indefinite(self) -> &'static str {
+        match self {
+            Family::Repeated => "a repeated root",
+            Family::Butterworth => "a Butterworth polynomial",
+            Family::Bessel => "a Bessel polynomial",
+            Family::Itae => "an ITAE polynomial",
+        }
+    }
+
+    /// The family's short title: "Butterworth".
+    pub fn title(self) -> &'static str {
+        match self {
+            Family::Repeated => "repeated-root",
+            Family::Butterworth => "Butterworth",
+            Family::Bessel => "Bessel",
+            Family::Itae => "ITAE",
+        }
+    }
+
+    /// What the family's time constant is, for help texts: "all n poles at −1/T".
+    pub fn meaning(self) -> &'static str {
+        match self {
+            Family::Repeated => "all n poles at −1/T",
+            Family::Butterworth => "order-n Butterworth polynomial with time constant T",
+            Family::Bessel => "order-n Bessel (Thomson) polynomial with low-frequency delay T",
+            Family::Itae => "order-n ITAE polynomial (orders 1 to 6) with time constant T",
+        }
+    }
+
+    /// The first family with a value among `values` (one per family, in [`Family::ALL`]'s
+    /// order): how a request's or a file's `repeated`/`butterworth`/… fields are read.
+    pub fn given(values: [Option<&String>; 4]) -> Option<(Family, &String)> {
+        Family::ALL
+            .iter()
+            .zip(values)
+            .find_map(|(f, v)| v.map(|v| (*f, v)))
+    }
+}
+
 /// Where a desired polynomial came from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PolynomialFamily {
@@ -23,19 +105,11 @@ pub enum PolynomialFamily {
     Poles(Vec<Quadratic>),
     /// Given coefficients.
     Coefficients,
-    /// All n poles at `−1/T`.
-    Repeated {
+    /// A family set by a time constant.
+    Scaled {
+        /// The family.
+        family: Family,
         /// The time constant.
-        time_constant: Rational,
-    },
-    /// Butterworth with time constant T.
-    Butterworth {
-        /// The time constant.
-        time_constant: Rational,
-    },
-    /// Bessel (Thomson) with delay T.
-    Bessel {
-        /// The time constant (low-frequency group delay).
         time_constant: Rational,
     },
 }
@@ -48,15 +122,15 @@ impl fmt::Display for PolynomialFamily {
                 write!(f, "poles {}", list.join(", "))
             }
             PolynomialFamily::Coefficients => f.write_str("given coefficients"),
-            PolynomialFamily::Repeated { time_constant } => {
-                write!(f, "repeated root at −1/T, T = {time_constant}")
-            }
-            PolynomialFamily::Butterworth { time_constant } => {
-                write!(f, "Butterworth, T = {time_constant}")
-            }
-            PolynomialFamily::Bessel { time_constant } => {
-                write!(f, "Bessel (Thomson), T = {time_constant}")
-            }
+            PolynomialFamily::Scaled {
+                family,
+                time_constant,
+            } => match family {
+                Family::Repeated => write!(f, "repeated root at −1/T, T = {time_constant}"),
+                Family::Butterworth => write!(f, "Butterworth, T = {time_constant}"),
+                Family::Bessel => write!(f, "Bessel (Thomson), T = {time_constant}"),
+                Family::Itae => write!(f, "ITAE (Graham–Lathrop), T = {time_constant}"),
+            },
         }
     }
 }
@@ -96,6 +170,16 @@ pub enum PolynomialError {
     /// A time constant that is not positive.
     #[error("the time constant must be positive, got {0}")]
     TimeConstant(String),
+    /// An order a family has no polynomial of.
+    #[error("the {family} family is tabulated for orders {orders}, not {order}")]
+    Order {
+        /// The family.
+        family: &'static str,
+        /// The order asked for.
+        order: usize,
+        /// The orders it has.
+        orders: &'static str,
+    },
     /// A polynomial that is not monic or of the wrong degree.
     #[error("the desired polynomial must be monic of degree {expected}; got {found}")]
     Shape {
@@ -180,7 +264,8 @@ impl DesiredPolynomial {
         let root = Quadratic::rational(-t.recip());
         let p = Poly::from_roots(&vec![root; n], "s");
         Ok(DesiredPolynomial::exact(
-            PolynomialFamily::Repeated {
+            PolynomialFamily::Scaled {
+                family: Family::Repeated,
                 time_constant: t.clone(),
             },
             p,
@@ -202,7 +287,8 @@ impl DesiredPolynomial {
     /// [`PolynomialError::TimeConstant`] for `T ≤ 0`.
     pub fn butterworth(t: &Rational, n: usize) -> Result<Self, PolynomialError> {
         positive(t)?;
-        let family = PolynomialFamily::Butterworth {
+        let family = PolynomialFamily::Scaled {
+            family: Family::Butterworth,
             time_constant: t.clone(),
         };
         match normalised_butterworth(n) {
@@ -256,10 +342,67 @@ impl DesiredPolynomial {
             .collect();
         let theta = Poly::new(coeffs, "s");
         Ok(DesiredPolynomial::exact(
-            PolynomialFamily::Bessel {
+            PolynomialFamily::Scaled {
+                family: Family::Bessel,
                 time_constant: t.clone(),
             },
             with_time_constant(&theta, t),
+        ))
+    }
+
+    /// The ITAE polynomial of order `n` (1 to 6) with time constant `T`: the standard form
+    /// that minimises the integral of time times absolute error of the step response, as
+    /// tabulated by D. Graham and R. C. Lathrop ("The synthesis of optimum transient response:
+    /// criteria and standard forms", Trans. AIEE 72, 1953) and reproduced in Dorf and Bishop's
+    /// *Modern Control Systems*, with `ω₀ = 1/T`. The printed coefficients are decimals, so
+    /// the polynomial is rational.
+    ///
+    /// ```
+    /// use observer_workbench::algebra::{Rational, Ring};
+    /// use observer_workbench::observer::DesiredPolynomial;
+    /// let p = DesiredPolynomial::itae(&Rational::from_i64(1), 2).unwrap();
+    /// assert_eq!(p.exact.unwrap().to_string(), "s^2 + 7/5 s + 1");
+    /// ```
+    ///
+    /// # Errors
+    /// [`PolynomialError::TimeConstant`] for `T ≤ 0`, [`PolynomialError::Order`] outside 1…6.
+    pub fn itae(t: &Rational, n: usize) -> Result<Self, PolynomialError> {
+        positive(t)?;
+        // the coefficients of sⁿ⁻¹ … s¹ for ω₀ = 1 (sⁿ and s⁰ have 1), in hundredths
+        const TABLE: [&[i64]; 6] = [
+            &[],
+            &[140],
+            &[175, 215],
+            &[210, 340, 270],
+            &[280, 500, 550, 340],
+            &[325, 660, 860, 745, 395],
+        ];
+        let middle = n
+            .checked_sub(1)
+            .and_then(|i| TABLE.get(i))
+            .ok_or(PolynomialError::Order {
+                family: "ITAE",
+                order: n,
+                orders: "1 to 6",
+            })?;
+        // from s⁰ up: 1, the table reversed, 1
+        let one = || Quadratic::rational(Rational::from_integer(1.into()));
+        let coeffs: Vec<Quadratic> = std::iter::once(one())
+            .chain(
+                middle
+                    .iter()
+                    .rev()
+                    .map(|c| Quadratic::rational(Rational::new((*c).into(), 100.into()))),
+            )
+            .chain(std::iter::once(one()))
+            .collect();
+        let unit = Poly::new(coeffs, "s");
+        Ok(DesiredPolynomial::exact(
+            PolynomialFamily::Scaled {
+                family: Family::Itae,
+                time_constant: t.clone(),
+            },
+            with_time_constant(&unit, t),
         ))
     }
 

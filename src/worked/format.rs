@@ -83,6 +83,19 @@ pub struct IntensitySpec {
     pub output: String,
 }
 
+impl ClaimSpec {
+    /// The desired-polynomial family set by a time constant, if the claim gives one
+    /// (`repeated = "T"`, `butterworth = "T"` …), with its value.
+    pub fn family(&self) -> Option<(crate::observer::Family, &String)> {
+        crate::observer::Family::given([
+            self.repeated.as_ref(),
+            self.butterworth.as_ref(),
+            self.bessel.as_ref(),
+            self.itae.as_ref(),
+        ])
+    }
+}
+
 /// One printed claim.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -123,6 +136,8 @@ pub struct ClaimSpec {
     pub butterworth: Option<String>,
     /// Bessel: time constant T.
     pub bessel: Option<String>,
+    /// ITAE: time constant T.
+    pub itae: Option<String>,
     /// Order of a desired polynomial when no system is given.
     pub order: Option<usize>,
     /// A gain matrix (numbers or symbols such as `[k1; k2]`).

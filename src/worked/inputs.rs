@@ -6,6 +6,7 @@ use super::value::Value;
 use crate::algebra::{MultiPoly, Quadratic, Rational, Zero};
 use crate::derivation::Derivation;
 use crate::linalg::Matrix;
+use crate::observer::Family;
 use crate::observer::{Convention, DesiredPolynomial, GainMethod, ObserverGain};
 use crate::syntax::{
     evaluate_with, parse_expression, parse_matrix_expressions, rational_function_with, Environment,
@@ -256,16 +257,12 @@ impl Inputs<'_> {
                 .map_err(|e| symbol_or_input("poly", p, e))?;
             let poly = rf.numerator().clone();
             DesiredPolynomial::from_polynomial(poly, n)
-        } else if let Some(t) = &c.repeated {
-            DesiredPolynomial::repeated(&self.rational("repeated", t)?, n)
-        } else if let Some(t) = &c.butterworth {
-            DesiredPolynomial::butterworth(&self.rational("butterworth", t)?, n)
-        } else if let Some(t) = &c.bessel {
-            DesiredPolynomial::bessel(&self.rational("bessel", t)?, n)
+        } else if let Some((family, t)) = c.family() {
+            family.polynomial(&self.rational(family.name(), t)?, n)
         } else {
             return Err(input_error(
                 "poles",
-                "give poles, poly, repeated, butterworth or bessel",
+                format!("give poles, poly or one of {}", Family::known()),
             ));
         };
         r.map_err(|e| input_error("desired polynomial", e.to_string()))

@@ -487,21 +487,8 @@ fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof>
                 .collect())
         };
     let one = Rational::one();
-    if let Some(t) = &c.repeated {
-        scaled(
-            t,
-            DesiredPolynomial::repeated(&one, n).map_err(|e| e.to_string()),
-        )
-    } else if let Some(t) = &c.butterworth {
-        scaled(
-            t,
-            DesiredPolynomial::butterworth(&one, n).map_err(|e| e.to_string()),
-        )
-    } else if let Some(t) = &c.bessel {
-        scaled(
-            t,
-            DesiredPolynomial::bessel(&one, n).map_err(|e| e.to_string()),
-        )
+    if let Some((family, t)) = c.family() {
+        scaled(t, family.polynomial(&one, n).map_err(|e| e.to_string()))
     } else if let Some(p) = &c.poles {
         let rows = parse_matrix_expressions(p).map_err(|e| e.show_in(p))?;
         let poles: Vec<Fraction> = rows
