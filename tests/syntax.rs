@@ -199,3 +199,25 @@ fn a_matrix_holds_one_quadratic_field() {
         "{e}"
     );
 }
+
+/// Complex numbers as engineers write them: `j` is `i`, and `i` times the root of a nonnegative
+/// number is the root of its negative (one quadratic field), wherever the factors stand.
+#[test]
+fn j_and_i_times_a_root_read_as_courses_write_them() {
+    use observer_workbench::algebra::Quadratic;
+    let q = |s: &str| observer_workbench::syntax::parse_scalar::<Quadratic>(s);
+    assert_eq!(q("-1 + 2j").unwrap(), q("-1 + 2i").unwrap());
+    for (written, meant) in [
+        ("-2 + 2*sqrt(3)*i", "-2 + 2*sqrt(-3)"),
+        ("-2 + 2sqrt(3)j", "-2 + 2*sqrt(-3)"),
+        ("i*sqrt(3/4)", "sqrt(-3/4)"),
+        ("3*i*sqrt(2)/2", "3*sqrt(-2)/2"),
+        ("(1 + sqrt(5)*i)*2", "2 + 2*sqrt(-5)"),
+    ] {
+        assert_eq!(q(written).unwrap(), q(meant).unwrap(), "{written}");
+    }
+    // √(−3)·i is −√3, not √3: a root of a negative number is never folded
+    assert_ne!(q("sqrt(-3)*i").ok(), q("sqrt(3)").ok());
+    // a product with two i keeps its meaning: i·i·√3 = −√3 would mix Q(i) and Q(√3) midway
+    assert_ne!(q("i*i*sqrt(3)").ok(), q("sqrt(-3)").ok());
+}

@@ -21,7 +21,7 @@ pub enum ExprKind {
     Number(Rational),
     /// A named symbol (`k1`, `s`, `λ`).
     Symbol(String),
-    /// The imaginary unit `i`.
+    /// The imaginary unit `i` (engineers' `j` too).
     ImaginaryUnit,
     /// `sqrt(x)` or `√x`.
     Sqrt(Box<Expr>),
@@ -37,6 +37,74 @@ pub enum ExprKind {
     Div(Box<Expr>, Box<Expr>),
     /// `x ^ k` with an integer `k`.
     Pow(Box<Expr>, i64),
+}
+
+/// A product holding `i` and the root of a nonnegative number, `2*sqrt(3)*i`, read as the root
+/// of the negated number, `2*sqrt(-3)`: `i·√r = √(−r)` for `r ≥ 0`, and one quadratic field
+/// (`Q(√−3)`) holds it, where `√3` and `i` alone lie in two. Other products are left as they
+/// are (`√(−3)·i = −√3` is not `√3`, so a root of a negative number is not folded).
+fn imaginary_radical(e: Expr) -> Expr {
+    fn factors(e: Expr, out: &mut Vec<Expr>) {
+        match e.kind {
+            ExprKind::Mul(x, y) => {
+                factors(*x, out);
+                factors(*y, out);
+            }
+            kind => out.push(Expr {
+                kind,
+                column: e.column,
+            }),
+        }
+    }
+    fn nonnegative_literal(e: &Expr) -> bool {
+        match &e.kind {
+            ExprKind::Number(r) => !num_traits::Signed::is_negative(r),
+            ExprKind::Div(x, y) => nonnegative_literal(x) && nonnegative_literal(y),
+            _ => false,
+        }
+    }
+    let column = e.column;
+    match e.kind {
+        ExprKind::Div(x, y) => Expr {
+            kind: ExprKind::Div(Box::new(imaginary_radical(*x)), y),
+            column,
+        },
+        ExprKind::Mul(x, y) => {
+            let mut fs = Vec::new();
+            factors(*x, &mut fs);
+            factors(*y, &mut fs);
+            let units: Vec<usize> = (0..fs.len())
+                .filter(|&k| fs[k].kind == ExprKind::ImaginaryUnit)
+                .collect();
+            let root = fs
+                .iter()
+                .position(|f| matches!(&f.kind, ExprKind::Sqrt(arg) if nonnegative_literal(arg)));
+            if let (&[unit], Some(root)) = (units.as_slice(), root) {
+                if let ExprKind::Sqrt(arg) = &mut fs[root].kind {
+                    let inner = std::mem::replace(
+                        arg.as_mut(),
+                        Expr {
+                            kind: ExprKind::Number(<Rational as num_traits::Zero>::zero()),
+                            column,
+                        },
+                    );
+                    let c = inner.column;
+                    **arg = Expr {
+                        kind: ExprKind::Neg(Box::new(inner)),
+                        column: c,
+                    };
+                }
+                fs.remove(unit);
+            }
+            let mut it = fs.into_iter();
+            let first = it.next().expect("a product has factors");
+            it.fold(first, |acc, f| Expr {
+                kind: ExprKind::Mul(Box::new(acc), Box::new(f)),
+                column,
+            })
+        }
+        kind => Expr { kind, column },
+    }
 }
 
 struct Parser {
@@ -326,7 +394,7 @@ impl Parser {
                 _ => break,
             }
         }
-        Ok(lhs)
+        Ok(imaginary_radical(lhs))
     }
 
     /// One level deeper into the recursion (signs, parentheses, roots), refused past
@@ -460,7 +528,7 @@ impl Parser {
                         target: "exact input (only sqrt is known)".into(),
                     });
                 }
-                let kind = if name == "i" {
+                let kind = if name == "i" || name == "j" {
                     ExprKind::ImaginaryUnit
                 } else {
                     ExprKind::Symbol(name.clone())
