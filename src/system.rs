@@ -148,3 +148,84 @@ impl<T: Ring> StateSpace<T> {
         }
     }
 }
+
+/// A transfer function that has no state-space realisation of positive order.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RealisationError {
+    /// More zeros than poles: no proper realisation.
+    #[error("G(s) is improper (numerator degree {numerator} > denominator degree {denominator}): no state-space model realises it")]
+    Improper {
+        /// Degree of the numerator.
+        numerator: usize,
+        /// Degree of the denominator.
+        denominator: usize,
+    },
+    /// A constant: order 0, nothing to observe.
+    #[error("G(s) = {0} is a constant (no poles after cancelling common factors): there is no state to observe")]
+    Static(String),
+}
+
+/// The observer canonical form of a SISO transfer function, exact: for
+/// `G(s) = D + (β_{n−1} s^{n−1} + … + β₀)/(sⁿ + a_{n−1} s^{n−1} + … + a₀)` (in lowest terms, the
+/// denominator monic),
+///
+/// ```text
+///     ⎡ −a_{n−1}  1  0 … 0 ⎤       ⎡ β_{n−1} ⎤
+/// A = ⎢ −a_{n−2}  0  1 … 0 ⎥   B = ⎢    ⋮    ⎥   C = [1 0 … 0],   D = [D]
+///     ⎢    ⋮            ⋱  ⎥       ⎣   β₀    ⎦
+///     ⎣   −a₀     0  0 … 0 ⎦
+/// ```
+///
+/// so `C (sI − A)⁻¹ B + D = G(s)`: the denominator's coefficients down the first column, the
+/// numerator's in B, and C reads the first state. The pair (A, C) is observable by construction
+/// and, the fraction being in lowest terms, (A, B) controllable: a minimal realisation.
+///
+/// ```
+/// use observer_workbench::algebra::Rational;
+/// use observer_workbench::syntax::parse_rational_function;
+/// use observer_workbench::system::observer_form_of;
+/// let g = parse_rational_function::<Rational>("(s + 1)/(s^2 + 3s + 5)", "s").unwrap();
+/// let (a, b, c, d) = observer_form_of(&g).unwrap();
+/// assert_eq!(a.to_input(), "[-3, 1; -5, 0]");
+/// assert_eq!((b.to_input(), c.to_input(), d.to_input()), ("[1; 1]".into(), "[1, 0]".into(), "[0]".into()));
+/// ```
+///
+/// # Errors
+/// [`RealisationError`] for an improper or constant `G`.
+#[allow(clippy::type_complexity)]
+pub fn observer_form_of<F: crate::algebra::Field>(
+    g: &crate::poly::RationalFunction<F>,
+) -> Result<(Matrix<F>, Matrix<F>, Matrix<F>, Matrix<F>), RealisationError> {
+    let (num, den) = (g.numerator(), g.denominator());
+    let n = den.degree().unwrap_or(0);
+    let m = num.degree().unwrap_or(0);
+    if m > n {
+        return Err(RealisationError::Improper {
+            numerator: m,
+            denominator: n,
+        });
+    }
+    if n == 0 {
+        return Err(RealisationError::Static(g.to_string()));
+    }
+    // the feedthrough, and the strictly proper remainder β = num − D·den
+    let d = if m == n { num.coeff(n) } else { F::zero() };
+    let beta: Vec<F> = (0..n)
+        .map(|k| num.coeff(k) - d.clone() * den.coeff(k))
+        .collect();
+    let mut a = Matrix::zeros(n, n);
+    let mut b = Matrix::zeros(n, 1);
+    for i in 0..n {
+        // row i: −a_{n−1−i} in the first column, 1 just right of the diagonal
+        a.set(i, 0, -den.coeff(n - 1 - i));
+        if i + 1 < n {
+            a.set(i, i + 1, F::one());
+        }
+        b.set(i, 0, beta[n - 1 - i].clone());
+    }
+    let mut c = Matrix::zeros(1, n);
+    c.set(0, 0, F::one());
+    let mut dm = Matrix::zeros(1, 1);
+    dm.set(0, 0, d);
+    Ok((a, b, c, dm))
+}

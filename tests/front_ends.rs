@@ -211,3 +211,85 @@ fn a_refusal_is_the_same_message_everywhere() {
         "{book} / {web}"
     );
 }
+
+/// `--tf`: the observer canonical form realises G exactly — C (sI − A)⁻¹ B + D is G in lowest
+/// terms, for proper random transfer functions — and every command that takes a plant takes it.
+#[test]
+fn a_transfer_function_is_realised_exactly_in_observer_canonical_form() {
+    use observer_workbench::algebra::Rational;
+    use observer_workbench::control::siso_transfer_function;
+    use observer_workbench::syntax::parse_rational_function;
+    use observer_workbench::system::observer_form_of;
+    let mut seed = 7u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 33) % 19) as i64 - 9
+    };
+    for n in 1..=6usize {
+        for m in 0..=n {
+            let den: Vec<String> = (0..n).map(|k| format!("{}*s^{k}", next())).collect();
+            let num: Vec<String> = (0..=m).map(|k| format!("{}*s^{k}", next())).collect();
+            let text = format!("({})/(s^{n} + {})", num.join(" + "), den.join(" + "));
+            let g = parse_rational_function::<Rational>(&text, "s").unwrap();
+            match observer_form_of(&g) {
+                Ok((a, b, c, d)) => {
+                    let back = siso_transfer_function(&a, &b, &c, &d.get(0, 0).clone()).unwrap();
+                    assert_eq!(back, g, "{text}");
+                    assert_eq!(a.rows(), g.denominator().degree().unwrap());
+                }
+                // a zero numerator or everything cancelled: a constant
+                Err(e) => assert_eq!(g.denominator().degree(), Some(0), "{text}: {e}"),
+            }
+        }
+    }
+    let tf = "(s + 1)/(s^2 + 3s + 5)";
+    for words in [
+        vec!["observe", "--tf", tf],
+        vec!["canonical", "--tf", tf],
+        vec!["gain", "--tf", tf, "--poles", "-4, -5"],
+        vec!["discrete", "--tf", tf, "--deadbeat"],
+        vec!["reduced", "--tf", tf, "--poles", "-6"],
+        vec![
+            "control",
+            "--tf",
+            tf,
+            "--l",
+            "[6; 15]",
+            "--feedback-poly",
+            "s^2 + 4s + 4",
+        ],
+        vec![
+            "kalman",
+            "--tf",
+            tf,
+            "--input-noise",
+            "1",
+            "--output-noise",
+            "1",
+        ],
+        vec!["perfect", "--tf", tf],
+    ] {
+        let (status, out, err) = common::owb(&words);
+        assert_eq!(status, 0, "{words:?}: {err}");
+        assert!(
+            out.starts_with("Plant from --tf: G(s) = (s + 1)/(s^2 + 3s + 5)"),
+            "{out}"
+        );
+        let mut json = words.clone();
+        json.push("--json");
+        let (_, out, _) = common::owb(&json);
+        let v: Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["realisation"]["a"][1][0], "-5", "{v}");
+    }
+    for (tf, refusal) in [
+        ("s^3/(s + 1)", "improper"),
+        ("(s + 1)/(s + 1)", "constant"),
+        ("1/(s + ", "in --tf"),
+    ] {
+        let (status, _, err) = common::owb(&["observe", "--tf", tf]);
+        assert_eq!(status, 2);
+        assert!(err.contains(refusal), "{tf}: {err}");
+    }
+}

@@ -79,19 +79,115 @@ pub fn json_matrix<T: crate::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value 
 #[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct SystemPair {
     /// The system matrix A, e.g. "[2 -3; 4 -5]".
-    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "a"))]
-    pub a: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "a", required_unless_present = "tf")
+    )]
+    #[serde(default)]
+    pub a: Option<String>,
     /// The output matrix C, e.g. "[-3 2]".
-    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "c"))]
-    pub c: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "c", required_unless_present = "tf")
+    )]
+    #[serde(default)]
+    pub c: Option<String>,
+    /// Instead of A and C: a SISO transfer function in s, e.g. "(s + 1)/(s^2 + 3s + 5)",
+    /// realised exactly in observer canonical form (in lowest terms; B and D from it too).
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, conflicts_with_all = ["a", "c"], value_name = "G")
+    )]
+    #[serde(default)]
+    pub tf: Option<String>,
+}
+
+/// A plant realised from `--tf`: its matrices and how they were formed.
+#[derive(Debug, Clone)]
+pub struct Realisation {
+    /// The transfer function as read, in lowest terms.
+    pub transfer_function: String,
+    /// A, B, C, D of the observer canonical form.
+    pub a: Matrix<Rational>,
+    /// B.
+    pub b: Matrix<Rational>,
+    /// C.
+    pub c: Matrix<Rational>,
+    /// D.
+    pub d: Matrix<Rational>,
+}
+
+impl Realisation {
+    /// The lines saying what was realised and in which form.
+    pub fn describe(&self) -> String {
+        format!(
+            "Plant from --tf: G(s) = {} (lowest terms), realised in observer canonical form — the denominator's coefficients −a_(n−1) … −a_0 down A's first column, ones above the diagonal, the numerator's in B, C = [1 0 … 0]:\n  A = {}\n  B = {}\n  C = {}\n  D = {}\n",
+            self.transfer_function,
+            self.a.to_input(),
+            self.b.to_input(),
+            self.c.to_input(),
+            self.d.to_input()
+        )
+    }
+
+    /// The same as JSON.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "transfer_function": self.transfer_function,
+            "form": "observer canonical (A's first column −a_(n−1) … −a_0, C = [1 0 … 0])",
+            "a": json_matrix(&self.a),
+            "b": json_matrix(&self.b),
+            "c": json_matrix(&self.c),
+            "d": json_matrix(&self.d),
+        })
+    }
 }
 
 impl SystemPair {
     /// Both matrices, exact; errors name the flag and the column.
     pub fn parse(&self) -> Result<(Matrix<Rational>, Matrix<Rational>)> {
-        let (a, c) = (matrix("--a", &self.a)?, matrix("--c", &self.c)?);
+        if let Some(r) = self.realisation()? {
+            return Ok((r.a, r.c));
+        }
+        let (Some(a), Some(c)) = (&self.a, &self.c) else {
+            bail!("give the plant: --a and --c, or --tf");
+        };
+        let (a, c) = (matrix("--a", a)?, matrix("--c", c)?);
         check_plant(&a, None, &c, None)?;
         Ok((a, c))
+    }
+
+    /// The input matrix: `--b` as given, or the realisation's B when the plant is `--tf`.
+    pub fn input(&self, b: Option<&str>) -> Result<Option<Matrix<Rational>>> {
+        match (self.realisation()?, b) {
+            (Some(_), Some(_)) => {
+                bail!("in --b: with --tf, B comes from the transfer function")
+            }
+            (Some(r), None) => Ok(Some(r.b)),
+            (None, b) => b.map(|t| matrix::<Rational>("--b", t)).transpose(),
+        }
+    }
+
+    /// The plant realised from `--tf`, when it is given.
+    pub fn realisation(&self) -> Result<Option<Realisation>> {
+        let Some(text) = &self.tf else {
+            return Ok(None);
+        };
+        if self.a.is_some() || self.c.is_some() {
+            bail!("in --tf: give either --tf or --a and --c, not both");
+        }
+        let g = crate::syntax::parse_rational_function::<Rational>(text, "s")
+            .map_err(|e| anyhow!("in --tf: {}", e.show_in(text)))?;
+        // (the parser bounds the degree by 200, the largest exact order)
+        let (a, b, c, d) =
+            crate::system::observer_form_of(&g).map_err(|e| anyhow!("in --tf: {e}"))?;
+        Ok(Some(Realisation {
+            transfer_function: g.to_string(),
+            a,
+            b,
+            c,
+            d,
+        }))
     }
 }
 
@@ -174,8 +270,12 @@ pub fn float_matrix_text(m: &nalgebra::DMatrix<f64>, entry: impl Fn(f64) -> Stri
 #[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct InputMatrices {
     /// The input matrix B.
-    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "b"))]
-    pub b: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "b", required_unless_present = "tf")
+    )]
+    #[serde(default)]
+    pub b: Option<String>,
     /// The feedthrough D (default zero).
     #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "d"))]
     #[serde(default)]
@@ -183,9 +283,21 @@ pub struct InputMatrices {
 }
 
 impl InputMatrices {
-    /// B, and D if given.
-    pub fn parse(&self) -> Result<(Matrix<Rational>, Option<Matrix<Rational>>)> {
-        let b = matrix::<Rational>("--b", &self.b)?;
+    /// B, and D if given; from the realisation when the plant is a transfer function.
+    pub fn parse(
+        &self,
+        system: &SystemPair,
+    ) -> Result<(Matrix<Rational>, Option<Matrix<Rational>>)> {
+        if let Some(r) = system.realisation()? {
+            if self.b.is_some() || self.d.is_some() {
+                bail!("in --b: with --tf, B and D come from the transfer function");
+            }
+            return Ok((r.b, Some(r.d)));
+        }
+        let Some(b) = &self.b else {
+            bail!("give the input matrix --b");
+        };
+        let b = matrix::<Rational>("--b", b)?;
         let d = self
             .d
             .as_deref()

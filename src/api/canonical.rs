@@ -1,6 +1,6 @@
 //! `owb canonical`: observer canonical form by both textbook procedures.
 
-use super::args::{json_matrix, matrix};
+use super::args::json_matrix;
 use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::canonical_form::{observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm};
@@ -53,11 +53,7 @@ fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Deri
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
-    let b = args
-        .b
-        .as_deref()
-        .map(|t| matrix::<Rational>("--b", t))
-        .transpose()?;
+    let b = args.system.input(args.b.as_deref())?;
     super::args::check_plant(&a, b.as_ref(), &c, None)?;
     let di = observer_form_di_ruscio(&a, b.as_ref(), &c)?;
     let st = observer_form_stoustrup(&a, b.as_ref(), &c)?;

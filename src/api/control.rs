@@ -20,8 +20,12 @@ pub struct Args {
     #[cfg_attr(feature = "commands", command(flatten))]
     pub system: super::args::SystemPair,
     /// The input matrix B (one column).
-    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "b"))]
-    pub b: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "b", required_unless_present = "tf")
+    )]
+    #[serde(default)]
+    pub b: Option<String>,
     /// The observer gain (in the convention of --convention).
     #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "l"))]
     pub l: String,
@@ -59,7 +63,10 @@ pub struct Args {
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
-    let b = matrix::<Rational>("--b", &args.b)?;
+    let b = args
+        .system
+        .input(args.b.as_deref())?
+        .ok_or_else(|| anyhow::anyhow!("give the input matrix --b"))?;
     let mut l = matrix::<Rational>("--l", &args.l)?;
     super::args::check_plant(&a, Some(&b), &c, None)?;
     let (n, m, p) = (a.rows(), b.cols(), c.rows());

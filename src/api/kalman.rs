@@ -251,7 +251,7 @@ fn tabulate(
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
-    let (b, d) = args.inputs.parse()?;
+    let (b, d) = args.inputs.parse(&args.system)?;
     super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
     let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
     let cu = matrix::<Rational>("--input-noise", &args.input_noise)?;

@@ -252,6 +252,32 @@ impl Command {
         }
     }
 
+    /// The plant's A and C (or transfer function) of the request, for the commands that take
+    /// one.
+    pub fn system(&self) -> Option<&args::SystemPair> {
+        match self {
+            Command::Observe(a) => Some(&a.system),
+            Command::Canonical(a) => Some(&a.system),
+            Command::Gain(a) => Some(&a.system),
+            Command::Discrete(a) => Some(&a.system),
+            Command::Reduced(a) => Some(&a.system),
+            Command::Detectable(a) => Some(&a.system),
+            Command::Control(a) => Some(&a.system),
+            Command::Optimal(a) => Some(&a.system),
+            Command::Kalman(a) => Some(&a.system),
+            Command::Perfect(a) => Some(&a.system),
+            #[cfg(feature = "plot")]
+            Command::Simulate(_) => None,
+            Command::Verify(_)
+            | Command::Feedback(_)
+            | Command::Zoh(_)
+            | Command::Dlqe(_)
+            | Command::Check(_)
+            | Command::Grade(_)
+            | Command::Exercise(_) => None,
+        }
+    }
+
     /// Whether this request would write a file (`exercise new --out`).
     pub fn writes_files(&self) -> bool {
         match self {
@@ -354,6 +380,14 @@ impl Command {
     }
 }
 
+/// Whether the request asks for the JSON answer (`json`).
+fn report_asks_json(command: &Command) -> bool {
+    serde_json::to_value(command)
+        .ok()
+        .and_then(|v| v.get("json").and_then(serde_json::Value::as_bool))
+        .unwrap_or(false)
+}
+
 /// Keys of `given` (an object, recursively) that `known` (the same request written back) does
 /// not have.
 fn unknown_keys(
@@ -397,6 +431,20 @@ pub struct RequestError(pub String);
 /// had reported before.
 pub fn run(command: Command) -> Result<Report, Failure> {
     let mut report = Report::default();
+    // a plant given as a transfer function: the realisation is stated before anything else
+    let realisation = match command.system().map(args::SystemPair::realisation) {
+        Some(Ok(r)) => r,
+        Some(Err(error)) => {
+            return Err(Failure {
+                error,
+                partial: report,
+            })
+        }
+        None => None,
+    };
+    if let (Some(r), false) = (&realisation, report_asks_json(&command)) {
+        out!(report, "{}", r.describe());
+    }
     let rep = &mut report;
     let result = match command {
         Command::Verify(a) => verify::run(a, rep),
@@ -419,6 +467,13 @@ pub fn run(command: Command) -> Result<Report, Failure> {
         Command::Grade(a) => exercise::grade(a, rep),
         Command::Exercise(a) => exercise::exercise(a, rep),
     };
+    if let (Some(r), Some(serde_json::Value::Object(o))) = (&realisation, report.json.as_mut()) {
+        // the JSON answer carries the realisation as one more key, and is printed again
+        o.insert("realisation".into(), r.json());
+        let v = serde_json::Value::Object(o.clone());
+        report.text = String::new();
+        report.json(&v);
+    }
     match result {
         Ok(outcome) => {
             report.outcome = outcome;

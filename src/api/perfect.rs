@@ -73,7 +73,7 @@ fn changed_matrix(
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
-    let (b, d) = args.inputs.parse()?;
+    let (b, d) = args.inputs.parse(&args.system)?;
     super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
     let plant = StateSpace::new(a.clone(), Some(b.clone()), c.clone(), d)?;
     let p = perfect_observer(&plant)?;

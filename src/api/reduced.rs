@@ -1,9 +1,8 @@
 //! `owb reduced` (a reduced-order observer, Gopinath's construction) and `owb detectable` (an
 //! observer for the observable part of an unobservable pair, with the fixed modes named).
 
-use super::args::{json_matrix, matrix, SystemPair};
+use super::args::{json_matrix, SystemPair};
 use super::{Outcome, Report};
-use crate::algebra::Rational;
 use crate::observer::detectability::detectable_design;
 use crate::observer::reduced_order::reduced_order_observer;
 use crate::observer::Convention;
@@ -54,11 +53,7 @@ pub struct Args {
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (a, c) = args.system.parse()?;
-    let b = args
-        .b
-        .as_deref()
-        .map(|t| matrix::<Rational>("--b", t))
-        .transpose()?;
+    let b = args.system.input(args.b.as_deref())?;
     super::args::check_plant(&a, b.as_ref(), &c, None)?;
     let (method, convention) = (
         super::args::gain_method(&args.method)?,
