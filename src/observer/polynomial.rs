@@ -361,7 +361,7 @@ impl DesiredPolynomial {
     /// use observer_workbench::algebra::{Rational, Ring};
     /// use observer_workbench::observer::DesiredPolynomial;
     /// let p = DesiredPolynomial::itae(&Rational::from_i64(1), 2).unwrap();
-    /// assert_eq!(p.exact.unwrap().to_string(), "s^2 + 7/5 s + 1");
+    /// assert_eq!(p.exact.unwrap().to_string(), "s^2 + (7/5)s + 1");
     /// ```
     ///
     /// # Errors
