@@ -18,6 +18,8 @@ pub struct CheckArgs {
     /// The exercise (id in worked_examples/exercises or a file path).
     pub exercise: String,
     /// The answers file (TOML: [answers] K = "[-6; -12]").
+    // (the text is the command line's help too, so its brackets stay as typed)
+    #[allow(rustdoc::broken_intra_doc_links)]
     pub answers: PathBuf,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]

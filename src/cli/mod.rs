@@ -1,6 +1,6 @@
 //! `owb`, the observer workbench's command line (feature `cli`, on by default): the process's
-//! arguments parsed into an [`api::Command`](crate::api::Command) (clap), the command run by
-//! [`api::run`](crate::api::run), its report printed. Exit codes: 0 success, 1 a verification
+//! arguments parsed into an [`api::Command`] (clap), the command run by
+//! [`api::run`], its report printed. Exit codes: 0 success, 1 a verification
 //! found a mismatch (or a check found a wrong answer), 2 bad input (malformed numbers,
 //! mismatched dimensions, an unobservable pair…).
 
