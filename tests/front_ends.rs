@@ -206,6 +206,7 @@ fn a_refusal_is_the_same_message_everywhere() {
     let book = ctx
         .directive("run gain --a \"[1 2; 3]\" --c \"[1 0]\" --poles \"-1, -2\"")
         .unwrap_err();
+    let book = format!("{book:#}");
     assert!(
         book.contains(web["error"].as_str().unwrap()),
         "{book} / {web}"

@@ -25,7 +25,7 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("mdbook-owb: {e}");
+            eprintln!("mdbook-owb: {e:#}");
             ExitCode::from(1)
         }
     }

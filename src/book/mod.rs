@@ -22,6 +22,7 @@ pub mod widgets;
 use crate::exercise::{answer_key, load_exercise};
 use crate::simulation::plot::svg;
 use crate::worked::{load_example, load_folder, run_scenarios, verify_example, ExampleReport};
+use anyhow::{anyhow, bail, Result};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
@@ -48,7 +49,7 @@ pub struct BookContext {
 }
 
 /// Splits directive arguments on whitespace; double quotes group words.
-fn split_args(text: &str) -> Result<Vec<String>, String> {
+fn split_args(text: &str) -> Result<Vec<String>> {
     let mut out = Vec::new();
     let mut cur = String::new();
     let mut quoted = false;
@@ -72,7 +73,7 @@ fn split_args(text: &str) -> Result<Vec<String>, String> {
         }
     }
     if quoted {
-        return Err("unclosed double quote".into());
+        bail!("unclosed double quote");
     }
     if any {
         out.push(cur);
@@ -105,23 +106,23 @@ fn cell(s: &str) -> String {
 }
 
 impl BookContext {
-    fn example(&self, id: &str) -> Result<(PathBuf, crate::worked::ExampleFile, String), String> {
+    fn example(&self, id: &str) -> Result<(PathBuf, crate::worked::ExampleFile, String)> {
         let dir = self.root.join("worked_examples");
-        let files = load_folder(&dir).map_err(|e| e.to_string())?;
+        let files = load_folder(&dir)?;
         let path = files
             .into_iter()
             .find(|f| f.file_stem().is_some_and(|s| s == id))
-            .ok_or_else(|| format!("no worked example '{id}' in {}", dir.display()))?;
-        let (ex, raw) = load_example(&path).map_err(|e| e.to_string())?;
+            .ok_or_else(|| anyhow!("no worked example '{id}' in {}", dir.display()))?;
+        let (ex, raw) = load_example(&path)?;
         Ok((path, ex, raw))
     }
 
-    fn report(&self, id: &str) -> Result<ExampleReport, String> {
+    fn report(&self, id: &str) -> Result<ExampleReport> {
         let (path, ex, raw) = self.example(id)?;
-        verify_example(&path, &ex, &raw).map_err(|e| e.to_string())
+        Ok(verify_example(&path, &ex, &raw)?)
     }
 
-    fn verify_table(&self, id: &str) -> Result<String, String> {
+    fn verify_table(&self, id: &str) -> Result<String> {
         let r = self.report(id)?;
         let mut out = format!(
             "*Worked example `{}` — {} (source: `{}`), recomputed by `owb verify {}`:*\n\n| claim | where | printed | recomputed | verdict |\n|---|---|---|---|---|\n",
@@ -172,15 +173,15 @@ impl BookContext {
     }
 
     /// One claim of an example, verified.
-    fn claim(&self, id: &str, claim: &str) -> Result<crate::worked::ClaimReport, String> {
+    fn claim(&self, id: &str, claim: &str) -> Result<crate::worked::ClaimReport> {
         self.report(id)?
             .claims
             .into_iter()
             .find(|c| c.id == claim)
-            .ok_or_else(|| format!("example '{id}' has no claim '{claim}'"))
+            .ok_or_else(|| anyhow!("example '{id}' has no claim '{claim}'"))
     }
 
-    fn derivation(&self, id: &str, claim: &str) -> Result<String, String> {
+    fn derivation(&self, id: &str, claim: &str) -> Result<String> {
         let c = self.claim(id, claim)?;
         let mut out = format!(
             "*Derivation of `{}` ({}), computed by the workbench — verdict: **{}**.*\n\n$$\n{}\n$$\n",
@@ -193,16 +194,15 @@ impl BookContext {
         Ok(out)
     }
 
-    fn figure(&self, id: &str, scenario: &str) -> Result<String, String> {
+    fn figure(&self, id: &str, scenario: &str) -> Result<String> {
         let (path, ex, raw) = self.example(id)?;
-        let (runs, checks) = run_scenarios(&path, &ex, &raw).map_err(|e| e.to_string())?;
+        let (runs, checks) = run_scenarios(&path, &ex, &raw)?;
         let run = runs
             .iter()
             .find(|r| r.name == scenario)
-            .ok_or_else(|| format!("example '{id}' has no scenario '{scenario}'"))?;
+            .ok_or_else(|| anyhow!("example '{id}' has no scenario '{scenario}'"))?;
         let title = format!("{} — {}", ex.id, run.figure);
-        let picture =
-            svg(&run.trace, &run.plot, &title, &run.time_unit).map_err(|e| e.to_string())?;
+        let picture = svg(&run.trace, &run.plot, &title, &run.time_unit)?;
         let picture = picture
             .lines()
             .filter(|l| !l.trim().is_empty())
@@ -248,14 +248,14 @@ impl BookContext {
         Ok(out)
     }
 
-    fn exercise(&self, id: &str) -> Result<String, String> {
+    fn exercise(&self, id: &str) -> Result<String> {
         let path = self
             .root
             .join("worked_examples/exercises")
             .join(format!("{id}.toml"));
-        let (ex, raw) = load_exercise(&path).map_err(|e| e.to_string())?;
+        let (ex, raw) = load_exercise(&path)?;
         // the key must be computable, or the exercise is not in the book
-        let key = answer_key(&path.display().to_string(), &ex).map_err(|e| e.to_string())?;
+        let key = answer_key(&path.display().to_string(), &ex)?;
         let mut out = format!(
             "### Exercise: {}\n\n*Source: {}.*\n\n{}\n\nParts to answer:\n\n",
             ex.title,
@@ -282,16 +282,16 @@ impl BookContext {
     }
 
     /// Every document's coverage list: per statement, what checks it or why nothing does.
-    fn coverage(&self) -> Result<String, String> {
+    fn coverage(&self) -> Result<String> {
         use crate::worked::coverage;
         let dir = self.root.join("worked_examples");
         let mut examples = Vec::new();
-        for f in load_folder(&dir).map_err(|e| e.to_string())? {
-            examples.push(load_example(&f).map_err(|e| e.to_string())?.0);
+        for f in load_folder(&dir)? {
+            examples.push(load_example(&f)?.0);
         }
         let mut out = String::new();
-        for (path, list) in coverage::load(&dir).map_err(|e| e.to_string())? {
-            let totals = coverage::check(&path, &list, &examples).map_err(|e| e.to_string())?;
+        for (path, list) in coverage::load(&dir)? {
+            let totals = coverage::check(&path, &list, &examples)?;
             let _ = write!(
                 out,
                 "\n## {}\n\n*{}* (`{}`)\n\n| where | statement | checked by |\n|---|---|---|\n",
@@ -328,11 +328,11 @@ impl BookContext {
         Ok(out)
     }
 
-    fn playground(&self) -> Result<String, String> {
+    fn playground(&self) -> Result<String> {
         let dir = self.root.join("worked_examples");
         let mut examples = Vec::new();
-        for f in load_folder(&dir).map_err(|e| e.to_string())? {
-            let (_, raw) = load_example(&f).map_err(|e| e.to_string())?;
+        for f in load_folder(&dir)? {
+            let (_, raw) = load_example(&f)?;
             let id = f
                 .file_stem()
                 .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
@@ -343,23 +343,21 @@ impl BookContext {
 
     /// A claim's recomputed value, inline, for prose that quotes a number: the build fails when
     /// the claim is a mismatch, so the sentence cannot outlive its number.
-    fn value(&self, id: &str, claim: &str) -> Result<String, String> {
+    fn value(&self, id: &str, claim: &str) -> Result<String> {
         let c = self.claim(id, claim)?;
         if c.verdict == crate::worked::Verdict::Mismatch {
-            return Err(format!(
-                "claim '{claim}' of '{id}' is a mismatch: the prose quoting it is wrong"
-            ));
+            bail!("claim '{claim}' of '{id}' is a mismatch: the prose quoting it is wrong");
         }
         Ok(format!("`{}`", matlab_spacing(&c.recomputed)))
     }
 
-    fn errata(&self) -> Result<String, String> {
+    fn errata(&self) -> Result<String> {
         let dir = self.root.join("worked_examples");
-        let files = load_folder(&dir).map_err(|e| e.to_string())?;
+        let files = load_folder(&dir)?;
         let mut reports = Vec::new();
         for f in &files {
-            let (ex, raw) = load_example(f).map_err(|e| e.to_string())?;
-            reports.push(verify_example(f, &ex, &raw).map_err(|e| e.to_string())?);
+            let (ex, raw) = load_example(f)?;
+            reports.push(verify_example(f, &ex, &raw)?);
         }
         let md =
             crate::worked::errata_markdown_titled(&reports, &crate::worked::coverage::titles(&dir));
@@ -371,15 +369,15 @@ impl BookContext {
             .join("\n"))
     }
 
-    fn run(&self, args: &[String]) -> Result<String, String> {
+    fn run(&self, args: &[String]) -> Result<String> {
         // the directive's words are read as the command line reads them, and the request run
         // by the same library function as the `owb` binary's
         let command = crate::api::Command::from_words(args)
-            .map_err(|e| format!("owb {}: {e}", args.join(" ")))?;
+            .map_err(|e| anyhow!("owb {}: {e}", args.join(" ")))?;
         let report = match crate::api::run(command) {
             Ok(r) if r.outcome == crate::api::Outcome::Ok => r.text,
-            Ok(_) => return Err(format!("owb {} reported a failure", args.join(" "))),
-            Err(f) => return Err(format!("owb {}: {:#}", args.join(" "), f.error)),
+            Ok(_) => bail!("owb {} reported a failure", args.join(" ")),
+            Err(f) => return Err(f.error.context(format!("owb {}", args.join(" ")))),
         };
         Ok(format!(
             "```text\n$ owb {}\n{}```\n",
@@ -399,14 +397,16 @@ impl BookContext {
     ///
     /// # Errors
     /// A message for an unknown directive, wrong arguments or a failing computation.
-    pub fn directive(&self, text: &str) -> Result<String, String> {
+    pub fn directive(&self, text: &str) -> Result<String> {
         let args = split_args(text)?;
-        let (name, rest) = args.split_first().ok_or("empty directive")?;
-        let want = |n: usize| -> Result<(), String> {
+        let (name, rest) = args
+            .split_first()
+            .ok_or_else(|| anyhow!("empty directive"))?;
+        let want = |n: usize| -> Result<()> {
             if rest.len() == n {
                 Ok(())
             } else {
-                Err(format!(
+                Err(anyhow!(
                     "'{name}' takes {n} argument(s), {} given",
                     rest.len()
                 ))
@@ -422,9 +422,9 @@ impl BookContext {
             "playground" => want(0).and_then(|()| self.playground()),
             "coverage" => want(0).and_then(|()| self.coverage()),
             "value" => want(2).and_then(|()| self.value(&rest[0], &rest[1])),
-            "run" if !self.run_commands => Err("run directives are off here".into()),
+            "run" if !self.run_commands => Err(anyhow!("run directives are off here")),
             "run" => self.run(rest),
-            other => Err(format!(
+            other => Err(anyhow!(
                 "unknown directive '{other}' (verify-table, derivation, figure, exercise, variant, playground, coverage, value, errata, run)"
             )),
         }
@@ -446,10 +446,11 @@ impl BookContext {
                 message: "no closing }}".into(),
             })?;
             let body = after[..end].trim();
-            let expanded = self.directive(body).map_err(|message| BookError {
+            // the outermost point of a book build: the error and its causes become the message
+            let expanded = self.directive(body).map_err(|e| BookError {
                 chapter: chapter.into(),
                 directive: body.into(),
-                message,
+                message: format!("{e:#}"),
             })?;
             out.push_str(&expanded);
             rest = &after[end + 2..];
@@ -473,7 +474,7 @@ pub fn chapters(src: &Path) -> Vec<PathBuf> {
 }
 
 /// Expands the `{{#owb …}}` directives of every chapter in a book, walking mdBook's book JSON.
-fn walk(v: &mut serde_json::Value, ctx: &BookContext) -> Result<(), String> {
+fn walk(v: &mut serde_json::Value, ctx: &BookContext) -> Result<()> {
     match v {
         serde_json::Value::Object(map) => {
             if let Some(serde_json::Value::Object(ch)) = map.get_mut("Chapter") {
@@ -484,7 +485,7 @@ fn walk(v: &mut serde_json::Value, ctx: &BookContext) -> Result<(), String> {
                     .unwrap_or("chapter")
                     .to_string();
                 if let Some(serde_json::Value::String(content)) = ch.get_mut("content") {
-                    *content = ctx.expand(&name, content).map_err(|e| e.to_string())?;
+                    *content = ctx.expand(&name, content)?;
                 }
                 if let Some(sub) = ch.get_mut("sub_items") {
                     walk(sub, ctx)?;
@@ -513,7 +514,7 @@ fn walk(v: &mut serde_json::Value, ctx: &BookContext) -> Result<(), String> {
 ///
 /// Input that is not `[context, book]` JSON, or the first directive that fails (its chapter and
 /// reason).
-pub fn preprocess(input: &str, root: Option<&Path>) -> Result<String, String> {
+pub fn preprocess(input: &str, root: Option<&Path>) -> Result<String> {
     preprocess_with(input, root, true)
 }
 
@@ -522,19 +523,15 @@ pub fn preprocess(input: &str, root: Option<&Path>) -> Result<String, String> {
 /// # Errors
 ///
 /// As [`preprocess`]; a `run` directive when `run_commands` is false.
-pub fn preprocess_with(
-    input: &str,
-    root: Option<&Path>,
-    run_commands: bool,
-) -> Result<String, String> {
+pub fn preprocess_with(input: &str, root: Option<&Path>, run_commands: bool) -> Result<String> {
     use serde_json::Value;
     let parsed: Value = serde_json::from_str(input)
-        .map_err(|e| format!("the input is not mdBook's [context, book] JSON: {e}"))?;
+        .map_err(|e| anyhow!("the input is not mdBook's [context, book] JSON: {e}"))?;
     let Some(Value::Object(context)) = parsed.get(0) else {
-        return Err("expected [context, book]: no context object".into());
+        bail!("expected [context, book]: no context object");
     };
     let Some(book) = parsed.get(1) else {
-        return Err("expected [context, book]: no book".into());
+        bail!("expected [context, book]: no book");
     };
     let root = match root {
         Some(r) => r.to_path_buf(),
@@ -551,7 +548,7 @@ pub fn preprocess_with(
     };
     let mut book = book.clone();
     walk(&mut book, &BookContext { root, run_commands })?;
-    serde_json::to_string(&book).map_err(|e| e.to_string())
+    Ok(serde_json::to_string(&book)?)
 }
 
 #[cfg(test)]
