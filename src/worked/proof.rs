@@ -411,8 +411,35 @@ pub struct Proof {
     pub method: &'static str,
 }
 
-/// Why a claim is not proved here (it stays sampled).
-pub type NoProof = String;
+/// Why a claim is not proved here (it stays sampled): said in the verification report.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum NoProof {
+    /// A reason in words (a symbol without a definition, a family without an exact
+    /// polynomial, input that does not read, …).
+    #[error("{0}")]
+    Reason(String),
+    /// A matrix computation refused (shapes, a singular matrix).
+    #[error(transparent)]
+    Linalg(#[from] crate::linalg::LinalgError),
+    /// The claim's own inputs refused.
+    #[error(transparent)]
+    Inputs(#[from] super::inputs::ComputeError),
+    /// The desired polynomial refused.
+    #[error(transparent)]
+    Polynomial(#[from] crate::observer::polynomial::PolynomialError),
+}
+
+impl From<String> for NoProof {
+    fn from(reason: String) -> Self {
+        NoProof::Reason(reason)
+    }
+}
+
+impl From<&str> for NoProof {
+    fn from(reason: &str) -> Self {
+        NoProof::Reason(reason.to_string())
+    }
+}
 
 /// Proves (or refutes) a sampled claim over the rational functions of its symbols: a desired
 /// polynomial or a single-output gain. `env` holds the values the claim fixes; `penv` the
@@ -428,7 +455,7 @@ pub fn prove(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proof
         C::Identity if inputs.claim.identity == Some(super::Identity::GainMethodsAgree) => {
             methods_agree_claim(inputs)
         }
-        other => Err(format!("no symbolic recomputation of '{other}'")),
+        other => Err(format!("no symbolic recomputation of '{other}'").into()),
     }
 }
 
@@ -437,14 +464,14 @@ fn one_radicand(values: &[&Fraction]) -> Result<(), NoProof> {
     all.sort_unstable();
     all.dedup();
     if all.len() > 1 {
-        return Err(format!("square roots of {all:?} together"));
+        return Err(format!("square roots of {all:?} together").into());
     }
     Ok(())
 }
 
 fn read(text: &str, env: &Environment) -> Result<Fraction, NoProof> {
     let e = parse_expression(text).map_err(|e| e.show_in(text))?;
-    evaluate_with::<Fraction>(&e, env).map_err(|e| e.show_in(text))
+    Ok(evaluate_with::<Fraction>(&e, env).map_err(|e| e.show_in(text))?)
 }
 
 /// The print's value with the claim's `where` definitions (`k2 = "-c2/a"`) substituted, as
@@ -469,7 +496,7 @@ fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof>
     let c = inputs.claim;
     let env = inputs.env;
     let scaled =
-        |t: &str, p1: Result<DesiredPolynomial, String>| -> Result<Vec<Fraction>, NoProof> {
+        |t: &str, p1: Result<DesiredPolynomial, NoProof>| -> Result<Vec<Fraction>, NoProof> {
             // P_T(s) = T^-n P_1(T s): the coefficient of s^k is p_k T^(k - n)
             let t = read(t, env)?;
             let p1 = p1?.exact.ok_or("the family has no exact polynomial")?;
@@ -488,7 +515,7 @@ fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof>
         };
     let one = Rational::one();
     if let Some((family, t)) = c.family() {
-        scaled(t, family.polynomial(&one, n).map_err(|e| e.to_string()))
+        scaled(t, family.polynomial(&one, n).map_err(NoProof::from))
     } else if let Some(p) = &c.poles {
         let rows = parse_matrix_expressions(p).map_err(|e| e.show_in(p))?;
         let poles: Vec<Fraction> = rows
@@ -497,7 +524,7 @@ fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof>
             .map(|e| evaluate_with::<Fraction>(e, env).map_err(|e| e.show_in(p)))
             .collect::<Result<_, _>>()?;
         if poles.len() != n {
-            return Err(format!("{} poles for order {n}", poles.len()));
+            return Err(format!("{} poles for order {n}", poles.len()).into());
         }
         let mut coeffs = vec![Fraction::one()];
         for p in &poles {
@@ -516,10 +543,9 @@ fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof>
             .coefficients_in("s")
             .ok_or("s in a denominator of the polynomial")?;
         if coeffs.len() != n + 1 {
-            return Err(format!(
-                "a polynomial of degree {} for order {n}",
-                coeffs.len() - 1
-            ));
+            return Err(
+                format!("a polynomial of degree {} for order {n}", coeffs.len() - 1).into(),
+            );
         }
         Ok(coeffs)
     } else {
@@ -528,7 +554,7 @@ fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof>
 }
 
 fn desired_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proof, NoProof> {
-    let n = inputs.order().map_err(|e| e.to_string())?;
+    let n = inputs.order()?;
     let coeffs = symbolic_desired(inputs, n)?;
     let var = inputs.var();
     let x = Fraction::symbol(&var);
@@ -561,12 +587,12 @@ fn ackermann(
     let mut o = c.clone();
     let mut row = c.clone();
     for _ in 1..n {
-        row = row.mul(a).map_err(|e| e.to_string())?;
-        o = o.vstack(&row).map_err(|e| e.to_string())?;
+        row = row.mul(a)?;
+        o = o.vstack(&row)?;
     }
     // adj(O) from the characteristic polynomial s^n + p_{n-1} s^{n-1} + … + p_0 of O:
     // O adj(O) = det(O) I with det O = (-1)^n p_0 and adj O = (-1)^(n-1) (O^(n-1) + … + p_1 I)
-    let chi = berkowitz(&o, "s").map_err(|e| e.to_string())?;
+    let chi = berkowitz(&o, "s")?;
     let p = chi.coeffs();
     let sign = |k: usize| {
         if k % 2 == 0 {
@@ -582,10 +608,8 @@ fn ackermann(
     let mut adj = Matrix::identity(n);
     for k in (1..n).rev() {
         // Horner: adj = adj·O + p_k I, starting from I (the leading coefficient)
-        adj = adj.mul(&o).map_err(|e| e.to_string())?;
-        adj = adj
-            .add(&Matrix::identity(n).scale(&p[k]))
-            .map_err(|e| e.to_string())?;
+        adj = adj.mul(&o)?;
+        adj = adj.add(&Matrix::identity(n).scale(&p[k]))?;
     }
     let adj = adj.scale(&sign(n - 1));
     let last = Matrix::from_fn(n, 1, |i, _| {
@@ -596,16 +620,14 @@ fn ackermann(
     // P(A) by Horner
     let mut pa = Matrix::zeros(n, n);
     for c in coeffs.iter().rev() {
-        pa = pa.mul(a).map_err(|e| e.to_string())?;
-        pa = pa
-            .add(&Matrix::identity(n).scale(c))
-            .map_err(|e| e.to_string())?;
+        pa = pa.mul(a)?;
+        pa = pa.add(&Matrix::identity(n).scale(c))?;
     }
-    Ok((pa.mul(&last).map_err(|e| e.to_string())?, o))
+    Ok((pa.mul(&last)?, o))
 }
 
 fn symbolic_matrix(inputs: &Inputs, name: &str) -> Result<Matrix<Fraction>, NoProof> {
-    let m = inputs.symbolic(name).map_err(|e| e.to_string())?;
+    let m = inputs.symbolic(name)?;
     Ok(m.map(|x| Fraction::of(x.clone())))
 }
 
@@ -617,7 +639,7 @@ fn in_canonical_coordinates(
     k: &Matrix<Fraction>,
 ) -> Result<Matrix<Fraction>, NoProof> {
     let n = a.rows();
-    let chi = berkowitz(a, "s").map_err(|e| e.to_string())?;
+    let chi = berkowitz(a, "s")?;
     // a_k is the coefficient of s^(n−k)
     let m = Matrix::from_fn(n, n, |i, j| {
         if j >= i {
@@ -626,10 +648,7 @@ fn in_canonical_coordinates(
             Fraction::zero()
         }
     });
-    m.transpose()
-        .mul(o)
-        .and_then(|x| x.mul(k))
-        .map_err(|e| e.to_string())
+    Ok(m.transpose().mul(o).and_then(|x| x.mul(k))?)
 }
 
 fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
@@ -642,7 +661,7 @@ fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
     let desired = symbolic_desired(inputs, n)?;
     let (k, o) = ackermann(&a, &c, &desired)?;
     let k_o = in_canonical_coordinates(&a, &o, &k)?;
-    let chi = berkowitz(&a, "s").map_err(|e| e.to_string())?;
+    let chi = berkowitz(&a, "s")?;
     // c − a: the i-th entry is the difference of the coefficients of s^(n−i)
     let c_minus_a: Vec<Fraction> = (1..=n)
         .map(|i| desired[n - i].clone() - chi.coeff(n - i))
@@ -677,11 +696,7 @@ fn gain_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proo
     if canonical {
         k = in_canonical_coordinates(&a, &o, &k)?;
     }
-    if inputs
-        .convention(Convention::AMinusKC)
-        .map_err(|e| e.to_string())?
-        == Convention::APlusLC
-    {
+    if inputs.convention(Convention::AMinusKC)? == Convention::APlusLC {
         k = k.neg();
     }
     let rows = parse_matrix_expressions(printed).map_err(|e| e.show_in(printed))?;

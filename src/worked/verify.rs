@@ -499,6 +499,7 @@ fn check(
 /// computation allows ([`super::proof`]); otherwise it says why it stays sampled.
 fn with_proof(c: Check, inputs: &Inputs<'_>, printed: &str) -> Check {
     let proof = with_definitions(inputs.claim, inputs.env)
+        .map_err(super::proof::NoProof::from)
         .and_then(|penv| super::proof::prove(inputs, printed, &penv));
     let symbols = |p: &super::proof::Proof| {
         if p.symbols.is_empty() {
@@ -509,7 +510,7 @@ fn with_proof(c: Check, inputs: &Inputs<'_>, printed: &str) -> Check {
     };
     match (proof, &c.agreement) {
         (Err(why), _) => Check {
-            proof: ProofNote::Sampled(why),
+            proof: ProofNote::Sampled(why.to_string()),
             ..c
         },
         (Ok(_), Agreement::Rounded { .. }) => Check {
