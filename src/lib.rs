@@ -167,7 +167,7 @@
 //! ```
 #![warn(missing_docs)]
 
-mod names;
+pub mod names;
 
 pub mod algebra;
 pub mod api;

@@ -32,13 +32,18 @@ macro_rules! named_enum {
             /// The variant of that name.
             ///
             /// # Errors
-            /// A message naming the unknown name and listing the known ones.
-            pub fn parse(text: &str) -> Result<Self, String> {
+            /// [`UnknownName`](crate::names::UnknownName), naming the unknown name and
+            /// listing the known ones.
+            pub fn parse(text: &str) -> Result<Self, $crate::names::UnknownName> {
                 Self::ALL
                     .iter()
                     .copied()
                     .find(|v| v.name() == text)
-                    .ok_or_else(|| format!("unknown {} '{text}'; known: {}", $kind, Self::known()))
+                    .ok_or_else(|| $crate::names::UnknownName {
+                        kind: $kind,
+                        name: text.to_string(),
+                        known: Self::known(),
+                    })
             }
 
             /// The known names, comma-separated.
@@ -54,8 +59,8 @@ macro_rules! named_enum {
         }
 
         impl std::str::FromStr for $name {
-            type Err = String;
-            fn from_str(text: &str) -> Result<Self, String> {
+            type Err = $crate::names::UnknownName;
+            fn from_str(text: &str) -> Result<Self, $crate::names::UnknownName> {
                 Self::parse(text)
             }
         }
@@ -76,3 +81,15 @@ macro_rules! named_enum {
 }
 
 pub(crate) use named_enum;
+
+/// A name that is not one of an enumeration's (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {kind} '{name}'; known: {known}")]
+pub struct UnknownName {
+    /// What kind of name ("desired-polynomial family").
+    pub kind: &'static str,
+    /// The name given.
+    pub name: String,
+    /// The known names, comma-separated.
+    pub known: String,
+}

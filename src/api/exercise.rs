@@ -302,12 +302,12 @@ enum Target {
 fn variant_key(
     class: &Settings,
     answers: &crate::exercise::AnswerFile,
-) -> std::result::Result<(String, AnswerKey), String> {
+) -> Result<(String, AnswerKey)> {
     let student = answers
         .student
         .as_deref()
         .filter(|s| !s.trim().is_empty())
-        .ok_or("a variant's answers name their student (student = \"…\")")?;
+        .ok_or_else(|| anyhow!("a variant's answers name their student (student = \"…\")"))?;
     let settings = Settings {
         kind: class.kind,
         ..Settings::for_student(student, class.min_order, class.max_order, &class.convention)
@@ -315,16 +315,16 @@ fn variant_key(
     let id = settings.id();
     if let Some(theirs) = answers.exercise.as_deref() {
         if theirs != id {
-            return Err(format!(
+            bail!(
                 "answers for exercise '{}', but the variant set for student '{}' is '{id}'",
                 escape_untrusted(theirs),
                 escape_untrusted(student)
-            ));
+            );
         }
     }
-    let text = pole_placement(&settings).map_err(|e| e.to_string())?;
-    let ex: ExerciseFile = toml::from_str(&text).map_err(|e| e.to_string())?;
-    let key = answer_key(&id, &ex).map_err(|e| e.to_string())?;
+    let text = pole_placement(&settings)?;
+    let ex: ExerciseFile = toml::from_str(&text)?;
+    let key = answer_key(&id, &ex)?;
     Ok((id, key))
 }
 
@@ -393,7 +393,7 @@ fn grade_one(target: &Target, file: &Path, tally: &mut Tally) -> Graded {
                 variant = k;
                 (id, &variant)
             }
-            Err(why) => return refused(tally, "", &why),
+            Err(why) => return refused(tally, "", &format!("{why:#}")),
         },
     };
     // a bug met by one submission is that submission's row, not the end of the class's grading

@@ -59,13 +59,13 @@ macro_rules! out {
 /// Refuses to run with a closed standard output (`owb … >&-`): the standard library treats
 /// writes to a closed descriptor as successful, so the report would vanish with status 0,
 /// and the first file the command opened would take the descriptor's place.
-pub fn standard_output_open() -> Result<(), String> {
+pub fn standard_output_open() -> std::io::Result<()> {
     let closed = "standard output is closed: the report would be lost; redirect it to a file (or to /dev/null)";
     #[cfg(unix)]
     {
         use std::os::fd::AsFd;
         if std::io::stdout().as_fd().try_clone_to_owned().is_err() {
-            return Err(closed.into());
+            return Err(std::io::Error::other(closed));
         }
     }
     // The standard library opens /dev/null read-write in place of a standard descriptor that
@@ -80,7 +80,7 @@ pub fn standard_output_open() -> Result<(), String> {
                 .is_some_and(|flags| flags & 0o3 == 0o2)
         });
         if null && read_write {
-            return Err(closed.into());
+            return Err(std::io::Error::other(closed));
         }
     }
     // (elsewhere — the browser — there is no standard output to test)

@@ -122,9 +122,9 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
             },
             Some(text) => match crate::files::first_invisible(text)
                 .map(|at| {
-                    Err(format!(
+                    Err(crate::worked::PrintError::Form(format!(
                         "the answer holds an invisible or control character ({at}), often pasted from a PDF; retype it"
-                    ))
+                    )))
                 })
                 .unwrap_or_else(|| compare(&part.value, text, &key.env))
             {

@@ -14,6 +14,20 @@ pub enum DivisionRefused {
     NotAllowed(String),
 }
 
+/// Why a square root is not a value of the target type.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SqrtRefused {
+    /// An irrational root, for a type that holds rationals only.
+    #[error("the irrational {0}")]
+    Irrational(Box<crate::algebra::Quadratic>),
+    /// The root of a negative number, for a real type.
+    #[error("the square root of the negative number {0}")]
+    Negative(Rational),
+    /// A radicand beyond the quadratic fields the workbench carries.
+    #[error(transparent)]
+    Radicand(#[from] crate::algebra::QuadraticError),
+}
+
 /// A type an expression can be evaluated into.
 pub trait FromExpr: Ring {
     /// What the type is called in error messages ("a rational number").
@@ -28,8 +42,8 @@ pub trait FromExpr: Ring {
     fn imaginary_unit() -> Option<Self> {
         None
     }
-    /// The square root of a rational, or a description of why it is not in the type.
-    fn sqrt_of(r: &Rational) -> Result<Self, String>;
+    /// The square root of a rational, or why it is not in the type.
+    fn sqrt_of(r: &Rational) -> Result<Self, SqrtRefused>;
     /// `self / divisor`.
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused>;
     /// The quadratic field the value lives in (0: rational), to refuse mixing √2 and √3.
@@ -178,7 +192,7 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
         }
         ExprKind::Sqrt(arg) => {
             let r = rational_argument(arg)?;
-            T::sqrt_of(&r).map_err(|what| not_allowed(c, what, T::TARGET))?
+            T::sqrt_of(&r).map_err(|what| not_allowed(c, what.to_string(), T::TARGET))?
         }
         ExprKind::Neg(x) => -scalar::<T>(x, ctx)?,
         ExprKind::Add(x, y) => scalar::<T>(x, ctx)? + scalar::<T>(y, ctx)?,
@@ -589,11 +603,11 @@ impl FromExpr for Rational {
     fn from_rational(r: Rational) -> Self {
         r
     }
-    fn sqrt_of(r: &Rational) -> Result<Self, String> {
-        let q = Quadratic::sqrt_of_rational(r).map_err(|e| e.to_string())?;
+    fn sqrt_of(r: &Rational) -> Result<Self, SqrtRefused> {
+        let q = Quadratic::sqrt_of_rational(r)?;
         match q.as_rational() {
             Some(x) => Ok(x.clone()),
-            None => Err(format!("the irrational {q}")),
+            None => Err(SqrtRefused::Irrational(Box::new(q))),
         }
     }
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
@@ -613,8 +627,8 @@ impl FromExpr for Quadratic {
     fn imaginary_unit() -> Option<Self> {
         Some(Quadratic::imaginary_unit())
     }
-    fn sqrt_of(r: &Rational) -> Result<Self, String> {
-        Quadratic::sqrt_of_rational(r).map_err(|e| e.to_string())
+    fn sqrt_of(r: &Rational) -> Result<Self, SqrtRefused> {
+        Ok(Quadratic::sqrt_of_rational(r)?)
     }
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
         self.checked_div(divisor).ok_or(DivisionRefused::ByZero)
@@ -640,7 +654,7 @@ impl FromExpr for MultiPoly {
     fn symbol(name: &str) -> Option<Self> {
         Some(MultiPoly::var(name))
     }
-    fn sqrt_of(r: &Rational) -> Result<Self, String> {
+    fn sqrt_of(r: &Rational) -> Result<Self, SqrtRefused> {
         Rational::sqrt_of(r).map(MultiPoly::constant)
     }
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
@@ -667,10 +681,10 @@ impl FromExpr for f64 {
     fn from_rational(r: Rational) -> Self {
         crate::algebra::rational_to_f64(&r)
     }
-    fn sqrt_of(r: &Rational) -> Result<Self, String> {
+    fn sqrt_of(r: &Rational) -> Result<Self, SqrtRefused> {
         let x = crate::algebra::rational_to_f64(r);
         if x < 0.0 {
-            Err(format!("the square root of the negative number {r}"))
+            Err(SqrtRefused::Negative(r.clone()))
         } else {
             Ok(x.sqrt())
         }

@@ -17,6 +17,7 @@ mod parser;
 
 pub use eval::{
     evaluate_with, rational_function_with, DivisionRefused, Environment, FromExpr, ParseValue,
+    SqrtRefused,
 };
 pub use parser::{Expr, ExprKind};
 

@@ -205,7 +205,9 @@ mod tests {
             assert_eq!(Computation::parse(c.name()), Ok(*c));
         }
         let e = Computation::parse("gian").unwrap_err();
-        assert!(e.starts_with("unknown computation 'gian'; known: observability_matrix,"));
+        assert!(e
+            .to_string()
+            .starts_with("unknown computation 'gian'; known: observability_matrix,"));
         assert_eq!(
             Identity::parse("separation_principle"),
             Ok(Identity::SeparationPrinciple)

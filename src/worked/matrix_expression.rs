@@ -10,6 +10,20 @@ use crate::linalg::{self, Matrix};
 use crate::syntax::parse_expression;
 use crate::syntax::{Expr, ExprKind};
 
+/// Why a printed matrix formula cannot be evaluated as printed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum FormulaError {
+    /// A named matrix that the claim does not give.
+    #[error(transparent)]
+    Input(#[from] ComputeError),
+    /// A matrix operation refused (a singular inverse, an overflowing power).
+    #[error(transparent)]
+    Linalg(#[from] linalg::LinalgError),
+    /// An operation the formula's shapes or values do not allow, with its column.
+    #[error("{0}")]
+    Refused(String),
+}
+
 /// A value met while evaluating: a number or a matrix.
 enum Term {
     Scalar(Rational),
@@ -24,11 +38,11 @@ fn shape(m: &Matrix<Rational>) -> String {
 fn eval(
     e: &Expr,
     lookup: &dyn Fn(&str) -> Result<Matrix<Rational>, ComputeError>,
-) -> Result<Term, String> {
-    let bad = |m: String| m;
+) -> Result<Term, FormulaError> {
+    let bad = FormulaError::Refused;
     Ok(match &e.kind {
         ExprKind::Number(r) => Term::Scalar(r.clone()),
-        ExprKind::Symbol(name) => Term::Matrix(lookup(name).map_err(|e| e.to_string())?),
+        ExprKind::Symbol(name) => Term::Matrix(lookup(name)?),
         ExprKind::Neg(x) => match eval(x, lookup)? {
             Term::Scalar(r) => Term::Scalar(-r),
             Term::Matrix(m) => Term::Matrix(m.neg()),
@@ -50,7 +64,12 @@ fn eval(
                         ))
                     })?)
                 }
-                _ => return Err(format!("a number added to a matrix (column {})", e.column)),
+                _ => {
+                    return Err(bad(format!(
+                        "a number added to a matrix (column {})",
+                        e.column
+                    )))
+                }
             }
         }
         ExprKind::Mul(x, y) => match (eval(x, lookup)?, eval(y, lookup)?) {
@@ -59,12 +78,12 @@ fn eval(
                 Term::Matrix(m.scale(&a))
             }
             (Term::Matrix(a), Term::Matrix(b)) => Term::Matrix(a.mul(&b).map_err(|_| {
-                format!(
+                bad(format!(
                     "the product of a {} and a {} matrix is undefined (column {})",
                     shape(&a),
                     shape(&b),
                     e.column
-                )
+                ))
             })?),
         },
         ExprKind::Div(x, y) => match (eval(x, lookup)?, eval(y, lookup)?) {
@@ -73,10 +92,10 @@ fn eval(
                 Term::Matrix(m) => Term::Matrix(m.scale(&b.recip())),
             },
             _ => {
-                return Err(format!(
+                return Err(bad(format!(
                     "a division by a matrix or by zero (column {}); write X^-1",
                     e.column
-                ))
+                )))
             }
         },
         ExprKind::Pow(x, k) => match eval(x, lookup)? {
@@ -85,39 +104,40 @@ fn eval(
             }
             Term::Matrix(m) => {
                 if !m.is_square() {
-                    return Err(format!(
+                    return Err(bad(format!(
                         "the power of a {} matrix (column {})",
                         shape(&m),
                         e.column
-                    ));
+                    )));
                 }
                 let base = if *k < 0 {
-                    linalg::inverse(&m).map_err(|err| format!("{err} (column {})", e.column))?
+                    linalg::inverse(&m)
+                        .map_err(|err| bad(format!("{err} (column {})", e.column)))?
                 } else {
                     m
                 };
                 let k = u32::try_from(k.unsigned_abs())
                     .ok()
                     .filter(|k| *k <= 64)
-                    .ok_or_else(|| format!("the power {k} is too large (at most 64)"))?;
-                Term::Matrix(base.pow(k).map_err(|e| e.to_string())?)
+                    .ok_or_else(|| bad(format!("the power {k} is too large (at most 64)")))?;
+                Term::Matrix(base.pow(k)?)
             }
         },
         ExprKind::Sqrt(_) | ExprKind::ImaginaryUnit => {
-            return Err(format!(
+            return Err(bad(format!(
                 "square roots are not evaluated in a matrix formula (column {})",
                 e.column
-            ))
+            )))
         }
     })
 }
 
 impl Term {
-    fn inverted_if(self, invert: bool) -> Result<Term, String> {
+    fn inverted_if(self, invert: bool) -> Result<Term, FormulaError> {
         match self {
             Term::Scalar(a) if invert => {
                 if num_traits::Zero::is_zero(&a) {
-                    Err("zero to a negative power".into())
+                    Err(FormulaError::Refused("zero to a negative power".into()))
                 } else {
                     Ok(Term::Scalar(a.recip()))
                 }

@@ -33,7 +33,7 @@ pub use report::{
     errata_markdown, errata_markdown_titled, render_derivations, render_table, report_json,
 };
 pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
-pub use value::{compare, Agreement, Value};
+pub use value::{compare, Agreement, PrintError, Value};
 pub use verify::{
     load_example, load_folder, parse_example, verify_example, ClaimReport, ExampleReport, Summary,
     Verdict, WorkedError,

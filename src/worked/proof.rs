@@ -382,10 +382,8 @@ impl FromExpr for Fraction {
     fn imaginary_unit() -> Option<Self> {
         Some(Fraction::quadratic(&Quadratic::imaginary_unit()))
     }
-    fn sqrt_of(r: &Rational) -> Result<Self, String> {
-        Quadratic::sqrt_of_rational(r)
-            .map(|q| Fraction::quadratic(&q))
-            .map_err(|e| e.to_string())
+    fn sqrt_of(r: &Rational) -> Result<Self, crate::syntax::SqrtRefused> {
+        Ok(Fraction::quadratic(&Quadratic::sqrt_of_rational(r)?))
     }
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
         self.checked_div(divisor).ok_or(DivisionRefused::ByZero)

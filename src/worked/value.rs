@@ -342,11 +342,39 @@ fn agreement(ok: bool, digits: Option<i32>, why: impl FnOnce() -> String) -> Agr
     }
 }
 
+/// Why a printed value could not be read as the kind of value it is compared with.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PrintError {
+    /// The print does not parse: the error shown under the text.
+    #[error("{}", error.show_in(text))]
+    Syntax {
+        /// What the reader refused, with its column.
+        error: crate::syntax::SyntaxError,
+        /// The text it refused.
+        text: String,
+    },
+    /// The print has the wrong shape for a matrix.
+    #[error(transparent)]
+    Shape(#[from] crate::linalg::LinalgError),
+    /// The print is not of the form the value needs (an equation, `M g = r`, yes/no …).
+    #[error("{0}")]
+    Form(String),
+}
+
+impl PrintError {
+    fn syntax(error: crate::syntax::SyntaxError, text: &str) -> Self {
+        PrintError::Syntax {
+            error,
+            text: text.to_string(),
+        }
+    }
+}
+
 /// Compares a recomputed value with printed text, symbols in the print taken from `env`.
 ///
 /// # Errors
-/// A message when the printed text cannot be read as that kind of value.
-pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreement, String> {
+/// [`PrintError`] when the printed text cannot be read as that kind of value.
+pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreement, PrintError> {
     let digits = printed_decimals(printed);
     match value {
         Value::Matrix(m) => compare_matrix(m, printed, env, digits),
@@ -373,8 +401,8 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
 fn printed_rows<T: crate::syntax::FromExpr>(
     printed: &str,
     env: &Environment,
-) -> Result<Vec<Vec<T>>, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+) -> Result<Vec<Vec<T>>, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
     let rows = parse_matrix_expressions(printed).map_err(syntax)?;
     rows.iter()
         .map(|r| r.iter().map(|e| evaluate_with::<T>(e, env)).collect())
@@ -387,7 +415,7 @@ fn compare_matrix(
     printed: &str,
     env: &Environment,
     digits: Option<i32>,
-) -> Result<Agreement, String> {
+) -> Result<Agreement, PrintError> {
     let p: Vec<Vec<Quadratic>> = printed_rows(printed, env)?;
     let shape_ok = p.len() == m.rows() && p.iter().all(|r| r.len() == m.cols());
     if !shape_ok {
@@ -420,9 +448,9 @@ fn compare_symbolic_matrix(
     m: &Matrix<MultiPoly>,
     printed: &str,
     env: &Environment,
-) -> Result<Agreement, String> {
+) -> Result<Agreement, PrintError> {
     let p: Vec<Vec<MultiPoly>> = printed_rows(printed, env)?;
-    let pm = Matrix::from_rows(p).map_err(|e| e.to_string())?;
+    let pm = Matrix::from_rows(p)?;
     let ok = pm == *m;
     Ok(agreement(ok, None, || {
         format!("printed {}, recomputed {}", pm.to_input(), m.to_input())
@@ -437,8 +465,8 @@ fn compare_polynomial(
     printed: &str,
     env: &Environment,
     digits: Option<i32>,
-) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+) -> Result<Agreement, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
     let e = parse_expression(printed).map_err(syntax)?;
     // the polynomial's variable, or the other one the course writes (`s` for `λ` and back):
     // a student answering with the prompt's λ is not wrong
@@ -451,10 +479,10 @@ fn compare_polynomial(
         r => r.map_err(syntax)?,
     };
     if rf.denominator().degree() != Some(0) {
-        return Err(format!(
+        return Err(PrintError::Form(format!(
             "the printed value {printed} is not a polynomial in {}",
             q.var()
-        ));
+        )));
     }
     let p = rf.numerator().clone().with_var(q.var());
     let n = p.degree().unwrap_or(0).max(q.degree().unwrap_or(0));
@@ -464,8 +492,12 @@ fn compare_polynomial(
     }))
 }
 
-fn compare_symbolic(q: &MultiPoly, printed: &str, env: &Environment) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+fn compare_symbolic(
+    q: &MultiPoly,
+    printed: &str,
+    env: &Environment,
+) -> Result<Agreement, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
     let e = parse_expression(printed).map_err(syntax)?;
     let p = evaluate_with::<MultiPoly>(&e, env).map_err(syntax)?;
     let ok = &p == q;
@@ -482,8 +514,8 @@ fn compare_scalar(
     printed: &str,
     env: &Environment,
     digits: Option<i32>,
-) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+) -> Result<Agreement, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
     let e = parse_expression(printed).map_err(syntax)?;
     let p = evaluate_with::<Quadratic>(&e, env).map_err(syntax)?;
     Ok(agreement(close(x, &p, digits), digits, || {
@@ -491,15 +523,15 @@ fn compare_scalar(
     }))
 }
 
-fn compare_bool(b: &bool, printed: &str) -> Result<Agreement, String> {
+fn compare_bool(b: &bool, printed: &str) -> Result<Agreement, PrintError> {
     let t = printed.trim().to_lowercase();
     let p = match t.as_str() {
         "true" | "yes" | "observable" | "holds" => true,
         "false" | "no" | "unobservable" | "not observable" => false,
         _ => {
-            return Err(format!(
+            return Err(PrintError::Form(format!(
                 "expected yes/no (true, false, observable, unobservable), found '{printed}'"
-            ))
+            )))
         }
     };
     Ok(agreement(p == *b, None, || {
@@ -512,7 +544,7 @@ fn compare_roots(
     printed: &str,
     env: &Environment,
     digits: Option<i32>,
-) -> Result<Agreement, String> {
+) -> Result<Agreement, PrintError> {
     let mut p: Vec<Quadratic> = printed_rows(printed, env)?.into_iter().flatten().collect();
     let mut unmatched = Vec::new();
     for x in r {
@@ -540,8 +572,8 @@ fn compare_transfer(
     t: &RationalFunction<Rational>,
     printed: &str,
     env: &Environment,
-) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+) -> Result<Agreement, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
     let e = parse_expression(printed).map_err(syntax)?;
     let p = rational_function_with::<Rational>(&e, "s", Some(env)).map_err(syntax)?;
     Ok(agreement(&p == t, None, || {
@@ -553,7 +585,7 @@ fn compare_equations(
     eqs: &[MultiPoly],
     printed: &str,
     env: &Environment,
-) -> Result<Agreement, String> {
+) -> Result<Agreement, PrintError> {
     let parts: Vec<&str> = printed
         .split(';')
         .map(str::trim)
@@ -585,7 +617,7 @@ fn compare_conditions(
     conds: &[MultiPoly],
     printed: &str,
     env: &Environment,
-) -> Result<Agreement, String> {
+) -> Result<Agreement, PrintError> {
     let printed_conds: Vec<MultiPoly> = printed
         .split(';')
         .map(str::trim)
@@ -631,8 +663,8 @@ fn compare_approximate(
     printed: &str,
     env: &Environment,
     digits: Option<i32>,
-) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+) -> Result<Agreement, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
     let prows = parse_matrix_expressions(printed).map_err(syntax)?;
     let p: Vec<f64> = prows
         .iter()
@@ -668,14 +700,14 @@ fn compare_linear_system(
     m: &Matrix<Rational>,
     r: &Matrix<Rational>,
     printed: &str,
-) -> Result<Agreement, String> {
-    let syntax = |e: crate::syntax::SyntaxError| e.show_in(printed);
+) -> Result<Agreement, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
     let (lhs, rhs) = printed
         .split_once('=')
-        .ok_or_else(|| format!("expected 'M g = r', found '{printed}'"))?;
+        .ok_or_else(|| PrintError::Form(format!("expected 'M g = r', found '{printed}'")))?;
     let close_bracket = lhs
         .rfind(']')
-        .ok_or_else(|| format!("expected a matrix before the gain in '{lhs}'"))?;
+        .ok_or_else(|| PrintError::Form(format!("expected a matrix before the gain in '{lhs}'")))?;
     let pm = crate::syntax::parse_matrix::<Rational>(&lhs[..=close_bracket]).map_err(syntax)?;
     let pr = crate::syntax::parse_matrix::<Rational>(rhs.trim()).map_err(syntax)?;
     // a system of equations does not depend on the order of its rows
@@ -703,13 +735,13 @@ fn compare_linear_system(
 }
 
 /// `lhs = rhs` as the polynomial `lhs − rhs`.
-fn equation(text: &str, env: &Environment) -> Result<MultiPoly, String> {
-    let (l, r) = text
-        .split_once('=')
-        .ok_or_else(|| format!("expected an equation 'lhs = rhs', found '{text}'"))?;
-    let side = |s: &str| -> Result<MultiPoly, String> {
-        let e = parse_expression(s).map_err(|e| e.show_in(s))?;
-        evaluate_with::<MultiPoly>(&e, env).map_err(|e| e.show_in(s))
+fn equation(text: &str, env: &Environment) -> Result<MultiPoly, PrintError> {
+    let (l, r) = text.split_once('=').ok_or_else(|| {
+        PrintError::Form(format!("expected an equation 'lhs = rhs', found '{text}'"))
+    })?;
+    let side = |s: &str| -> Result<MultiPoly, PrintError> {
+        let e = parse_expression(s).map_err(|e| PrintError::syntax(e, s))?;
+        evaluate_with::<MultiPoly>(&e, env).map_err(|e| PrintError::syntax(e, s))
     };
     Ok(side(l)? - side(r)?)
 }

@@ -396,7 +396,7 @@ fn check(
         let agreement =
             compare(&computed.value, printed, &penv).map_err(|m| ComputeError::Input {
                 field: "printed".into(),
-                message: m,
+                message: m.to_string(),
             })?;
         Ok(Check {
             agreement,
