@@ -105,13 +105,20 @@ impl Report {
         let _ = self.text.write_fmt(args);
     }
 
-    /// The JSON answer: kept, and printed pretty.
+    /// The JSON answer: kept, and printed pretty. Its derivation (`"steps"`), if it has one,
+    /// is kept for typesetting too.
     pub fn json(&mut self, v: &serde_json::Value) {
         outln!(
             self,
             "{}",
             serde_json::to_string_pretty(v).unwrap_or_else(|_| "{}".into())
         );
+        if let Some(steps) = v
+            .get("steps")
+            .and_then(|s| serde_json::from_value::<Vec<Step>>(s.clone()).ok())
+        {
+            self.steps = steps;
+        }
         self.json = Some(v.clone());
     }
 

@@ -20,6 +20,7 @@ use std::path::PathBuf;
 #[cfg_attr(feature = "commands", derive(clap::Args))]
 pub struct Args {
     /// Examples to run (ids or file paths); all examples of the folder when none is given.
+    #[serde(default)]
     pub examples: Vec<String>,
     /// The folder of worked examples.
     #[cfg_attr(

@@ -1,0 +1,111 @@
+"""The Python package against the command line it mirrors and against python-control: the same
+request gives the same JSON as ``owb … --json``; exact gains agree with ``control.acker`` on
+well-conditioned cases; refusals are exceptions with the command line's message."""
+
+import json
+import os
+import subprocess
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import observer_workbench as owb
+
+REPO = Path(__file__).resolve().parents[2]
+OWB = os.environ.get("OWB_BINARY", str(REPO / "target" / "release" / "owb"))
+
+
+def owb_cli(*args):
+    if not Path(OWB).exists():
+        pytest.fail(f"the owb binary is needed for this comparison: build it (cargo build --release) or set OWB_BINARY; not found: {OWB}")
+    out = subprocess.run([OWB, *args], capture_output=True, text=True, cwd=REPO)
+    return out.returncode, out.stdout, out.stderr
+
+
+def test_to_json_is_the_command_lines_json():
+    cases = [
+        (owb.gain("[2 -3; 4 -5]", "[-3 2]", poles="-4, -5", convention="a+lc"),
+         ["gain", "--a", "[2 -3; 4 -5]", "--c", "[-3 2]", "--poles", "-4, -5", "--convention", "a+lc"]),
+        (owb.observe("[1 0; 0 2]", "[1 0]"), ["observe", "--a", "[1 0; 0 2]", "--c", "[1 0]"]),
+        (owb.discrete("[1 1; 0 1]", "[1 0]", deadbeat=True),
+         ["discrete", "--a", "[1 1; 0 1]", "--c", "[1 0]", "--deadbeat"]),
+        (owb.gain(tf="(s + 1)/(s^2 + 3s + 5)", itae=1),
+         ["gain", "--tf", "(s + 1)/(s^2 + 3s + 5)", "--itae", "1"]),
+    ]
+    for result, args in cases:
+        status, out, err = owb_cli(*args, "--json")
+        assert status == 0, err
+        assert result.to_json() == out
+        # and the text is the command line's text
+        status, out, err = owb_cli(*args)
+        assert str(result) == out
+
+
+def test_exact_gain_agrees_with_python_control_acker():
+    control = pytest.importorskip("control")
+    rng = np.random.default_rng(7)
+    for n in (2, 3, 4):
+        for _ in range(5):
+            a = rng.integers(-5, 6, size=(n, n))
+            c = rng.integers(-3, 4, size=(1, n))
+            o = np.vstack([c @ np.linalg.matrix_power(a, k) for k in range(n)])
+            if abs(np.linalg.det(o)) < 0.5:
+                continue  # unobservable or nearly so: acker is not the reference there
+            poles = [-(k + 1) for k in range(n)]
+            exact = owb.gain(a, c, poles=poles).gain
+            reference = control.acker(a.T.astype(float), c.T.astype(float), poles).T
+            got = np.array([[float(x) for x in row] for row in exact])
+            assert np.allclose(got, reference, rtol=1e-9, atol=1e-9), (a, c, got, reference)
+            assert all(isinstance(x, Fraction) for row in exact for x in row)
+
+
+def test_a_state_space_object_is_a_plant():
+    control = pytest.importorskip("control")
+    sys = control.ss([[0, 1], [-2, -3]], [[0], [1]], [[1, 0]], 0)
+    assert owb.gain(sys, poles=[-4, -5]).gain == [[Fraction(6)], [Fraction(0)]]
+    k = owb.kalman(sys, input_noise=1, output_noise=Fraction(1, 10))
+    assert k.data["kalman"]["residual"] < 1e-8
+
+
+def test_floats_are_read_as_the_decimals_they_print():
+    r = owb.gain(np.array([[0.1, 1.0], [-2.0, -3.0]]), [1, 0], poles=[-4, -5])
+    # A − KC with a11 = 1/10 exactly: K1 = 9 − 3 + 1/10 … the gain is rational, not a float
+    assert r.gain[0][0] == Fraction(61, 10)
+
+
+def test_refusals_raise_with_the_command_lines_message():
+    with pytest.raises(owb.WorkbenchError, match="in --a") as e:
+        owb.gain("[1 2; 3]", "[1 0]", poles="-1, -2")
+    status, _, err = owb_cli("gain", "--a", "[1 2; 3]", "--c", "[1 0]", "--poles", "-1, -2")
+    assert status == 2
+    assert str(e.value).splitlines()[0] == err.splitlines()[0].removeprefix("error: ")
+    with pytest.raises(owb.WorkbenchError, match="unknown key"):
+        owb.run("gain", a="[1]", c="[1]", poles="-1", polls="-2")
+
+
+def test_check_names_the_mistake_from_python_values():
+    wrong = owb.check("stoustrup-pole-assignment", {"L": np.array([[6], [12]])})
+    part = wrong.part("L")
+    assert part["verdict"] == "wrong"
+    assert part["mistake"] == "sign_convention"
+    right = owb.check("stoustrup-pole-assignment", {"L": [[-6], [-12]]})
+    assert right.part("L")["verdict"] == "correct"
+
+
+def test_radicals_stay_exact_and_sympy_reads_them():
+    sympy = pytest.importorskip("sympy")
+    r = owb.gain("[0 1; -2 -3]", "[1 0]", butterworth=1)
+    k = r.sympy("gain")
+    assert k == sympy.Matrix([[-3 + sympy.sqrt(2)], [8 - 3 * sympy.sqrt(2)]])
+    s = sympy.symbols("s")
+    assert owb.gain("[0 1; -2 -3]", "[1 0]", poly=(s + 4) * (s + 5)).gain == [[6], [0]]
+    assert r._repr_latex_().startswith("$$\\begin{aligned}")
+
+
+def test_json_requests_and_results_round_trip():
+    r = owb.run("observe", a=[[1, 0], [0, 2]], c=[1, 0])
+    assert json.loads(r.to_json()) == r.data
+    assert r.observable is False
+    assert r.unobservable_eigenvalues == [{"value": "2", "multiplicity": 1}]
