@@ -109,3 +109,15 @@ def test_json_requests_and_results_round_trip():
     assert json.loads(r.to_json()) == r.data
     assert r.observable is False
     assert r.unobservable_eigenvalues == [{"value": "2", "multiplicity": 1}]
+
+
+def test_the_autograding_notebook_runs_and_names_the_mistake():
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    path = REPO / "python" / "examples" / "autograde.ipynb"
+    nb = nbformat.read(path, as_version=4)
+    nbclient.NotebookClient(nb, timeout=120, kernel_name="python3").execute()
+    printed = "".join(
+        o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
+    )
+    assert "sign" in printed and "✘" in printed, printed
