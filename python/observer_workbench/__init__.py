@@ -58,6 +58,7 @@ version = _native.version()
 # ---- values in -------------------------------------------------------------------------------
 
 _RATIONAL = _re.compile(r"^-?\d+(/\d+)?$")
+_FLOAT = _re.compile(r"^-?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-?(inf|NaN)$")
 
 
 def _scalar(x: Any) -> str:
@@ -195,6 +196,9 @@ def _exact(v: Any) -> Any:
     """Rational strings as Fractions, recursively; other values as they are."""
     if isinstance(v, str) and _RATIONAL.match(v.strip()):
         return Fraction(v.strip())
+    if isinstance(v, str) and _FLOAT.match(v.strip()):
+        # the float path's results are written as floats (1.24e0): read back as floats
+        return float(v)
     if isinstance(v, list):
         return [_exact(x) for x in v]
     return v
@@ -247,6 +251,25 @@ class Result:
 
     def __repr__(self) -> str:
         return f"<observer_workbench.Result of {self._request['command']}: {sorted(self.data)}>"
+
+    def array(self, name: str):
+        """A matrix field as a NumPy float array (exact entries rounded to f64)."""
+        import numpy
+
+        def num(x):
+            x = _exact(x)
+            if isinstance(x, list):
+                return [num(y) for y in x]
+            if isinstance(x, str):
+                return complex(self_sympy(x)).real
+            return float(x)
+
+        def self_sympy(x):
+            import sympy
+
+            return sympy.N(sympy.sympify(x.replace("^", "**"), rational=True))
+
+        return numpy.array(num(self.data[name]), dtype=float)
 
     def sympy(self, name: str) -> Any:
         """A field as SymPy objects (matrices as ``sympy.Matrix``), radicals exact."""

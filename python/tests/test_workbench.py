@@ -121,3 +121,58 @@ def test_the_autograding_notebook_runs_and_names_the_mistake():
         o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
     )
     assert "sign" in printed and "✘" in printed, printed
+
+
+# ---- the float commands against python-control (the cross-checks, run every time) ------------
+
+
+def _random_system(rng, n, stable):
+    a = rng.normal(size=(n, n))
+    if stable:
+        a -= (max(np.linalg.eigvals(a).real) + 0.5) * np.eye(n)
+    b = rng.normal(size=(n, 1))
+    c = rng.normal(size=(1, n))
+    # two decimals, so that what owb reads is exactly what python-control gets
+    return np.round(a, 2), np.round(b, 2), np.round(c, 2)
+
+
+def test_dlqe_agrees_with_python_control():
+    control = pytest.importorskip("control")
+    rng = np.random.default_rng(11)
+    compared = 0
+    for n in (2, 3, 4):
+        for _ in range(4):
+            a, _, c = _random_system(rng, n, False)
+            a = np.round(a / (max(abs(np.linalg.eigvals(a))) + 0.1), 2)
+            g, qn, rn = np.eye(n), np.eye(n), np.array([[1.0]])
+            expected, p_expected, _ = control.dlqe(a, g, c, qn, rn)
+            r = owb.dlqe(a, c, qn=qn, rn=rn, g=g)
+            assert np.allclose(r.array("gain"), expected, rtol=1e-8, atol=1e-10), (a, c)
+            assert np.allclose(r.array("p"), p_expected, rtol=1e-8, atol=1e-10)
+            compared += 1
+    assert compared == 12
+
+
+def test_zoh_agrees_with_python_control_c2d():
+    control = pytest.importorskip("control")
+    rng = np.random.default_rng(12)
+    for n in (2, 3, 5):
+        for period in ("1/10", "1/2", "2"):
+            a, b, c = _random_system(rng, n, False)
+            t = float(Fraction(period))
+            expected = control.c2d(control.ss(a, b, c, 0), t, "zoh")
+            r = owb.zoh(a, b, period=period)
+            assert np.allclose(r.array("phi"), expected.A, rtol=1e-9, atol=1e-12), (a, period)
+            assert np.allclose(r.array("gamma"), expected.B, rtol=1e-9, atol=1e-12)
+
+
+def test_kalman_agrees_with_python_control_lqe():
+    control = pytest.importorskip("control")
+    rng = np.random.default_rng(13)
+    for n in (2, 3, 4):
+        for _ in range(3):
+            a, b, c = _random_system(rng, n, True)
+            expected, _, _ = control.lqe(a, b, c, 1.0, 0.1)
+            r = owb.kalman(a, b, c, input_noise=1, output_noise=Fraction(1, 10))
+            kalman = next(m for m in r.comparison if m["method"] == "kalman")
+            assert np.allclose(np.array(kalman["gain"]), expected, rtol=1e-8, atol=1e-10), (a, b, c)
