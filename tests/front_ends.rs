@@ -294,3 +294,47 @@ fn a_transfer_function_is_realised_exactly_in_observer_canonical_form() {
         assert!(err.contains(refusal), "{tf}: {err}");
     }
 }
+
+/// The playground's "any command" requests (as its script reads the `key = value` lines) each
+/// run, and the page offers every command the browser module runs.
+#[test]
+fn the_playgrounds_example_requests_all_run() {
+    use observer_workbench::api::{run, Command};
+    use observer_workbench::book::widgets::ANY_COMMAND_EXAMPLES;
+    let numbers = [
+        "output",
+        "starts",
+        "seed",
+        "grid",
+        "time-limit",
+        "tolerance",
+    ];
+    for (command, fields) in ANY_COMMAND_EXAMPLES {
+        let mut request = serde_json::json!({ "command": command });
+        for line in fields.lines() {
+            let (key, value) = line.split_once('=').unwrap();
+            let (key, value) = (key.trim(), value.trim());
+            request[key] = if value == "true" {
+                Value::Bool(true)
+            } else if numbers.contains(&key) {
+                // as JSON.stringify writes Number(value): 4, not 4.0
+                match value.parse::<u64>() {
+                    Ok(k) => serde_json::json!(k),
+                    Err(_) => serde_json::json!(value.parse::<f64>().unwrap()),
+                }
+            } else {
+                Value::String(value.into())
+            };
+        }
+        let c = Command::from_value(&request).unwrap_or_else(|e| panic!("{command}: {e}"));
+        let report = run(c).unwrap_or_else(|f| panic!("{command}: {:#}", f.error));
+        assert!(!report.text.is_empty(), "{command}");
+    }
+    let offered: Vec<&str> = ANY_COMMAND_EXAMPLES.iter().map(|(c, _)| *c).collect();
+    for name in Command::IN_MEMORY {
+        assert!(
+            name == "exercise" || offered.contains(&name),
+            "{name} not in the playground"
+        );
+    }
+}

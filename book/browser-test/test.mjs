@@ -308,6 +308,47 @@ await test("playground: gain, observability and canonical form print what owb pr
   await page.close();
 });
 
+await test("playground: every command runs in the page and prints what owb prints", async () => {
+  const page = await open(base + "workbench.html");
+  const box = page.locator(".owb-playground");
+  const commands = await box.locator(".owb-any-command option").evaluateAll((os) => os.map((o) => o.value));
+  assert.ok(commands.length >= 13, `commands in the page: ${commands}`);
+  for (const command of commands) {
+    await box.locator(".owb-any-command").selectOption(command);
+    const fields = await box.locator(".owb-any-fields").inputValue();
+    // the same request as a command line: --key value, a bare --key for true
+    const args = [command];
+    for (const line of fields.split("\n")) {
+      const at = line.indexOf("=");
+      if (at < 0) continue;
+      const key = line.slice(0, at).trim();
+      const value = line.slice(at + 1).trim();
+      args.push("--" + key);
+      if (value !== "true") args.push(value);
+    }
+    const ran = await box.getAttribute("data-any-ran");
+    await box.locator(".owb-any-run").click();
+    await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 60000 });
+    assert.equal(await box.locator(".owb-any-output").textContent(), owb(args), `${command}: the page differs from owb`);
+    (timings["any command, ms"] ||= []).push(Number(await box.getAttribute("data-any-ms")));
+  }
+  await page.close();
+});
+
+await test("exercise: typed answers are kept after a reload", async () => {
+  const page = await open(base + "gains.html");
+  const input = page.locator(`.owb-exercise[data-exercise-id="${stoustrup}"] .owb-part[data-part="L"] .owb-answer`);
+  await input.fill("[-6; -12]");
+  await page.reload();
+  await page.waitForFunction(() => document.documentElement.hasAttribute("data-owb-ready"), null, { timeout: 30000 });
+  assert.equal(await input.inputValue(), "[-6; -12]");
+  await input.fill("");
+  await page.reload();
+  await page.waitForFunction(() => document.documentElement.hasAttribute("data-owb-ready"), null, { timeout: 30000 });
+  assert.equal(await input.inputValue(), "", "a cleared answer stays cleared");
+  await page.close();
+});
+
 await browser.close();
 server.close();
 const median = (v) => [...v].sort((x, y) => x - y)[Math.floor(v.length / 2)];

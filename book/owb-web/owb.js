@@ -147,11 +147,34 @@
     });
   }
 
+  // Answers are kept in the browser (localStorage), per exercise, student and part, so a reload,
+  // a chapter link or Back loses nothing; where storage is refused (a private window, file://
+  // in some browsers) the page works as before.
+  function storageKey(form, student, part) {
+    return "owb-answer:" + form.getAttribute("data-exercise-id") + ":" + (student || "") + ":" + part;
+  }
+  function stored(key) {
+    try { return window.localStorage.getItem(key); } catch (e) { return null; }
+  }
+  function store(key, value) {
+    try {
+      if (value) window.localStorage.setItem(key, value);
+      else window.localStorage.removeItem(key);
+    } catch (e) { /* storage refused: nothing kept */ }
+  }
+
   function wireExercise(form, exerciseToml, student) {
     var fileBox = form.querySelector(".owb-answer-toml");
     var refresh = function () {
       if (fileBox) fileBox.textContent = answerFile(form, student);
     };
+    form.querySelectorAll(".owb-part").forEach(function (part) {
+      var input = part.querySelector(".owb-answer");
+      var key = storageKey(form, student, part.getAttribute("data-part"));
+      var kept = stored(key);
+      if (kept !== null && input.value === "") input.value = kept;
+      input.addEventListener("input", function () { store(key, input.value); });
+    });
     refresh();
     form.querySelectorAll(".owb-answer").forEach(function (input) {
       input.addEventListener("input", refresh);
@@ -263,6 +286,74 @@
 
   // ---- the playground -----------------------------------------------------------------------
 
+  // keys whose values are numbers in a request (the others are text in the workbench's syntax)
+  var NUMBER_KEYS = ["output", "starts", "seed", "grid", "time-limit", "tolerance",
+    "derivative-output", "derivative-state"];
+
+  // `key = value` lines as a request: {"command": …, key: value}; `true` for a flag
+  function requestOf(command, text) {
+    var request = { command: command };
+    text.split("\n").forEach(function (line) {
+      var at = line.indexOf("=");
+      if (line.trim() === "" || at < 0) return;
+      var key = line.slice(0, at).trim().replace(/^--/, "");
+      var value = line.slice(at + 1).trim();
+      if (value === "true") request[key] = true;
+      else if (NUMBER_KEYS.indexOf(key) >= 0 && value !== "" && !isNaN(Number(value))) request[key] = Number(value);
+      else request[key] = value;
+    });
+    return request;
+  }
+
+  function wordsOf(request) {
+    var words = [request.command];
+    Object.keys(request).forEach(function (key) {
+      if (key === "command") return;
+      words.push("--" + key);
+      if (request[key] !== true) words.push(String(request[key]));
+    });
+    return words;
+  }
+
+  function showRun(out, parts) {
+    parts.math.textContent = "";
+    if (out.latex) math(parts.math, out.latex, true);
+    parts.output.className = parts.outputClass + (out.status === 2 || out.error ? " owb-error" : "");
+    var text = out.output || "";
+    if (out.error) {
+      text += "error: " + out.error + "\n";
+      (out.causes || []).forEach(function (c) { text += "  caused by: " + c + "\n"; });
+    }
+    parts.output.textContent = text;
+  }
+
+  function wireAnyCommand(box) {
+    var select = box.querySelector(".owb-any-command");
+    if (!select) return;
+    var fields = box.querySelector(".owb-any-fields");
+    var fill = function () {
+      var option = select.options[select.selectedIndex];
+      if (option) fields.value = option.getAttribute("data-fields");
+    };
+    select.addEventListener("change", fill);
+    fill();
+    box.querySelector(".owb-any-run").addEventListener("click", function () {
+      var request = requestOf(select.value, fields.value);
+      workbench().then(function (owb) {
+        var started = performance.now();
+        var out = JSON.parse(owb.run(JSON.stringify(request)));
+        box.querySelector(".owb-any-command-line").textContent = "owb " + wordsOf(request).map(shellWord).join(" ");
+        showRun(out, {
+          math: box.querySelector(".owb-any-math"),
+          output: box.querySelector(".owb-any-output"),
+          outputClass: "owb-any-output",
+        });
+        box.setAttribute("data-any-ms", (performance.now() - started).toFixed(1));
+        box.setAttribute("data-any-ran", String(Number(box.getAttribute("data-any-ran") || 0) + 1));
+      });
+    });
+  }
+
   function wirePlayground(box) {
     var value = function (cls) { return box.querySelector(cls).value.trim(); };
     var command = box.querySelector(".owb-command");
@@ -303,6 +394,7 @@
         });
       });
     });
+    wireAnyCommand(box);
     var select = box.querySelector(".owb-example");
     var source = box.querySelector(".owb-example-toml");
     var fill = function () {

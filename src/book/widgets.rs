@@ -151,6 +151,7 @@ pub fn playground(examples: &[(String, String)]) -> String {
     out.push_str("<div class=\"owb-row\"><label>Method <select class=\"owb-method\"><option>ackermann</option><option>bass-gura</option><option>canonical</option></select></label> <label>Convention <select class=\"owb-pconvention\"><option value=\"a-kc\">A − KC</option><option value=\"a+lc\">A + LC</option></select></label> <label><input type=\"checkbox\" class=\"owb-float\" checked> float check</label></div>");
     out.push_str("<div class=\"owb-actions\"><button type=\"button\" data-run=\"gain\">Observer gain</button> <button type=\"button\" data-run=\"observe\">Observability</button> <button type=\"button\" data-run=\"canonical\">Canonical form</button></div>");
     out.push_str("<div class=\"owb-command\"></div><div class=\"owb-math\"></div><pre class=\"owb-output\"></pre>");
+    any_command(&mut out);
     out.push_str(
         "<h3>Verify a worked example</h3><div class=\"owb-row\"><select class=\"owb-example\">",
     );
@@ -166,6 +167,63 @@ pub fn playground(examples: &[(String, String)]) -> String {
     out.push_str("</select> <button type=\"button\" class=\"owb-verify\">Verify</button></div><textarea class=\"owb-example-toml\" rows=\"12\" spellcheck=\"false\"></textarea><pre class=\"owb-verify-output\"></pre>");
     out.push_str("<noscript>The playground needs JavaScript; the same commands run as <code>owb gain</code>, <code>owb observe</code>, <code>owb canonical</code> and <code>owb verify</code>.</noscript></div>");
     out
+}
+
+/// Every command the browser runs, with a request to start from: `key = value` lines, the keys
+/// named as the command line's flags (`true` for a flag without a value).
+pub const ANY_COMMAND_EXAMPLES: [(&str, &str); 13] = [
+    ("observe", "a = [0 1; -2 -3]\nc = [1 0]"),
+    ("canonical", "a = [2 -3; 4 -5]\nc = [-3 2]\nb = [1; 0]"),
+    (
+        "gain",
+        "a = [0 1; -2 -3]\nc = [1 0]\nitae = 1/2\nmethod = bass-gura",
+    ),
+    ("feedback", "a = [0 1; -2 -3]\nb = [0; 1]\npoles = -4, -5"),
+    (
+        "discrete",
+        "a = [1 1; 0 1]\nc = [1 0]\ndeadbeat = true\nestimator = current",
+    ),
+    ("zoh", "a = [0 1; 0 0]\nb = [0; 1]\nperiod = 1/10"),
+    (
+        "dlqe",
+        "a = [1 1; 0 1]\nc = [1 0]\nqn = [1 0; 0 1]\nrn = [1]",
+    ),
+    (
+        "reduced",
+        "a = [0 1 0; 0 0 1; -1 -2 -3]\nc = [1 0 0]\npoles = -5, -6",
+    ),
+    ("detectable", "a = [-1 0; 0 -2]\nc = [1 0]\npoles = -5"),
+    (
+        "control",
+        "tf = (s + 1)/(s^2 + 3s + 5)\nl = [6; 15]\nfeedback-poly = s^2 + 4s + 4",
+    ),
+    (
+        "optimal",
+        "a = [0 1 0; 0 0 1; -1 -2 -3]\nc = [1 0 0; 0 1 0]\npoles = -1, -2, -3\nstarts = 4",
+    ),
+    (
+        "kalman",
+        "a = [0 1; -2 -3]\nb = [0; 1]\nc = [1 0]\ninput-noise = 1\noutput-noise = 1/10",
+    ),
+    ("perfect", "a = [0 1; -2 -3]\nb = [0; 1]\nc = [1 0]"),
+];
+
+/// The playground's "any command" part: a command chosen, its request edited as `key = value`
+/// lines, run by the same function as the buttons above.
+fn any_command(out: &mut String) {
+    out.push_str("<h3>Any command</h3><div class=\"owb-row\"><label>Command <select class=\"owb-any-command\">");
+    for (command, fields) in ANY_COMMAND_EXAMPLES {
+        let _ = write!(
+            out,
+            "<option value=\"{command}\" data-fields=\"{}\">{command}</option>",
+            escape(fields)
+        );
+    }
+    out.push_str(
+        "</select></label> <button type=\"button\" class=\"owb-any-run\">Run</button></div>",
+    );
+    out.push_str("<label class=\"owb-any-label\">Request, one <code>key = value</code> per line (the keys are the command line's flags) <textarea class=\"owb-any-fields\" rows=\"6\" spellcheck=\"false\"></textarea></label>");
+    out.push_str("<div class=\"owb-any-command-line\"></div><div class=\"owb-any-math\"></div><pre class=\"owb-any-output\"></pre>");
 }
 
 #[cfg(test)]

@@ -49,22 +49,38 @@ impl<'a> Multistart<'a> {
         }
     }
 
-    /// The same search, starting no new start once `budget` has passed (from now).
+    /// The same search, starting no new start once `budget` has passed (from now). Where there
+    /// is no clock — the core's WebAssembly build, which the browser runs without JavaScript
+    /// bindings, where `Instant::now` panics — the count of starts alone bounds the search.
     #[must_use]
     pub fn within(mut self, budget: std::time::Duration) -> Self {
-        self.deadline = std::time::Instant::now().checked_add(budget);
+        self.deadline = now().and_then(|t| t.checked_add(budget));
         self
     }
 
     /// Whether the time budget is spent: no further start may begin.
     pub fn out_of_time(&self) -> bool {
-        self.deadline
-            .is_some_and(|d| std::time::Instant::now() >= d)
+        match (self.deadline, now()) {
+            (Some(d), Some(t)) => t >= d,
+            _ => false,
+        }
     }
 
     /// Called by the search after each start.
     pub fn started(&self) {
         (self.on_start)();
+    }
+}
+
+/// The time now, where the platform has a clock.
+fn now() -> Option<std::time::Instant> {
+    #[cfg(all(target_arch = "wasm32", target_os = "unknown"))]
+    {
+        None
+    }
+    #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+    {
+        Some(std::time::Instant::now())
     }
 }
 
