@@ -2,6 +2,7 @@
 //! (`what = …`, see [`Computation`]).
 
 use super::computation::{Computation, Identity};
+use super::compute_course as course;
 use super::inputs::{failed, input_error, lift, one_step, ComputeError, Computed, Inputs};
 use super::value::Value;
 use crate::algebra::{MultiPoly, Quadratic, Rational, Ring, Zero};
@@ -67,11 +68,13 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             simple(&title, Value::SymbolicPolynomial(p, var))
         }
         C::Eigenvalues => eigenvalues(inputs, &title),
-        C::CanonicalTransformation
-        | C::CanonicalTransformationInverse
-        | C::CanonicalA
-        | C::CanonicalB
-        | C::CanonicalC => canonical_matrix(inputs, &title),
+        C::CanonicalTransformation => canonical_matrix(inputs, &title, CanonicalPart::T),
+        C::CanonicalTransformationInverse => {
+            canonical_matrix(inputs, &title, CanonicalPart::TInverse)
+        }
+        C::CanonicalA => canonical_matrix(inputs, &title, CanonicalPart::A),
+        C::CanonicalB => canonical_matrix(inputs, &title, CanonicalPart::B),
+        C::CanonicalC => canonical_matrix(inputs, &title, CanonicalPart::C),
         C::DesiredPolynomial => {
             let d = inputs.desired()?;
             let p = d
@@ -106,17 +109,17 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             let f = state_feedback(&inputs.numeric("A")?, &inputs.numeric("B")?, &p)?;
             simple(&title, Value::Matrix(lift(&f)))
         }
-        C::ClosedLoopPoles
-        | C::ClosedLoopPolynomial
-        | C::ControllerTransferFunction
-        | C::ClosedLoopTransferFunction => closed_loop(inputs),
+        C::ClosedLoopPoles => closed_loop(inputs, LoopPart::Poles),
+        C::ClosedLoopPolynomial => closed_loop(inputs, LoopPart::Polynomial),
+        C::ControllerTransferFunction => closed_loop(inputs, LoopPart::Controller),
+        C::ClosedLoopTransferFunction => closed_loop(inputs, LoopPart::ClosedLoop),
         C::ObserverCharacteristicPolynomial => observer_polynomial(inputs, &title),
         C::GainEquations | C::PolePlacementConstraints => constraints(inputs, &title),
-        C::PerfectObserverE
-        | C::PerfectObserverF
-        | C::PerfectObserverInputMatrix
-        | C::PerfectObserverOutputMatrix
-        | C::PerfectObserverDeterminant => perfect(inputs),
+        C::PerfectObserverE => perfect(inputs, PerfectPart::E),
+        C::PerfectObserverF => perfect(inputs, PerfectPart::F),
+        C::PerfectObserverInputMatrix => perfect(inputs, PerfectPart::InputMatrix),
+        C::PerfectObserverOutputMatrix => perfect(inputs, PerfectPart::OutputMatrix),
+        C::PerfectObserverDeterminant => perfect(inputs, PerfectPart::Determinant),
         C::Identity => identity(inputs, &title),
         C::MinimumNormGain | C::MinimumNormCost => optimal::minimum_norm(inputs, &title),
         C::DynamicalErrorCost | C::MinimalDynamicalErrorCost => {
@@ -129,18 +132,27 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
         C::PerfectObserverRobustness | C::PerfectObserverFits => {
             optimal::perfect_robustness(inputs, &title)
         }
-        C::DiscreteGain | C::CurrentGain | C::DiscreteErrorPolynomial | C::DeadbeatSteps => {
-            super::compute_course::discrete(inputs, &title)
+        C::DiscreteGain => course::discrete(inputs, &title, course::DiscretePart::Gain),
+        C::CurrentGain => course::discrete(inputs, &title, course::DiscretePart::CurrentGain),
+        C::DiscreteErrorPolynomial => {
+            course::discrete(inputs, &title, course::DiscretePart::ErrorPolynomial)
         }
-        C::ZohPhi | C::ZohGamma => super::compute_course::zoh(inputs, &title),
-        C::ReducedOrderGain | C::ReducedOrderErrorPolynomial | C::ReducedOrderNoiseGain => {
-            super::compute_course::reduced(inputs, &title)
+        C::DeadbeatSteps => course::discrete(inputs, &title, course::DiscretePart::DeadbeatSteps),
+        C::ZohPhi => course::zoh(inputs, &title, course::ZohPart::Phi),
+        C::ZohGamma => course::zoh(inputs, &title, course::ZohPart::Gamma),
+        C::ReducedOrderGain => course::reduced(inputs, &title, course::ReducedPart::Gain),
+        C::ReducedOrderErrorPolynomial => {
+            course::reduced(inputs, &title, course::ReducedPart::ErrorPolynomial)
         }
-        C::Detectable | C::DetectableGain | C::DetectableObserverPolynomial => {
-            super::compute_course::detectable(inputs, &title)
+        C::ReducedOrderNoiseGain => course::reduced(inputs, &title, course::ReducedPart::NoiseGain),
+        C::Detectable => course::detectable(inputs, &title, course::DetectablePart::Verdict),
+        C::DetectableGain => course::detectable(inputs, &title, course::DetectablePart::Gain),
+        C::DetectableObserverPolynomial => {
+            course::detectable(inputs, &title, course::DetectablePart::ObserverPolynomial)
         }
-        C::DiscreteKalmanGain | C::DiscreteKalmanCovariance => {
-            super::compute_course::discrete_kalman(inputs, &title)
+        C::DiscreteKalmanGain => course::discrete_kalman(inputs, &title, course::KalmanPart::Gain),
+        C::DiscreteKalmanCovariance => {
+            course::discrete_kalman(inputs, &title, course::KalmanPart::Covariance)
         }
     }
 }
@@ -205,15 +217,29 @@ fn eigenvalues(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     })
 }
 
+/// Which matrix of the observer canonical form a claim asks for.
+#[derive(Clone, Copy)]
+enum CanonicalPart {
+    T,
+    TInverse,
+    A,
+    B,
+    C,
+}
+
 /// One matrix of the observer canonical form, with the whole form as working.
-fn canonical_matrix(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+fn canonical_matrix(
+    inputs: &Inputs,
+    title: &str,
+    part: CanonicalPart,
+) -> Result<Computed, ComputeError> {
     let f = canonical(inputs)?;
-    let m = match inputs.claim.what {
-        Computation::CanonicalTransformation => &f.t,
-        Computation::CanonicalTransformationInverse => &f.t_inv,
-        Computation::CanonicalA => &f.a,
-        Computation::CanonicalB => &f.b,
-        _ => &f.c,
+    let m = match part {
+        CanonicalPart::T => &f.t,
+        CanonicalPart::TInverse => &f.t_inv,
+        CanonicalPart::A => &f.a,
+        CanonicalPart::B => &f.b,
+        CanonicalPart::C => &f.c,
     };
     let mut d = Derivation::new(title);
     d.push("O_n", "", &f.test_matrix);
@@ -242,21 +268,28 @@ fn canonical_gain_claim(inputs: &Inputs, title: &str) -> Result<Computed, Comput
     simple(title, Value::Matrix(g.matrix))
 }
 
+/// What of observer-based control a claim asks for.
+#[derive(Clone, Copy)]
+enum LoopPart {
+    Poles,
+    Polynomial,
+    Controller,
+    ClosedLoop,
+}
+
 /// Observer-based control: the closed loop's poles or polynomial, or a transfer function.
-fn closed_loop(inputs: &Inputs) -> Result<Computed, ComputeError> {
+fn closed_loop(inputs: &Inputs, part: LoopPart) -> Result<Computed, ComputeError> {
     let l = inputs.observer_gain_a_plus_lc()?;
     let r = observer_based_control(&inputs.plant()?, &inputs.numeric("feedback")?, &l)?;
-    let value = match inputs.claim.what {
-        Computation::ClosedLoopPoles => {
-            Value::Roots(with_multiplicity(&exact_roots(&r.closed_loop_polynomial)))
-        }
-        Computation::ClosedLoopPolynomial => Value::Polynomial(
+    let value = match part {
+        LoopPart::Poles => Value::Roots(with_multiplicity(&exact_roots(&r.closed_loop_polynomial))),
+        LoopPart::Polynomial => Value::Polynomial(
             r.closed_loop_polynomial
                 .map(|x| Quadratic::rational(x.clone()))
                 .with_var(&inputs.var()),
         ),
-        Computation::ControllerTransferFunction => Value::Transfer(r.controller.clone()),
-        _ => Value::Transfer(r.closed_loop.clone()),
+        LoopPart::Controller => Value::Transfer(r.controller.clone()),
+        LoopPart::ClosedLoop => Value::Transfer(r.closed_loop.clone()),
     };
     Ok(Computed {
         value,
@@ -285,15 +318,25 @@ fn observer_polynomial(inputs: &Inputs, title: &str) -> Result<Computed, Compute
     })
 }
 
+/// Which part of the perfect observer a claim asks for.
+#[derive(Clone, Copy)]
+enum PerfectPart {
+    E,
+    F,
+    InputMatrix,
+    OutputMatrix,
+    Determinant,
+}
+
 /// One matrix of the perfect observer, or its pencil's determinant.
-fn perfect(inputs: &Inputs) -> Result<Computed, ComputeError> {
+fn perfect(inputs: &Inputs, part: PerfectPart) -> Result<Computed, ComputeError> {
     let p = perfect_observer(&inputs.plant()?)?;
-    let value = match inputs.claim.what {
-        Computation::PerfectObserverE => Value::Matrix(lift(&p.e)),
-        Computation::PerfectObserverF => Value::Matrix(lift(&p.f)),
-        Computation::PerfectObserverInputMatrix => Value::Matrix(lift(&p.input_matrix)),
-        Computation::PerfectObserverOutputMatrix => Value::Matrix(lift(&p.output_matrix)),
-        _ => Value::Polynomial(
+    let value = match part {
+        PerfectPart::E => Value::Matrix(lift(&p.e)),
+        PerfectPart::F => Value::Matrix(lift(&p.f)),
+        PerfectPart::InputMatrix => Value::Matrix(lift(&p.input_matrix)),
+        PerfectPart::OutputMatrix => Value::Matrix(lift(&p.output_matrix)),
+        PerfectPart::Determinant => Value::Polynomial(
             p.pencil_determinant
                 .map(|x| Quadratic::rational(x.clone()))
                 .with_var(&inputs.var()),

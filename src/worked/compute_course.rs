@@ -22,8 +22,65 @@ fn estimator(inputs: &Inputs) -> Result<Estimator, ComputeError> {
     }
 }
 
+/// What of a discrete-time observer a claim asks for.
+#[derive(Clone, Copy)]
+pub enum DiscretePart {
+    /// `discrete_gain`.
+    Gain,
+    /// `current_gain`.
+    CurrentGain,
+    /// `discrete_error_polynomial`.
+    ErrorPolynomial,
+    /// `deadbeat_steps`.
+    DeadbeatSteps,
+}
+
+/// Which matrix of the sampled plant.
+#[derive(Clone, Copy)]
+pub enum ZohPart {
+    /// `zoh_phi`.
+    Phi,
+    /// `zoh_gamma`.
+    Gamma,
+}
+
+/// What of a reduced-order observer.
+#[derive(Clone, Copy)]
+pub enum ReducedPart {
+    /// `reduced_order_gain`.
+    Gain,
+    /// `reduced_order_error_polynomial`.
+    ErrorPolynomial,
+    /// `reduced_order_noise_gain`.
+    NoiseGain,
+}
+
+/// What of a detectability design.
+#[derive(Clone, Copy)]
+pub enum DetectablePart {
+    /// `detectable`.
+    Verdict,
+    /// `detectable_gain`.
+    Gain,
+    /// `detectable_observer_polynomial`.
+    ObserverPolynomial,
+}
+
+/// What of the discrete Kalman filter.
+#[derive(Clone, Copy)]
+pub enum KalmanPart {
+    /// `discrete_kalman_gain`.
+    Gain,
+    /// `discrete_kalman_covariance`.
+    Covariance,
+}
+
 /// `discrete_gain`, `current_gain`, `deadbeat_steps`, `discrete_error_polynomial`.
-pub fn discrete(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+pub fn discrete(
+    inputs: &Inputs,
+    title: &str,
+    part: DiscretePart,
+) -> Result<Computed, ComputeError> {
     let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);
     let convention = inputs.convention(Convention::AMinusKC)?;
     let d = discrete_observer(
@@ -36,17 +93,19 @@ pub fn discrete(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> 
         Detail::Full,
     )
     .map_err(|e| failed(e.to_string()))?;
-    let value = match inputs.claim.what {
-        Computation::DiscreteGain => Value::Matrix(d.design.gain.matrix.clone()),
-        Computation::CurrentGain => Value::Matrix(d.current_gain.clone().ok_or_else(|| {
+    let value = match part {
+        DiscretePart::Gain => Value::Matrix(d.design.gain.matrix.clone()),
+        DiscretePart::CurrentGain => Value::Matrix(d.current_gain.clone().ok_or_else(|| {
             input_error("estimator", "current_gain needs estimator = \"current\"")
         })?),
-        Computation::DeadbeatSteps => Value::Scalar(Quadratic::rational(Rational::from_integer(
+        DiscretePart::DeadbeatSteps => Value::Scalar(Quadratic::rational(Rational::from_integer(
             d.nilpotent_index
                 .ok_or_else(|| failed("the error matrix is not nilpotent: no dead-beat"))?
                 .into(),
         ))),
-        _ => Value::Polynomial(d.error_polynomial.with_var(&inputs.var())),
+        DiscretePart::ErrorPolynomial => {
+            Value::Polynomial(d.error_polynomial.with_var(&inputs.var()))
+        }
     };
     let mut derivation = d.derivation;
     derivation.title = title.to_string();
@@ -54,7 +113,7 @@ pub fn discrete(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> 
 }
 
 /// `zoh_phi`, `zoh_gamma`: exact when A is nilpotent.
-pub fn zoh(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+pub fn zoh(inputs: &Inputs, title: &str, part: ZohPart) -> Result<Computed, ComputeError> {
     let t = inputs
         .claim
         .period
@@ -65,7 +124,10 @@ pub fn zoh(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
         .map_err(|e| failed(e.to_string()))?
     {
         Sampled::Exact { phi, gamma, index } => {
-            let m = if inputs.claim.what == Computation::ZohPhi { phi } else { gamma };
+            let m = match part {
+                ZohPart::Phi => phi,
+                ZohPart::Gamma => gamma,
+            };
             let mut d = crate::derivation::Derivation::new(title);
             d.push(
                 &format!("A^{index}"),
@@ -85,7 +147,7 @@ pub fn zoh(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
 }
 
 /// `reduced_order_gain`, `reduced_order_error_polynomial`, `reduced_order_noise_gain`.
-pub fn reduced(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+pub fn reduced(inputs: &Inputs, title: &str, part: ReducedPart) -> Result<Computed, ComputeError> {
     let b = if inputs.has("B") {
         Some(inputs.numeric("B")?)
     } else {
@@ -101,10 +163,12 @@ pub fn reduced(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     )
     .map_err(|e| failed(e.to_string()))?;
     let convention = inputs.convention(Convention::AMinusKC)?;
-    let value = match inputs.claim.what {
-        Computation::ReducedOrderGain => Value::Matrix(r.gain(convention)),
-        Computation::ReducedOrderNoiseGain => Value::Scalar(r.noise_gain.clone()),
-        _ => Value::Polynomial(r.error_polynomial.with_var(&inputs.var())),
+    let value = match part {
+        ReducedPart::Gain => Value::Matrix(r.gain(convention)),
+        ReducedPart::NoiseGain => Value::Scalar(r.noise_gain.clone()),
+        ReducedPart::ErrorPolynomial => {
+            Value::Polynomial(r.error_polynomial.with_var(&inputs.var()))
+        }
     };
     let mut derivation = r.derivation;
     derivation.title = title.to_string();
@@ -112,7 +176,11 @@ pub fn reduced(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
 }
 
 /// `detectable`, `fixed_poles`, `detectable_gain`.
-pub fn detectable(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+pub fn detectable(
+    inputs: &Inputs,
+    title: &str,
+    part: DetectablePart,
+) -> Result<Computed, ComputeError> {
     let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);
     let report = crate::observability::observability_report(&a, &c)?;
     if inputs.claim.what == Computation::Detectable {
@@ -138,10 +206,12 @@ pub fn detectable(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError
         inputs.convention(Convention::AMinusKC)?,
     )
     .map_err(|e| failed(e.to_string()))?;
-    let value = match inputs.claim.what {
-        Computation::Detectable => Value::Bool(d.detectable),
-        Computation::DetectableGain => Value::Matrix(d.gain.clone()),
-        _ => Value::Polynomial(d.observer_polynomial.with_var(&inputs.var())),
+    let value = match part {
+        DetectablePart::Verdict => Value::Bool(d.detectable),
+        DetectablePart::Gain => Value::Matrix(d.gain.clone()),
+        DetectablePart::ObserverPolynomial => {
+            Value::Polynomial(d.observer_polynomial.with_var(&inputs.var()))
+        }
     };
     let mut derivation = d.derivation;
     derivation.title = title.to_string();
@@ -150,7 +220,11 @@ pub fn detectable(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError
 
 /// `discrete_kalman_gain`, `discrete_kalman_covariance`: exact when the Riccati solution read
 /// back as fractions satisfies the equation exactly, otherwise the f64 solution.
-pub fn discrete_kalman(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+pub fn discrete_kalman(
+    inputs: &Inputs,
+    title: &str,
+    part: KalmanPart,
+) -> Result<Computed, ComputeError> {
     let k = crate::observer::discrete_kalman::discrete_kalman(
         &inputs.numeric("A")?,
         &inputs.numeric("G")?,
@@ -159,7 +233,10 @@ pub fn discrete_kalman(inputs: &Inputs, title: &str) -> Result<Computed, Compute
         &inputs.numeric("Rn")?,
     )
     .map_err(|e| failed(e.to_string()))?;
-    let gain = inputs.claim.what == Computation::DiscreteKalmanGain;
+    let gain = match part {
+        KalmanPart::Gain => true,
+        KalmanPart::Covariance => false,
+    };
     let mut d = crate::derivation::Derivation::new(title);
     let value = match (&k.exact_p, &k.exact_gain) {
         (Some(p), Some(l)) => {
