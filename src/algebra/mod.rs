@@ -13,11 +13,13 @@
 //!
 //! Exactness is a property of the type ([`Ring::EXACT`]); tolerances never appear in exact code.
 
+mod fraction;
 pub(crate) mod gcd;
 mod multivariate;
 mod quadratic;
 mod scalars;
 
+pub use fraction::Fraction;
 pub use gcd::{fraction, gcd, lcm_of_denominators};
 pub(crate) use multivariate::latex_symbol;
 pub use multivariate::{DivisionTooCostly, Monomial, MultiPoly};
@@ -131,4 +133,14 @@ pub fn factor_small(n: u64, limit: u64) -> Option<Vec<(u64, u32)>> {
 pub trait ToF64 {
     /// The nearest `f64` (as near as the conversion can tell).
     fn to_f64(&self) -> f64;
+}
+
+/// Moves a value computed for a concrete type back into the generic type `T` (which is it): how a
+/// generic algorithm hands a computation to a specialised path (the rational fraction-free path
+/// of a generic matrix product) and takes the result back.
+pub fn from_concrete<T: 'static, S: 'static>(value: S) -> Option<T> {
+    (Box::new(value) as Box<dyn std::any::Any>)
+        .downcast::<T>()
+        .ok()
+        .map(|b| *b)
 }

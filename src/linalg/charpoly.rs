@@ -81,7 +81,7 @@ pub fn characteristic_polynomial<F: Field>(
     if let Some(r) = quadratic.and_then(super::rational_entries) {
         let p = characteristic_polynomial(&r, var)?;
         let lifted = p.map(|c| crate::algebra::Quadratic::rational(c.clone()));
-        if let Some(p) = super::from_rational::<Poly<F>, _>(lifted) {
+        if let Some(p) = crate::algebra::from_concrete::<Poly<F>, _>(lifted) {
             return Ok(p);
         }
     }
@@ -105,7 +105,7 @@ fn integer_charpoly<D: Ring>(a: &Matrix<D>, var: &str) -> Result<Poly<D>, Linalg
         let big = (a as &dyn std::any::Any).downcast_ref::<Matrix<num_bigint::BigInt>>();
         if let Some(p) = big
             .map(|m| Poly::new(super::modular::charpoly_integer(m), var))
-            .and_then(super::from_rational::<Poly<D>, _>)
+            .and_then(crate::algebra::from_concrete::<Poly<D>, _>)
         {
             return Ok(p);
         }
@@ -142,7 +142,8 @@ pub fn polynomial_times_vector<R: Ring>(
     let as_poly = (p as &dyn std::any::Any).downcast_ref::<Poly<crate::algebra::Rational>>();
     if let (Some(qp), Some(qa), Some(qv)) = (as_poly, super::as_rational(a), super::as_rational(v))
     {
-        if let Some(r) = super::from_rational(super::rational::polynomial_times_vector(qp, qa, qv))
+        if let Some(r) =
+            crate::algebra::from_concrete(super::rational::polynomial_times_vector(qp, qa, qv))
         {
             return Ok(r);
         }

@@ -118,7 +118,7 @@ pub fn determinant<F: Field>(a: &Matrix<F>) -> Result<F, LinalgError> {
     if n >= super::MODULAR_FROM_ORDER {
         if let Some(d) = super::as_rational(a)
             .map(super::modular::determinant_rational)
-            .and_then(super::from_rational)
+            .and_then(crate::algebra::from_concrete)
         {
             return Ok(d);
         }
@@ -159,7 +159,9 @@ pub fn solve<F: Field>(a: &Matrix<F>, b: &Matrix<F>) -> Result<Matrix<F>, Linalg
     let k = b.cols();
     if n >= super::MODULAR_FROM_ORDER {
         if let (Some(qa), Some(qb)) = (super::as_rational(a), super::as_rational(b)) {
-            if let Some(x) = super::modular::solve_rational(qa, qb).and_then(super::from_rational) {
+            if let Some(x) =
+                super::modular::solve_rational(qa, qb).and_then(crate::algebra::from_concrete)
+            {
                 return Ok(x);
             }
         }

@@ -195,7 +195,7 @@ impl<T: Ring> Matrix<T> {
     pub fn add(&self, other: &Self) -> Result<Self, LinalgError> {
         self.check_same(other, "sum")?;
         if let (Some(x), Some(y)) = (super::as_rational(self), super::as_rational(other)) {
-            if let Some(r) = super::from_rational(super::rational::add(x, y, false)) {
+            if let Some(r) = crate::algebra::from_concrete(super::rational::add(x, y, false)) {
                 return Ok(r);
             }
         }
@@ -207,7 +207,7 @@ impl<T: Ring> Matrix<T> {
     pub fn sub(&self, other: &Self) -> Result<Self, LinalgError> {
         self.check_same(other, "difference")?;
         if let (Some(x), Some(y)) = (super::as_rational(self), super::as_rational(other)) {
-            if let Some(r) = super::from_rational(super::rational::add(x, y, true)) {
+            if let Some(r) = crate::algebra::from_concrete(super::rational::add(x, y, true)) {
                 return Ok(r);
             }
         }
@@ -225,7 +225,7 @@ impl<T: Ring> Matrix<T> {
             return Err(self.mismatch(other, "product"));
         }
         if let (Some(x), Some(y)) = (super::as_rational(self), super::as_rational(other)) {
-            if let Some(r) = super::from_rational(super::rational::mul(x, y)) {
+            if let Some(r) = crate::algebra::from_concrete(super::rational::mul(x, y)) {
                 return Ok(r);
             }
         }

@@ -50,14 +50,6 @@ pub fn rational_entries(
         .then(|| m.map(|x| x.as_rational().cloned().unwrap_or_default()))
 }
 
-/// Moves a value computed for a concrete type back into the generic type `T` (which is it).
-pub fn from_rational<T: 'static, S: 'static>(value: S) -> Option<T> {
-    (Box::new(value) as Box<dyn std::any::Any>)
-        .downcast::<T>()
-        .ok()
-        .map(|b| *b)
-}
-
 /// The largest matrix order the exact algorithms accept; larger inputs are refused with
 /// [`LinalgError::TooLarge`] instead of running for hours.
 pub const MAX_EXACT_ORDER: usize = 200;

@@ -247,10 +247,10 @@ pub fn ackermann_gain<F: Field>(
         if let (Some(qa), Some(qc), Some(qp)) = (
             linalg::as_rational(a),
             linalg::as_rational(c),
-            crate::linalg::from_rational::<Poly<Rational>, _>(desired.clone()),
+            crate::algebra::from_concrete::<Poly<Rational>, _>(desired.clone()),
         ) {
             if let Some(k) = super::ackermann_exact::ackermann_gain_rational(qa, qc, qp.coeffs())
-                .and_then(crate::linalg::from_rational::<Matrix<F>, _>)
+                .and_then(crate::algebra::from_concrete::<Matrix<F>, _>)
             {
                 return Ok(k);
             }

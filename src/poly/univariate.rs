@@ -47,10 +47,10 @@ impl<R: Ring> Poly<R> {
         };
         let back: Poly<Rational> = Poly::new(result, &self.var);
         if (self as &dyn Any).is::<Poly<Rational>>() {
-            return crate::linalg::from_rational(back).map(Some);
+            return crate::algebra::from_concrete(back).map(Some);
         }
         let quadratic = back.coeffs.into_iter().map(Quadratic::rational).collect();
-        crate::linalg::from_rational(Poly::new(quadratic, &self.var)).map(Some)
+        crate::algebra::from_concrete(Poly::new(quadratic, &self.var)).map(Some)
     }
     /// The polynomial with coefficients `coeffs` (ascending powers) in `var`.
     pub fn new(mut coeffs: Vec<R>, var: &str) -> Self {

@@ -698,6 +698,35 @@ impl FromExpr for f64 {
     }
 }
 
+impl FromExpr for crate::algebra::Fraction {
+    const TARGET: &'static str = "a rational function of the symbols";
+    fn from_rational(r: Rational) -> Self {
+        crate::algebra::Fraction::of(MultiPoly::constant(r))
+    }
+    fn symbol(name: &str) -> Option<Self> {
+        Some(crate::algebra::Fraction::symbol(name))
+    }
+    fn imaginary_unit() -> Option<Self> {
+        Some(crate::algebra::Fraction::quadratic(
+            &Quadratic::imaginary_unit(),
+        ))
+    }
+    fn sqrt_of(r: &Rational) -> Result<Self, SqrtRefused> {
+        Ok(crate::algebra::Fraction::quadratic(
+            &Quadratic::sqrt_of_rational(r)?,
+        ))
+    }
+    fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
+        self.checked_div(divisor).ok_or(DivisionRefused::ByZero)
+    }
+    fn size_bits(&self) -> u64 {
+        self.num.size_bits() + self.den.size_bits()
+    }
+    fn term_count(&self) -> u64 {
+        self.num.term_count().max(self.den.term_count())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

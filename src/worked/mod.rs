@@ -15,11 +15,14 @@ mod compute_optimal;
 pub mod coverage;
 mod format;
 mod inputs;
+mod load;
 mod matrix_expression;
+mod outcome;
 pub mod proof;
 mod report;
 mod scenario;
 mod value;
+mod verdicts;
 mod verify;
 
 pub use computation::{Computation, Identity};
@@ -29,13 +32,12 @@ pub use format::{
     SystemSpec,
 };
 pub use inputs::{ComputeError, Computed, Inputs};
+pub use load::{load_example, load_folder, parse_example, WorkedError};
+pub(crate) use load::{locate, toml_field};
+pub use outcome::{ClaimReport, ExampleReport, Summary, Verdict};
 pub use report::{
     errata_markdown, errata_markdown_titled, render_derivations, render_table, report_json,
 };
 pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
 pub use value::{compare, Agreement, PrintError, Value};
-pub use verify::{
-    load_example, load_folder, parse_example, verify_example, ClaimReport, ExampleReport, Summary,
-    Verdict, WorkedError,
-};
-pub(crate) use verify::{locate, toml_field};
+pub use verify::verify_example;

@@ -1,6 +1,6 @@
 //! Rendering verification reports: the terminal table, the stable JSON, the errata markdown.
 
-use super::verify::{ExampleReport, Summary, Verdict};
+use super::outcome::{ExampleReport, Summary, Verdict};
 use serde_json::json;
 
 fn one_line(s: &str) -> String {
@@ -142,7 +142,7 @@ pub fn errata_markdown_titled(
          workbench (a corrected value that holds, the parameter that reproduces the print, the \
          tolerance an approximate value meets, or every reading of an undefined value).*\n\n",
     );
-    type Belongs = dyn Fn(&super::verify::ClaimReport) -> bool;
+    type Belongs = dyn Fn(&super::outcome::ClaimReport) -> bool;
     let groups: [(&str, &Belongs); 5] = [
         ("Misprints that change a result", &|c| {
             c.verdict == Verdict::Erratum && c.severity != Some(Severity::Notation)
@@ -178,7 +178,7 @@ pub fn errata_markdown_titled(
             None => out.push_str(&format!("## `{doc}`\n\n")),
         }
         for (heading, belongs) in &groups {
-            let items: Vec<(&ExampleReport, &super::verify::ClaimReport)> = mine
+            let items: Vec<(&ExampleReport, &super::outcome::ClaimReport)> = mine
                 .iter()
                 .flat_map(|r| r.claims.iter().filter(|c| belongs(c)).map(move |c| (*r, c)))
                 .collect();

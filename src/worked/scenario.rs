@@ -3,8 +3,8 @@
 use super::compute::compute;
 use super::format::{ExampleFile, ScenarioSpec};
 use super::inputs::Inputs;
+use super::load::WorkedError;
 use super::value::Value;
-use super::verify::WorkedError;
 use crate::algebra::{Quadratic, Rational};
 use crate::linalg::Matrix;
 use crate::observer::perfect::perfect_observer;
@@ -184,7 +184,7 @@ pub fn run_scenarios(
 fn error(file: &str, raw: &str, scenario: &str, field: &str, message: String) -> WorkedError {
     WorkedError {
         file: file.to_string(),
-        line: super::verify::locate(raw, Some(("name", scenario)), field),
+        line: super::load::locate(raw, Some(("name", scenario)), field),
         field: format!("scenarios.{scenario}.{field}"),
         message,
     }
