@@ -12,8 +12,7 @@
 use crate::algebra::{Field, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
-use crate::observability::ObservabilityError;
-use crate::observer::{ackermann_gain, DesignError};
+use crate::observer::DesignError;
 use crate::poly::{Factored, Poly, RationalFunction};
 use crate::system::StateSpace;
 
@@ -36,18 +35,13 @@ pub enum ControlError {
         /// Outputs.
         outputs: usize,
     },
-    /// The pair `(A, B)` is not controllable (found on the dual pair `(Aᵀ, Bᵀ)`).
-    #[error("the pair (A, B) is not controllable: rank of the controllability matrix is {rank}, the order is {order}; uncontrollable left direction {direction}{}", uncontrollable_modes(.modes))]
-    Uncontrollable {
-        /// Rank of `[B, AB, …]`.
-        rank: usize,
-        /// Order `n`.
-        order: usize,
-        /// A row vector `w ≠ 0` with `w [B, AB, …] = 0`, printed.
-        direction: String,
-        /// The uncontrollable eigenvalues, when known exactly.
-        modes: Option<String>,
-    },
+    /// The desired polynomial does not fit the plant (its degree is not the order).
+    #[error(transparent)]
+    Polynomial(#[from] crate::observer::polynomial::PolynomialError),
+    /// The state feedback refused (an uncontrollable pair, its modes named; a polynomial of
+    /// the wrong degree).
+    #[error(transparent)]
+    Feedback(#[from] crate::feedback::FeedbackError),
     /// The plant has a direct feedthrough, which the observer-based controller here leaves out.
     #[error("the plant has a direct feedthrough D = {0}: the observer-based controller analysed here assumes D = 0")]
     Feedthrough(String),
@@ -56,17 +50,9 @@ pub enum ControlError {
     DegenerateLoop,
 }
 
-fn uncontrollable_modes(modes: &Option<String>) -> String {
-    match modes {
-        Some(m) => {
-            format!("; uncontrollable eigenvalues {m}: no state feedback can move these modes")
-        }
-        None => String::new(),
-    }
-}
-
-/// State feedback `F` (row) placing the eigenvalues of `A + BF` at the roots of `desired`
-/// (Ackermann on the dual pair `(Aᵀ, Bᵀ)`).
+/// State feedback `F` (row) placing the eigenvalues of `A + BF` at the roots of `desired`: the
+/// gain of [`crate::feedback::design_feedback`] (by duality, Ackermann, `u = F x`) without its
+/// working — one state-feedback design in the crate.
 ///
 /// # Example
 /// ```
@@ -80,31 +66,30 @@ fn uncontrollable_modes(modes: &Option<String>) -> String {
 /// ```
 ///
 /// # Errors
-/// [`ControlError::Design`] for an uncontrollable pair or a polynomial of the wrong degree.
-pub fn state_feedback<F: Field>(
-    a: &Matrix<F>,
-    b: &Matrix<F>,
-    desired: &Poly<F>,
-) -> Result<Matrix<F>, ControlError> {
-    let at = a.transpose();
-    let bt = b.transpose();
-    // (A + BF)ᵀ = Aᵀ − (−Fᵀ) Bᵀ: K for the dual in A − KC, F = −Kᵀ.
-    let k = ackermann_gain(&at, &bt, desired).map_err(|e| match e {
-        // unobservable dual = uncontrollable plant: say it in the plant's terms
-        DesignError::Observability(ObservabilityError::Unobservable {
-            rank,
-            order,
-            direction,
-            modes,
-        }) => ControlError::Uncontrollable {
-            rank,
-            order,
-            direction: direction.replace(';', ","),
-            modes,
-        },
-        other => ControlError::Design(other),
-    })?;
-    Ok(k.transpose().neg())
+/// [`ControlError::Feedback`] for an uncontrollable pair (its modes named), a polynomial of the
+/// wrong degree or a B with more than one column.
+pub fn state_feedback(
+    a: &Matrix<Rational>,
+    b: &Matrix<Rational>,
+    desired: &Poly<Rational>,
+) -> Result<Matrix<Rational>, ControlError> {
+    use crate::feedback::{design_feedback, FeedbackConvention};
+    use crate::observer::{Detail, GainMethod};
+    let n = a.rows();
+    let desired = crate::observer::DesiredPolynomial::from_polynomial(
+        desired.map(|c| crate::algebra::Quadratic::rational(c.clone())),
+        n,
+    )?;
+    let d = design_feedback(
+        a,
+        b,
+        &desired,
+        GainMethod::Ackermann,
+        FeedbackConvention::UEqualsFx,
+        Detail::Summary,
+    )?;
+    Ok(linalg::rational_entries(&d.gain)
+        .expect("a rational plant and polynomial give a rational gain"))
 }
 
 /// `c (sI − A)⁻¹ b + d` for a column `b` and a row `c`, in lowest terms.
