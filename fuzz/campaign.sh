@@ -11,7 +11,7 @@ cd "$(dirname "$0")"
 RUNS=${RUNS:-1000000}
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(syntax answers exercise worked_example book cli)
-command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz
+cargo fuzz --version 2>/dev/null | grep -q "0\.12\.0" || cargo install cargo-fuzz --version 0.12.0 --locked
 cargo +nightly fuzz build -O -s none
 python3 seed_corpus.py
 bin=target/x86_64-unknown-linux-gnu/release

@@ -15,7 +15,8 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 CORPUS = ROOT / "fuzz" / "corpus"
 # the order of CLI_SUBCOMMANDS in src/fuzzing.rs: the cli target's first byte picks one
 SUBCOMMANDS = ["observe", "canonical", "gain", "control", "optimal", "kalman", "perfect", "exercise",
-               "feedback", "discrete", "zoh", "reduced", "detectable", "dlqe"]
+               "feedback", "discrete", "zoh", "reduced", "detectable", "dlqe", "verify", "simulate",
+               "check"]
 
 
 def put(target, data):

@@ -71,11 +71,35 @@ pub fn worked_example(data: &[u8]) {
 }
 
 /// The subcommands whose argument sets the `cli` target explores: those that compute from their
-/// flags alone ([`crate::api::Command::in_memory`]). Those that read and write files
-/// (`verify`, `simulate`, `check`, `grade`) take their hostile input through the file targets
-/// above; here they would touch the disk.
+/// flags alone ([`crate::api::Command::in_memory`]), then `verify`, `simulate` and `check`, which
+/// read files: there every argument naming a path is dropped and every flag that writes
+/// (`--out`, `--svg`, `--csv`, `--errata`, `--feedback`) with its value, so a campaign reads only
+/// the working folder's files and writes none. `grade` always writes its CSV report: its
+/// hostile input, the submissions, goes through the `answers` target.
 #[cfg(feature = "cli")]
-pub const CLI_SUBCOMMANDS: [&str; 14] = crate::api::Command::IN_MEMORY;
+pub const CLI_SUBCOMMANDS: [&str; 17] = [
+    "observe",
+    "canonical",
+    "gain",
+    "control",
+    "optimal",
+    "kalman",
+    "perfect",
+    "exercise",
+    "feedback",
+    "discrete",
+    "zoh",
+    "reduced",
+    "detectable",
+    "dlqe",
+    "verify",
+    "simulate",
+    "check",
+];
+
+/// The flags that make a command write a file: dropped (with their value) from campaign inputs.
+#[cfg(feature = "cli")]
+const WRITING_FLAGS: [&str; 5] = ["--out", "--svg", "--csv", "--errata", "--feedback"];
 
 /// The most work a campaign input may ask for by its counts: seeded starts of `optimal`
 /// (40 by default, each a full local optimisation of up to 20 000 evaluations of J2, up to
@@ -133,7 +157,7 @@ pub fn cli(data: &[u8]) {
         if std::mem::take(&mut skip_value) {
             continue;
         }
-        if arg.starts_with("--out") {
+        if WRITING_FLAGS.iter().any(|f| arg.starts_with(f)) {
             // `--out FILE` or `--out=FILE`: not on a campaign's disk
             skip_value = !arg.contains('=');
             continue;
@@ -145,7 +169,7 @@ pub fn cli(data: &[u8]) {
     }
     bound_requested_work(&mut args);
     if let Ok(command) = crate::api::Command::from_words(&args) {
-        if command.in_memory() && !command.writes_files() {
+        if !command.writes_files() {
             let _ = crate::api::run(command);
         }
     }

@@ -290,7 +290,7 @@ impl Command {
         match self {
             Command::Exercise(e) => e.writes_file(),
             #[cfg(feature = "plot")]
-            Command::Simulate(_) => true,
+            Command::Simulate(s) => s.svg.is_some() || s.csv.is_some(),
             Command::Grade(_) => true,
             Command::Verify(v) => v.errata.is_some(),
             Command::Observe(_)
