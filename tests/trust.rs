@@ -782,3 +782,75 @@ fn every_subcommand_survives_hostile_flags() {
         failures.join("\n")
     );
 }
+
+/// An answer whose part name holds a pasted invisible character (`L\u{200b}`) is not "no answer
+/// given": the part says its name is unreadable, with the character's position.
+#[test]
+fn an_invisible_character_in_a_part_name_is_named_at_the_part() {
+    let dir = std::env::temp_dir().join(format!("owb-trust-name-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("answers.toml");
+    std::fs::write(
+        &file,
+        "exercise = \"stoustrup-pole-assignment\"\n[answers]\n\"L\u{200b}\" = \"[-6; -12]\"\nO = \"[-3 2; 2 -1]\"\n",
+    )
+    .unwrap();
+    let (status, out, err) = common::owb(&[
+        "check",
+        "stoustrup-pole-assignment",
+        file.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(status, 1, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let l = v["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["id"] == "L")
+        .unwrap();
+    assert_eq!(l["verdict"], "unreadable", "{l}");
+    let feedback = l["feedback"].as_str().unwrap();
+    assert!(
+        feedback.contains("U+200B") && feedback.contains("retype the name L"),
+        "{feedback}"
+    );
+    assert!(
+        !out.contains('\u{200b}'),
+        "the invisible character is not echoed"
+    );
+    let o = v["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["id"] == "O")
+        .unwrap();
+    assert_eq!(
+        o["verdict"], "correct",
+        "the other parts are checked as usual"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `verify` and `simulate` read the worked examples of the folder given (default
+/// `worked_examples` in the working folder), never the checkout the binary was built from.
+#[test]
+fn verify_reads_no_folder_behind_the_users_back() {
+    let elsewhere = std::env::temp_dir();
+    for args in [
+        vec!["verify"],
+        vec!["simulate", "stoustrup-pole-assignment"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_owb"))
+            .args(&args)
+            .current_dir(&elsewhere)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("no worked-example folder") && err.contains("--dir"),
+            "{err}"
+        );
+    }
+}

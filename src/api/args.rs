@@ -191,17 +191,20 @@ impl SystemPair {
     }
 }
 
-/// The worked-example folder: as given, else the one shipped beside the crate.
-pub fn examples_folder(dir: &std::path::Path) -> std::path::PathBuf {
+/// The worked-example folder as given (relative to the working folder). There is no fallback
+/// to the folder the program was built from: an installed `owb` must not read a checkout's
+/// files behind the user's back.
+///
+/// # Errors
+/// A folder that does not exist, named with the way to give another.
+pub fn examples_folder(dir: &std::path::Path) -> Result<std::path::PathBuf> {
     if dir.is_dir() {
-        return dir.to_path_buf();
+        return Ok(dir.to_path_buf());
     }
-    let shipped = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
-    if shipped.is_dir() {
-        shipped
-    } else {
-        dir.to_path_buf()
-    }
+    bail!(
+        "in --dir: there is no worked-example folder {} here (run from the repository's root, or give --dir FOLDER)",
+        crate::files::escape_untrusted(&dir.display().to_string())
+    )
 }
 
 /// A worked example by file path or by id (file stem) among `all`.

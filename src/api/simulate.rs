@@ -103,7 +103,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         ("--svg", args.svg.as_deref()),
         ("--csv", args.csv.as_deref()),
     ])?;
-    let dir = examples_folder(&args.dir);
+    let dir = examples_folder(&args.dir)?;
     let all = load_folder(&dir)?;
     let path = find_example(&dir, &all, &args.example)?;
     let (ex, raw) = load_example(&path)?;

@@ -52,7 +52,7 @@ pub struct Args {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
-    let dir = super::args::examples_folder(&args.dir);
+    let dir = super::args::examples_folder(&args.dir)?;
     let all = load_folder(&dir)?;
     let selected: Vec<PathBuf> = if args.examples.is_empty() {
         all

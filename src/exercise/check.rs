@@ -110,7 +110,32 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
     let mut parts = Vec::new();
     for part in &key.parts {
         let points = part.spec.points;
+        // a part named with an invisible character pasted into it (`L\u{200b}`): the answer
+        // is the student's, the name is not readable as typed — said at the part itself
+        let lookalike = answers.answers.keys().find(|k| {
+            k.as_str() != part.spec.id
+                && k.chars().any(crate::files::is_invisible)
+                && k.chars()
+                    .filter(|c| !crate::files::is_invisible(*c))
+                    .eq(part.spec.id.chars())
+        });
         let result = match answers.answers.get(&part.spec.id) {
+            None if lookalike.is_some() => PartResult {
+                id: part.spec.id.clone(),
+                prompt: part.spec.prompt.clone(),
+                verdict: PartVerdict::Unreadable,
+                mistake: None,
+                score: 0.0,
+                points,
+                feedback: format!(
+                    "the answer's name, {}, holds an invisible or control character ({}), often pasted from a PDF; retype the name {}",
+                    crate::files::escape_untrusted(lookalike.map_or("", String::as_str)),
+                    lookalike
+                        .and_then(|k| crate::files::first_invisible(k))
+                        .unwrap_or_default(),
+                    part.spec.id
+                ),
+            },
             None => PartResult {
                 id: part.spec.id.clone(),
                 prompt: part.spec.prompt.clone(),
