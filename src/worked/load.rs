@@ -2,8 +2,8 @@
 //! field.
 
 use super::format::ExampleFile;
-use super::verdicts::Tolerance;
-use crate::algebra::Rational;
+
+use crate::algebra::{Rational, ToF64};
 use crate::syntax::parse_scalar;
 use std::path::{Path, PathBuf};
 
@@ -185,6 +185,46 @@ pub fn load_folder(dir: &Path) -> Result<Vec<PathBuf>, WorkedError> {
         .collect();
     files.sort();
     Ok(files)
+}
+
+/// A tolerance on every entry: relative (`"1.5%"`) or absolute (`"0.5"`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Tolerance {
+    Relative(f64),
+    Absolute(f64),
+}
+
+impl Tolerance {
+    pub(super) fn parse(text: &str) -> Result<Tolerance, String> {
+        let t = text.trim();
+        let (number, relative) = match t.strip_suffix('%') {
+            Some(n) => (n, true),
+            None => (t, false),
+        };
+        let x = parse_scalar::<Rational>(number.trim())
+            .map_err(|e| e.show_in(number))?
+            .to_f64();
+        if !(x.is_finite() && x > 0.0) {
+            return Err(format!("'{text}': a tolerance must be positive"));
+        }
+        Ok(if relative {
+            Tolerance::Relative(x / 100.0)
+        } else {
+            Tolerance::Absolute(x)
+        })
+    }
+    pub(super) fn admits(self, (absolute, relative): (f64, f64)) -> bool {
+        match self {
+            Tolerance::Relative(r) => relative <= r,
+            Tolerance::Absolute(a) => absolute <= a,
+        }
+    }
+    pub(super) fn show(self) -> String {
+        match self {
+            Tolerance::Relative(r) => format!("{}%", r * 100.0),
+            Tolerance::Absolute(a) => format!("{a}"),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 //! exact arithmetic at several seeded random rational values of those symbols, and the report
 //! says so.
 
+mod checking;
 mod computation;
 mod compute;
 mod compute_course;

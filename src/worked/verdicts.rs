@@ -1,14 +1,14 @@
 //! From a recomputation to a verdict: how an erratum, a documented approximation or an
 //! unreproducible print is checked, and how far a value is from its print.
 
+use super::checking::{check, how, input_error, parameter_env, Check};
 use super::format::{ApproximateSpec, ClaimSpec, ErratumSpec, ExampleFile, UnreproducibleSpec};
 use super::inputs::ComputeError;
+use super::load::Tolerance;
 use super::load::WorkedError;
 use super::outcome::Verdict;
 use super::value::{Agreement, Value};
-use super::verify::{check, how, input_error, parameter_env, Check};
-use crate::algebra::{Rational, ToF64};
-use crate::syntax::{evaluate_with, parse_scalar, Environment};
+use crate::syntax::{evaluate_with, Environment};
 
 /// One claim of an example, with what it is checked against.
 pub(super) struct ClaimContext<'a> {
@@ -176,46 +176,6 @@ pub(super) fn verdict(
         return Ok(unreproducible_verdict(cx, primary, spec));
     }
     Ok((Verdict::Mismatch, d.clone()))
-}
-
-/// A tolerance on every entry: relative (`"1.5%"`) or absolute (`"0.5"`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Tolerance {
-    Relative(f64),
-    Absolute(f64),
-}
-
-impl Tolerance {
-    pub(super) fn parse(text: &str) -> Result<Tolerance, String> {
-        let t = text.trim();
-        let (number, relative) = match t.strip_suffix('%') {
-            Some(n) => (n, true),
-            None => (t, false),
-        };
-        let x = parse_scalar::<Rational>(number.trim())
-            .map_err(|e| e.show_in(number))?
-            .to_f64();
-        if !(x.is_finite() && x > 0.0) {
-            return Err(format!("'{text}': a tolerance must be positive"));
-        }
-        Ok(if relative {
-            Tolerance::Relative(x / 100.0)
-        } else {
-            Tolerance::Absolute(x)
-        })
-    }
-    fn admits(self, (absolute, relative): (f64, f64)) -> bool {
-        match self {
-            Tolerance::Relative(r) => relative <= r,
-            Tolerance::Absolute(a) => absolute <= a,
-        }
-    }
-    fn show(self) -> String {
-        match self {
-            Tolerance::Relative(r) => format!("{}%", r * 100.0),
-            Tolerance::Absolute(a) => format!("{a}"),
-        }
-    }
 }
 
 /// The largest distance `(absolute, relative to the print)` between the print and the
