@@ -77,25 +77,19 @@ pub fn worked_example(data: &[u8]) {
 /// the working folder's files and writes none. `grade` always writes its CSV report: its
 /// hostile input, the submissions, goes through the `answers` target.
 #[cfg(feature = "cli")]
-pub const CLI_SUBCOMMANDS: [&str; 17] = [
-    "observe",
-    "canonical",
-    "gain",
-    "control",
-    "optimal",
-    "kalman",
-    "perfect",
-    "exercise",
-    "feedback",
-    "discrete",
-    "zoh",
-    "reduced",
-    "detectable",
-    "dlqe",
-    "verify",
-    "simulate",
-    "check",
-];
+pub const CLI_SUBCOMMANDS: [&str; 17] = {
+    // the in-memory commands first (the corpora's first bytes name them), then the readers
+    let mut all = [""; 17];
+    let mut i = 0;
+    while i < crate::api::Command::IN_MEMORY.len() {
+        all[i] = crate::api::Command::IN_MEMORY[i];
+        i += 1;
+    }
+    all[14] = "verify";
+    all[15] = "simulate";
+    all[16] = "check";
+    all
+};
 
 /// The flags that make a command write a file: dropped (with their value) from campaign inputs.
 #[cfg(feature = "cli")]

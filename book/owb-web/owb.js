@@ -370,25 +370,11 @@
           request.convention = value(".owb-pconvention");
           if (box.querySelector(".owb-float").checked) request.float = true;
         }
-        var words = [request.command];
-        Object.keys(request).forEach(function (key) {
-          if (key === "command") return;
-          words.push("--" + key);
-          if (request[key] !== true) words.push(request[key]);
-        });
         workbench().then(function (owb) {
           var started = performance.now();
           var out = JSON.parse(owb.run(JSON.stringify(request)));
-          command.textContent = "owb " + words.map(shellWord).join(" ");
-          mathBox.textContent = "";
-          if (out.latex) math(mathBox, out.latex, true);
-          output.className = "owb-output" + (out.status === 2 || out.error ? " owb-error" : "");
-          var text = out.output || "";
-          if (out.error) {
-            text += "error: " + out.error + "\n";
-            (out.causes || []).forEach(function (c) { text += "  caused by: " + c + "\n"; });
-          }
-          output.textContent = text;
+          command.textContent = "owb " + wordsOf(request).map(shellWord).join(" ");
+          showRun(out, { math: mathBox, output: output, outputClass: "owb-output" });
           box.setAttribute("data-run-ms", (performance.now() - started).toFixed(1));
           box.setAttribute("data-ran", String(Number(box.getAttribute("data-ran") || 0) + 1));
         });

@@ -120,14 +120,9 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                     .eq(part.spec.id.chars())
         });
         let result = match answers.answers.get(&part.spec.id) {
-            None if lookalike.is_some() => PartResult {
-                id: part.spec.id.clone(),
-                prompt: part.spec.prompt.clone(),
-                verdict: PartVerdict::Unreadable,
-                mistake: None,
-                score: 0.0,
-                points,
-                feedback: format!(
+            None if lookalike.is_some() => unreadable(
+                part,
+                format!(
                     "the answer's name, {}, holds an invisible or control character ({}), often pasted from a PDF; retype the name {}",
                     crate::files::escape_untrusted(lookalike.map_or("", String::as_str)),
                     lookalike
@@ -135,7 +130,7 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                         .unwrap_or_default(),
                     part.spec.id
                 ),
-            },
+            ),
             None => PartResult {
                 id: part.spec.id.clone(),
                 prompt: part.spec.prompt.clone(),
@@ -153,15 +148,7 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                 })
                 .unwrap_or_else(|| compare(&part.value, text, &key.env))
             {
-                Err(message) => PartResult {
-                    id: part.spec.id.clone(),
-                    prompt: part.spec.prompt.clone(),
-                    verdict: PartVerdict::Unreadable,
-                    mistake: None,
-                    score: 0.0,
-                    points,
-                    feedback: format!("cannot read the answer: {message}"),
-                },
+                Err(message) => unreadable(part, format!("cannot read the answer: {message}")),
                 Ok(agreement) if agreement.holds() => PartResult {
                     id: part.spec.id.clone(),
                     prompt: part.spec.prompt.clone(),
@@ -223,6 +210,19 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
         points: parts.iter().map(|p| p.points).sum(),
         parts,
         unknown_answers,
+    }
+}
+
+/// A part whose answer cannot be read, with why.
+fn unreadable(part: &super::key::KeyPart, feedback: String) -> PartResult {
+    PartResult {
+        id: part.spec.id.clone(),
+        prompt: part.spec.prompt.clone(),
+        verdict: PartVerdict::Unreadable,
+        mistake: None,
+        score: 0.0,
+        points: part.spec.points,
+        feedback,
     }
 }
 
