@@ -295,7 +295,44 @@ class Result:
     def _repr_html_(self) -> str:
         import html
 
+        if self._request["command"] == "verify" and "examples" in self.data:
+            return _verification_table(self.data)
         return "<pre>" + html.escape(self.text) + "</pre>"
+
+
+_VERDICT_MARK = {
+    "holds": "✔",
+    "holds_approximately": "≈",
+    "erratum": "erratum",
+    "unreproducible": "unreproducible",
+    "mismatch": "✘ mismatch",
+}
+
+
+def _verification_table(data: dict) -> str:
+    """``owb verify --json`` as HTML: one table per example (claim, source, printed, recomputed,
+    verdict), the explanation of every verdict that is not a plain hold under its row."""
+    import html
+
+    e = html.escape
+    out = []
+    for ex in data["examples"]:
+        out.append(f"<h4>{e(ex['id'])} <small>({e(ex.get('document', ''))})</small></h4>")
+        out.append("<table><thead><tr><th>claim</th><th>source</th><th>printed</th>"
+                   "<th>recomputed</th><th>verdict</th></tr></thead><tbody>")
+        for c in ex["claims"]:
+            verdict = c["verdict"]
+            out.append(
+                f"<tr><td><code>{e(c['id'])}</code></td><td>{e(c['source'])}</td>"
+                f"<td><code>{e(c['printed'])}</code></td><td><code>{e(c['recomputed'])}</code></td>"
+                f"<td>{e(_VERDICT_MARK.get(verdict, verdict))}</td></tr>"
+            )
+            if verdict != "holds" and c.get("explanation"):
+                out.append(f"<tr><td></td><td colspan=\"4\"><small>{e(c['explanation'])}</small></td></tr>")
+        out.append("</tbody></table>")
+    summary = data.get("summary", {})
+    out.append("<p>" + e(", ".join(f"{k.replace('_', ' ')}: {v}" for k, v in summary.items())) + "</p>")
+    return "\n".join(out)
 
 
 def run(command: str, **fields: Any) -> Result:

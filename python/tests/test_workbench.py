@@ -176,3 +176,11 @@ def test_kalman_agrees_with_python_control_lqe():
             r = owb.kalman(a, b, c, input_noise=1, output_noise=Fraction(1, 10))
             kalman = next(m for m in r.comparison if m["method"] == "kalman")
             assert np.allclose(np.array(kalman["gain"]), expected, rtol=1e-8, atol=1e-10), (a, b, c)
+
+
+def test_a_verification_shows_as_a_table_in_jupyter():
+    r = owb.verify("stoustrup-pole-assignment", folder=str(REPO / "worked_examples"))
+    assert r.summary["mismatch"] == 0
+    table = r._repr_html_()
+    assert table.count("<tr>") == 1 + len(r.examples[0]["claims"])
+    assert "✔" in table and "<code>L</code>" in table
