@@ -349,6 +349,18 @@ await test("exercise: typed answers are kept after a reload", async () => {
   await page.close();
 });
 
+await test("playground: a missing module is said in the page, not silently ignored", async () => {
+  // a page of its own (not open(): the failures here are the point, not problems)
+  const page = await browser.newPage();
+  await page.route("**/owb_web_wasm.js", (route) => route.fulfill({ status: 404, body: "not found" }));
+  await page.goto(base + "workbench.html");
+  const box = page.locator(".owb-playground");
+  await box.locator('button[data-run="gain"]').click();
+  await page.waitForFunction(() => /could not run/.test(document.querySelector(".owb-playground .owb-output").textContent), null, { timeout: 30000 });
+  assert.match(await box.locator(".owb-output").getAttribute("class"), /owb-error/);
+  await page.close();
+});
+
 await browser.close();
 server.close();
 const median = (v) => [...v].sort((x, y) => x - y)[Math.floor(v.length / 2)];

@@ -49,6 +49,21 @@
     return loading;
   }
 
+  // Runs f with the workbench once it is loaded. Before the module is there (a slow link, the
+  // first use) the page says it is loading; if it cannot load or fails, the page says so
+  // instead of doing nothing.
+  function withWorkbench(status, f) {
+    if (status && !document.documentElement.hasAttribute("data-owb-ready")) {
+      status.textContent = "Loading the workbench (the first time only)…";
+    }
+    return workbench().then(f).catch(function (e) {
+      if (status) {
+        status.textContent = "The workbench could not run here: " + String((e && e.message) || e);
+        status.classList.add("owb-error");
+      }
+    });
+  }
+
   function el(tag, cls, text) {
     var e = document.createElement(tag);
     if (cls) e.className = cls;
@@ -118,6 +133,9 @@
   function check(form, exerciseToml, student) {
     var score = form.querySelector(".owb-score");
     var file = answerFile(form, student);
+    if (!document.documentElement.hasAttribute("data-owb-ready")) {
+      score.textContent = "Loading the workbench (the first time only)…";
+    }
     return workbench().then(function (owb) {
       var started = performance.now();
       var out = JSON.parse(owb.check(exerciseToml, file));
@@ -262,7 +280,7 @@
       var order = box.querySelector(".owb-order").value;
       var convention = box.querySelector(".owb-convention").value;
       var kind = box.querySelector(".owb-kind").value;
-      workbench().then(function (owb) {
+      withWorkbench(body, function (owb) {
         var v = JSON.parse(owb.variant(student, order, convention, kind));
         body.textContent = "";
         if (v.error) {
@@ -339,7 +357,7 @@
     fill();
     box.querySelector(".owb-any-run").addEventListener("click", function () {
       var request = requestOf(select.value, fields.value);
-      workbench().then(function (owb) {
+      withWorkbench(box.querySelector(".owb-any-output"), function (owb) {
         var started = performance.now();
         var out = JSON.parse(owb.run(JSON.stringify(request)));
         box.querySelector(".owb-any-command-line").textContent = "owb " + wordsOf(request).map(shellWord).join(" ");
@@ -370,7 +388,7 @@
           request.convention = value(".owb-pconvention");
           if (box.querySelector(".owb-float").checked) request.float = true;
         }
-        workbench().then(function (owb) {
+        withWorkbench(output, function (owb) {
           var started = performance.now();
           var out = JSON.parse(owb.run(JSON.stringify(request)));
           command.textContent = "owb " + wordsOf(request).map(shellWord).join(" ");
@@ -391,7 +409,7 @@
     fill();
     box.querySelector(".owb-verify").addEventListener("click", function () {
       var result = box.querySelector(".owb-verify-output");
-      workbench().then(function (owb) {
+      withWorkbench(result, function (owb) {
         var out = JSON.parse(owb.verify(select.value, source.value));
         result.className = "owb-verify-output" + (out.error ? " owb-error" : "");
         result.textContent = out.error ? "error: " + out.error : out.text;
