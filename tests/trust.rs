@@ -854,3 +854,28 @@ fn verify_reads_no_folder_behind_the_users_back() {
         );
     }
 }
+
+/// An answer too large to read as a matrix (a 1×10 000 row where a 2×1 gain is asked) still
+/// hears its shape, not only "not the answer".
+#[test]
+fn a_huge_answer_is_told_its_shape() {
+    let dir = std::env::temp_dir().join(format!("owb-trust-shape-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("answers.toml");
+    let row = format!("[{}]", vec!["1"; 10_000].join(" "));
+    std::fs::write(
+        &file,
+        format!("exercise = \"stoustrup-pole-assignment\"\n[answers]\nL = \"{row}\"\n"),
+    )
+    .unwrap();
+    let (status, out, err, _) = owb_within(
+        &["check", "stoustrup-pole-assignment", file.to_str().unwrap()],
+        Duration::from_secs(10),
+    );
+    assert_eq!(status, 1, "{err}");
+    assert!(
+        out.contains("your answer is 1×10000, the answer is 2×1"),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

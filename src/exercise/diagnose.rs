@@ -656,12 +656,17 @@ pub fn diagnose(key: &AnswerKey, part: &KeyPart, answer: &str) -> (Option<Diagno
         found = single_slip(key, part, answer);
     }
     if found.is_none() {
-        if let (Value::Matrix(m), Some(a)) = (&part.value, &parsed) {
-            if (a.rows(), a.cols()) != (m.rows(), m.cols()) {
+        if let Value::Matrix(m) = &part.value {
+            // the shape as written, also for an answer too large to be read as a matrix
+            // (a 1×10 000 row is refused by the reader, but its shape is still what to say)
+            let shape = parsed.as_ref().map(|a| (a.rows(), a.cols())).or_else(|| {
+                crate::syntax::parse_matrix_expressions(answer)
+                    .ok()
+                    .map(|rows| (rows.len(), rows.first().map_or(0, Vec::len)))
+            });
+            if let Some((rows, cols)) = shape.filter(|s| *s != (m.rows(), m.cols())) {
                 notes.push(format!(
-                    "your answer is {}×{}, the answer is {}×{}",
-                    a.rows(),
-                    a.cols(),
+                    "your answer is {rows}×{cols}, the answer is {}×{}",
                     m.rows(),
                     m.cols()
                 ));
