@@ -205,3 +205,34 @@ fn owb_gain_itae_1_places_s2_plus_1_4s_plus_1() {
     assert_eq!(status, 2);
     assert!(err.contains("in --itae"), "{err}");
 }
+
+/// A design that places a pole in the right half-plane is not accepted in silence: the text
+/// warns and `--json` says `observer_stable: false` (a stable design says `true`).
+#[test]
+fn an_unstable_observer_is_said_to_be_unstable() {
+    let (status, out, _) = common::owb(&[
+        "gain",
+        "--a",
+        "[0 1; -2 -3]",
+        "--c",
+        "[1 0]",
+        "--poles",
+        "5, -4",
+    ]);
+    assert_eq!(status, 0);
+    assert!(out.contains("warning: the observer is not stable"), "{out}");
+    for (poles, stable) in [("5, -4", false), ("-1+2i, -1-2i", true), ("0, -1", false)] {
+        let (_, out, _) = common::owb(&[
+            "gain",
+            "--a",
+            "[0 1; -2 -3]",
+            "--c",
+            "[1 0]",
+            "--poles",
+            poles,
+            "--json",
+        ]);
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["observer_stable"], stable, "{poles}");
+    }
+}

@@ -77,6 +77,26 @@ impl Args {
     }
 }
 
+/// Whether the observer's polynomial has every root in the open left half-plane (the
+/// estimation error decays): Routh–Hurwitz, exactly, for rational coefficients; the roots in
+/// f64 for coefficients in Q(√d).
+fn observer_stable(p: &crate::poly::Poly<crate::algebra::Quadratic>) -> bool {
+    let rational: Option<Vec<Rational>> = p
+        .coeffs()
+        .iter()
+        .map(|c| c.as_rational().cloned())
+        .collect();
+    match rational {
+        Some(c) => crate::poly::is_hurwitz(&crate::poly::Poly::new(c, "s")),
+        None => crate::observer::float_check::companion_roots(&p.map(|c| c.to_complex_f64().0))
+            .iter()
+            .all(|r| r.re < 0.0),
+    }
+}
+
+/// The line saying an observer is unstable (a design a teacher would not accept in silence).
+const UNSTABLE: &str = "  warning: the observer is not stable — its polynomial has a root with nonnegative real part, so the estimation error does not decay; choose poles in the open left half-plane";
+
 fn float_json(f: &FloatCheck) -> serde_json::Value {
     serde_json::to_value(f).unwrap_or_default()
 }
@@ -214,6 +234,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
                 out["gain"] = json_matrix(&d.gain.matrix);
                 out["observer_polynomial"] = json!(d.achieved.to_input());
                 out["places_exactly"] = json!(d.places_exactly());
+                out["observer_stable"] = json!(observer_stable(&d.achieved));
                 out["steps"] = serde_json::to_value(&d.derivation.steps)?;
             }
             None => {
@@ -245,6 +266,9 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
                     .map_or_else(|| d.achieved.to_string(), |f| f.to_string());
                 outln!(rep, "  observer polynomial = {shown}");
                 outln!(rep, "  {}", d.verdict().0);
+                if !observer_stable(&d.achieved) {
+                    outln!(rep, "{UNSTABLE}");
+                }
             }
             None => {
                 outln!(
@@ -295,6 +319,7 @@ fn multi_output(
                 "exact": true,
                 "observer_polynomial": d.achieved.to_input(),
                 "places_exactly": d.places_exactly(),
+                "observer_stable": observer_stable(&d.achieved),
                 "steps": serde_json::to_value(&d.derivation.steps)?,
             }));
         } else {
@@ -302,6 +327,9 @@ fn multi_output(
             outln!(rep, "Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");
             outln!(rep, "  {} = {}", convention.letter(), gain.to_input());
             outln!(rep, "  {}", d.verdict().0);
+            if !observer_stable(&d.achieved) {
+                outln!(rep, "{UNSTABLE}");
+            }
         }
         return Ok(Outcome::Ok);
     }
