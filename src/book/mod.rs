@@ -124,9 +124,14 @@ impl BookContext {
 
     fn verify_table(&self, id: &str) -> Result<String> {
         let r = self.report(id)?;
+        // the document by its author and title (its file name only where no title is recorded)
+        let titles = crate::worked::coverage::titles(&self.root.join("worked_examples"));
+        let source = titles
+            .get(&r.document)
+            .map_or_else(|| format!("`{}`", r.document), Clone::clone);
         let mut out = format!(
-            "*Worked example `{}` — {} (source: `{}`), recomputed by `owb verify {}`:*\n\n| claim | where | printed | recomputed | verdict |\n|---|---|---|---|---|\n",
-            r.id, r.title, r.document, r.id
+            "*Worked example `{}` — {} (source: {source}), recomputed by `owb verify {}`:*\n\n| claim | where | printed | recomputed | verdict |\n|---|---|---|---|---|\n",
+            r.id, r.title, r.id
         );
         for c in &r.claims {
             let _ = writeln!(
