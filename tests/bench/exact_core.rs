@@ -131,6 +131,78 @@ fn bench_user_path(c: &mut Criterion) {
     g.finish();
 }
 
+/// Every command as a front end runs it — a JSON request through `api::run`, its report
+/// rendered — on a dense random integer plant of order n (the first state measured, the last
+/// driven): the work of `owb <command>` without the process start (about 1 ms, see the README).
+fn bench_commands(c: &mut Criterion) {
+    use observer_workbench::api::{run, Command};
+    let max: usize = std::env::var("OWB_BENCH_MAX_N")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(80);
+    let mut g = c.benchmark_group("commands");
+    g.sample_size(10).warm_up_time(Duration::from_millis(200));
+    for n in [5, 10, 20].into_iter().filter(|&n| n <= max) {
+        let a = dense_random(n, 11).to_input();
+        let cm = first_state_output(n).to_input();
+        let b = Matrix::from_fn(n, 1, |i, _| Rational::from_i64(i64::from(i + 1 == n))).to_input();
+        let poles = (1..=n)
+            .map(|k| format!("-{k}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let reduced_poles = (1..n)
+            .map(|k| format!("-{k}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let discrete_poles = (1..=n)
+            .map(|k| format!("1/{}", k + 1))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let requests = [
+            ("observe", serde_json::json!({"a": a, "c": cm})),
+            ("canonical", serde_json::json!({"a": a, "c": cm})),
+            (
+                "gain",
+                serde_json::json!({"a": a, "c": cm, "poles": poles, "summary": true}),
+            ),
+            (
+                "gain",
+                serde_json::json!({"a": a, "c": cm, "poles": poles, "float": true}),
+            ),
+            (
+                "feedback",
+                serde_json::json!({"a": a, "b": b, "poles": poles}),
+            ),
+            (
+                "discrete",
+                serde_json::json!({"a": a, "c": cm, "poles": discrete_poles}),
+            ),
+            (
+                "reduced",
+                serde_json::json!({"a": a, "c": cm, "poles": reduced_poles}),
+            ),
+            (
+                "kalman",
+                serde_json::json!({"a": a, "b": b, "c": cm, "input-noise": "1", "output-noise": "1/10"}),
+            ),
+        ];
+        for (k, (name, fields)) in requests.into_iter().enumerate() {
+            let mut request = fields;
+            request["command"] = serde_json::json!(name);
+            let command = Command::from_value(&request).expect("a valid request");
+            // a request the command refuses (a random plant can be uncontrollable) is left out
+            if run(command.clone()).is_err() {
+                continue;
+            }
+            let id = BenchmarkId::new(format!("{name} #{k}"), n);
+            g.bench_with_input(id, &command, |bch, command| {
+                bch.iter(|| run(command.clone()).map(|r| r.text.len()).unwrap_or(0))
+            });
+        }
+    }
+    g.finish();
+}
+
 /// A 10 s run at h = 0.01 (RK4) of Baranowski's 3-state ladder with a two-output observer and
 /// uniform output noise: the cost of one figure.
 fn bench_simulation(c: &mut Criterion) {
@@ -171,5 +243,11 @@ fn bench_simulation(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, bench, bench_user_path, bench_simulation);
+criterion_group!(
+    benches,
+    bench,
+    bench_user_path,
+    bench_commands,
+    bench_simulation
+);
 criterion_main!(benches);
