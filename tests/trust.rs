@@ -57,6 +57,23 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// `owb check stoustrup-pole-assignment` on an answer file holding `answers` (the lines after
+/// `[answers]`), with `extra` flags; `(status, stdout, stderr)` within 10 s.
+fn check_stoustrup(name: &str, answers: &str, extra: &[&str]) -> (i32, String, String) {
+    let dir = temp_dir(name);
+    let file = dir.join("answers.toml");
+    std::fs::write(
+        &file,
+        format!("exercise = \"stoustrup-pole-assignment\"\n[answers]\n{answers}"),
+    )
+    .unwrap();
+    let mut args = vec!["check", "stoustrup-pole-assignment", file.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    let (status, out, err, _) = owb_within(&args, Duration::from_secs(10));
+    std::fs::remove_dir_all(&dir).ok();
+    (status, out, err)
+}
+
 fn no_temporaries(dir: &Path) {
     for e in std::fs::read_dir(dir).unwrap().flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
@@ -787,20 +804,11 @@ fn every_subcommand_survives_hostile_flags() {
 /// given": the part says its name is unreadable, with the character's position.
 #[test]
 fn an_invisible_character_in_a_part_name_is_named_at_the_part() {
-    let dir = std::env::temp_dir().join(format!("owb-trust-name-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("answers.toml");
-    std::fs::write(
-        &file,
-        "exercise = \"stoustrup-pole-assignment\"\n[answers]\n\"L\u{200b}\" = \"[-6; -12]\"\nO = \"[-3 2; 2 -1]\"\n",
-    )
-    .unwrap();
-    let (status, out, err) = common::owb(&[
-        "check",
-        "stoustrup-pole-assignment",
-        file.to_str().unwrap(),
-        "--json",
-    ]);
+    let (status, out, err) = check_stoustrup(
+        "name",
+        "\"L\u{200b}\" = \"[-6; -12]\"\nO = \"[-3 2; 2 -1]\"\n",
+        &["--json"],
+    );
     assert_eq!(status, 1, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let l = v["parts"]
@@ -829,7 +837,6 @@ fn an_invisible_character_in_a_part_name_is_named_at_the_part() {
         o["verdict"], "correct",
         "the other parts are checked as usual"
     );
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// `verify` and `simulate` read the worked examples of the folder given (default
@@ -859,23 +866,11 @@ fn verify_reads_no_folder_behind_the_users_back() {
 /// hears its shape, not only "not the answer".
 #[test]
 fn a_huge_answer_is_told_its_shape() {
-    let dir = std::env::temp_dir().join(format!("owb-trust-shape-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("answers.toml");
     let row = format!("[{}]", vec!["1"; 10_000].join(" "));
-    std::fs::write(
-        &file,
-        format!("exercise = \"stoustrup-pole-assignment\"\n[answers]\nL = \"{row}\"\n"),
-    )
-    .unwrap();
-    let (status, out, err, _) = owb_within(
-        &["check", "stoustrup-pole-assignment", file.to_str().unwrap()],
-        Duration::from_secs(10),
-    );
+    let (status, out, err) = check_stoustrup("shape", &format!("L = \"{row}\"\n"), &[]);
     assert_eq!(status, 1, "{err}");
     assert!(
         out.contains("your answer is 1×10000, the answer is 2×1"),
         "{out}"
     );
-    std::fs::remove_dir_all(&dir).ok();
 }

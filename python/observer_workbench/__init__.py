@@ -156,8 +156,8 @@ def _value(key: str, v: Any) -> Any:
         return _polynomial(v)
     if key in {"output", "starts", "seed", "grid", "derivative-output", "derivative-state"}:
         return int(v)
-    if key in {"tolerance", "time-limit", "input-noise", "output-noise"}:
-        return float(v) if key in {"tolerance", "time-limit"} else _scalar(v)
+    if key in {"tolerance", "time-limit"}:
+        return float(v)
     if isinstance(v, (int, float, Fraction)) or type(v).__module__.startswith(("numpy", "sympy")):
         return _scalar(v)
     return v
@@ -173,16 +173,16 @@ def _request(command: str, fields: Mapping[str, Any]) -> dict:
     return request
 
 
-def _plant(a: Any, fields: dict, inputs: bool) -> dict:
-    """``a`` may be a python-control StateSpace: its A and C (and B, D where asked)."""
+def _plant(a: Any, fields: dict, take=("C",)) -> dict:
+    """``a`` may be a python-control StateSpace (anything with ``A``, ``B``, ``C``, ``D``): its A,
+    and the matrices named in ``take`` that the request does not give itself (D only when it
+    is not zero)."""
     if all(hasattr(a, x) for x in ("A", "B", "C", "D")) and not isinstance(a, str):
-        if fields.get("c") is None:
-            fields["c"] = a.C
-        if inputs:
-            if fields.get("b") is None:
-                fields["b"] = a.B
-            if fields.get("d") is None and getattr(a.D, "any", lambda: bool(a.D))():
-                fields["d"] = a.D
+        for name in take:
+            m = getattr(a, name)
+            nonzero = getattr(m, "any", lambda: bool(m))()
+            if fields.get(name.lower()) is None and (name != "D" or nonzero):
+                fields[name.lower()] = m
         fields["a"] = a.A
     elif a is not None:
         fields["a"] = a
@@ -346,12 +346,12 @@ def run(command: str, **fields: Any) -> Result:
 
 def observe(a: Any, c: Any = None, **kw: Any) -> Result:
     """Observability: O_n, its rank, the unobservable subspace and modes (``owb observe``)."""
-    return run("observe", **_plant(a, {"c": c, **kw}, False))
+    return run("observe", **_plant(a, {"c": c, **kw}))
 
 
 def canonical(a: Any, c: Any = None, b: Any = None, **kw: Any) -> Result:
     """The observer canonical form, Di Ruscio's and Stoustrup's procedures (``owb canonical``)."""
-    return run("canonical", **_plant(a, {"c": c, "b": b, **kw}, True))
+    return run("canonical", **_plant(a, {"c": c, "b": b, **kw}, ("B", "C")))
 
 
 def gain(a: Any = None, c: Any = None, *, float_check: bool = False, **kw: Any) -> Result:
@@ -359,26 +359,22 @@ def gain(a: Any = None, c: Any = None, *, float_check: bool = False, **kw: Any) 
     ``repeated=``, ``butterworth=``, ``bessel=`` or ``itae=``; ``method=`` (ackermann, bass-gura,
     canonical, lemma-3.1), ``convention=`` (a-kc, a+lc), ``float_check=True`` for the checked
     f64 path, ``tf=`` for a transfer function instead of ``a``/``c``."""
-    return run("gain", **_plant(a, {"c": c, "float": float_check, **kw}, False))
+    return run("gain", **_plant(a, {"c": c, "float": float_check, **kw}))
 
 
 def feedback(a: Any, b: Any = None, **kw: Any) -> Result:
     """State feedback by duality (``owb feedback``)."""
-    if all(hasattr(a, x) for x in ("A", "B")) and not isinstance(a, str):
-        a, b = a.A, (b if b is not None else a.B)
-    return run("feedback", a=a, b=b, **kw)
+    return run("feedback", **_plant(a, {"b": b, **kw}, ("B",)))
 
 
 def discrete(a: Any, c: Any = None, **kw: Any) -> Result:
     """A discrete-time observer: prediction or current estimator, dead-beat (``owb discrete``)."""
-    return run("discrete", **_plant(a, {"c": c, **kw}, False))
+    return run("discrete", **_plant(a, {"c": c, **kw}))
 
 
 def zoh(a: Any, b: Any = None, *, period: Any, **kw: Any) -> Result:
     """A continuous plant sampled with a zero-order hold (``owb zoh``)."""
-    if all(hasattr(a, x) for x in ("A", "B")) and not isinstance(a, str):
-        a, b = a.A, (b if b is not None else a.B)
-    return run("zoh", a=a, b=b, period=_scalar(period), **kw)
+    return run("zoh", **_plant(a, {"b": b, "period": period, **kw}, ("B",)))
 
 
 def dlqe(a: Any, c: Any, *, qn: Any, rn: Any, g: Any = None, **kw: Any) -> Result:
@@ -388,32 +384,32 @@ def dlqe(a: Any, c: Any, *, qn: Any, rn: Any, g: Any = None, **kw: Any) -> Resul
 
 def reduced(a: Any, c: Any = None, **kw: Any) -> Result:
     """The reduced-order (Gopinath) observer (``owb reduced``)."""
-    return run("reduced", **_plant(a, {"c": c, **kw}, False))
+    return run("reduced", **_plant(a, {"c": c, **kw}))
 
 
 def detectable(a: Any, c: Any = None, **kw: Any) -> Result:
     """An observer for an unobservable, detectable pair (``owb detectable``)."""
-    return run("detectable", **_plant(a, {"c": c, **kw}, False))
+    return run("detectable", **_plant(a, {"c": c, **kw}))
 
 
 def control(a: Any, b: Any = None, c: Any = None, **kw: Any) -> Result:
     """Observer-based control, the separation principle checked (``owb control``)."""
-    return run("control", **_plant(a, {"b": b, "c": c, **kw}, True))
+    return run("control", **_plant(a, {"b": b, "c": c, **kw}, ("B", "C")))
 
 
 def optimal(a: Any, c: Any = None, **kw: Any) -> Result:
     """Multi-output gains by optimality (``owb optimal``)."""
-    return run("optimal", **_plant(a, {"c": c, **kw}, False))
+    return run("optimal", **_plant(a, {"c": c, **kw}))
 
 
 def kalman(a: Any, b: Any = None, c: Any = None, **kw: Any) -> Result:
     """The Kalman filter against chosen poles (``owb kalman``)."""
-    return run("kalman", **_plant(a, {"b": b, "c": c, **kw}, True))
+    return run("kalman", **_plant(a, {"b": b, "c": c, **kw}, ("B", "C", "D")))
 
 
 def perfect(a: Any, b: Any = None, c: Any = None, **kw: Any) -> Result:
     """The perfect (descriptor) observer (``owb perfect``)."""
-    return run("perfect", **_plant(a, {"b": b, "c": c, **kw}, True))
+    return run("perfect", **_plant(a, {"b": b, "c": c, **kw}, ("B", "C", "D")))
 
 
 def verify(*examples: str, folder: Optional[str] = None) -> Result:

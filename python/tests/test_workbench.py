@@ -64,15 +64,31 @@ def test_exact_gain_agrees_with_python_control_acker():
 def test_a_state_space_object_is_a_plant():
     control = pytest.importorskip("control")
     sys = control.ss([[0, 1], [-2, -3]], [[0], [1]], [[1, 0]], 0)
-    assert owb.gain(sys, poles=[-4, -5]).gain == [[Fraction(6)], [Fraction(0)]]
+    # the same requests written out: the plant's matrices are taken from the object
+    assert owb.gain(sys, poles=[-4, -5]).to_json() == owb.gain(
+        "[0 1; -2 -3]", "[1 0]", poles="-4, -5"
+    ).to_json()
+    assert owb.feedback(sys, poles=[-4, -5]).to_json() == owb.feedback(
+        "[0 1; -2 -3]", "[0; 1]", poles="-4, -5"
+    ).to_json()
+    assert owb.zoh(sys, period="1/2").to_json() == owb.zoh("[0 1; -2 -3]", "[0; 1]", period="1/2").to_json()
+    assert owb.canonical(sys).to_json() == owb.canonical("[0 1; -2 -3]", "[1 0]", b="[0; 1]").to_json()
     k = owb.kalman(sys, input_noise=1, output_noise=Fraction(1, 10))
     assert k.data["kalman"]["residual"] < 1e-8
 
 
 def test_floats_are_read_as_the_decimals_they_print():
     r = owb.gain(np.array([[0.1, 1.0], [-2.0, -3.0]]), [1, 0], poles=[-4, -5])
-    # A − KC with a11 = 1/10 exactly: K1 = 9 − 3 + 1/10 … the gain is rational, not a float
-    assert r.gain[0][0] == Fraction(61, 10)
+    (k1,), (k2,) = r.gain
+
+    def places_exactly(a11):
+        # A − KC for C = [1 0]: its trace and determinant give det(sI − (A − KC)) = s² + 9s + 20
+        m = [[a11 - k1, Fraction(1)], [-2 - k2, Fraction(-3)]]
+        return (-(m[0][0] + m[1][1]), m[0][0] * m[1][1] - m[0][1] * m[1][0]) == (9, 20)
+
+    # exact for the decimal 0.1 the float prints, not for the binary double nearest to it
+    assert places_exactly(Fraction("0.1"))
+    assert not places_exactly(Fraction(0.1))
 
 
 def test_refusals_raise_with_the_command_lines_message():
@@ -98,7 +114,11 @@ def test_radicals_stay_exact_and_sympy_reads_them():
     sympy = pytest.importorskip("sympy")
     r = owb.gain("[0 1; -2 -3]", "[1 0]", butterworth=1)
     k = r.sympy("gain")
-    assert k == sympy.Matrix([[-3 + sympy.sqrt(2)], [8 - 3 * sympy.sqrt(2)]])
+    s_ = sympy.symbols("s")
+    a, c = sympy.Matrix([[0, 1], [-2, -3]]), sympy.Matrix([[1, 0]])
+    # the order-2 Butterworth polynomial with T = 1, placed exactly (radicals and all)
+    placed = (s_ * sympy.eye(2) - (a - k * c)).det()
+    assert sympy.expand(placed - (s_**2 + sympy.sqrt(2) * s_ + 1)) == 0
     s = sympy.symbols("s")
     assert owb.gain("[0 1; -2 -3]", "[1 0]", poly=(s + 4) * (s + 5)).gain == [[6], [0]]
     assert r._repr_latex_().startswith("$$\\begin{aligned}")
@@ -108,7 +128,11 @@ def test_json_requests_and_results_round_trip():
     r = owb.run("observe", a=[[1, 0], [0, 2]], c=[1, 0])
     assert json.loads(r.to_json()) == r.data
     assert r.observable is False
-    assert r.unobservable_eigenvalues == [{"value": "2", "multiplicity": 1}]
+    # each unobservable eigenvalue λ is one of A's and fails the PBH test: rank [λI − A; C] < n
+    a, c = np.array([[1.0, 0.0], [0.0, 2.0]]), np.array([[1.0, 0.0]])
+    for mode in r.unobservable_eigenvalues:
+        lam = float(Fraction(mode["value"]))
+        assert np.linalg.matrix_rank(np.vstack([lam * np.eye(2) - a, c])) < 2
 
 
 def test_the_autograding_notebook_runs_and_names_the_mistake():

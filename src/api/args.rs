@@ -456,55 +456,55 @@ pub fn expect_shape<T: crate::algebra::Ring>(
     Ok(())
 }
 
-/// The defaults of the requests' fields (the same as the command line's), for requests read
-/// from JSON.
+/// The defaults of the requests' fields, one place for both readers: clap shows and applies
+/// them (`default_value_t`), serde fills them into requests read from JSON.
 pub(crate) mod defaults {
-    pub fn grid_1001() -> usize {
+    pub fn kalman_grid() -> usize {
         1001
     }
-    pub fn ten_seconds() -> f64 {
+    pub fn time_limit() -> f64 {
         10.0
     }
-    pub fn one() -> usize {
+    pub fn placed_output() -> usize {
         1
     }
-    pub fn tolerance_1e_6() -> f64 {
+    pub fn tolerance() -> f64 {
         1e-6
     }
-    pub fn seed_2024() -> u64 {
+    pub fn seed() -> u64 {
         2024
     }
-    pub fn orders_2_to_3() -> String {
+    pub fn new_exercise_orders() -> String {
         "2..3".into()
     }
-    pub fn order_3() -> String {
+    pub fn class_order() -> String {
         "3".into()
     }
-    pub fn forty() -> usize {
+    pub fn starts() -> usize {
         40
     }
-    pub fn ackermann() -> String {
+    pub fn method() -> String {
         "ackermann".into()
     }
-    pub fn a_minus_kc() -> String {
+    pub fn observer_convention() -> String {
         "a-kc".into()
     }
-    pub fn a_plus_lc() -> String {
+    pub fn control_convention() -> String {
         "a+lc".into()
     }
-    pub fn j1() -> String {
+    pub fn index() -> String {
         "j1".into()
     }
-    pub fn pole_placement() -> String {
+    pub fn exercise_kind() -> String {
         "pole-placement".into()
     }
-    pub fn prediction() -> String {
+    pub fn estimator() -> String {
         "prediction".into()
     }
-    pub fn u_minus_kx() -> String {
+    pub fn feedback_convention() -> String {
         "u=-kx".into()
     }
-    pub fn worked_examples() -> std::path::PathBuf {
+    pub fn examples_folder() -> std::path::PathBuf {
         "worked_examples".into()
     }
 }

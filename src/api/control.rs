@@ -46,9 +46,9 @@ pub struct Args {
     /// Convention of the observer gain: a+lc (default, Stoustrup) or a-kc.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "a+lc")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::control_convention())
     )]
-    #[serde(default = "super::args::defaults::a_plus_lc")]
+    #[serde(default = "super::args::defaults::control_convention")]
     pub convention: String,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]
@@ -71,8 +71,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     super::args::check_plant(&a, Some(&b), &c, None)?;
     let (n, m, p) = (a.rows(), b.cols(), c.rows());
     super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
-    let convention = Convention::parse(&args.convention)
-        .ok_or_else(|| anyhow!("in --convention: unknown convention '{}'", args.convention))?;
+    let convention = super::args::observer_convention(&args.convention)?;
     if convention == Convention::AMinusKC {
         l = l.neg();
     }

@@ -59,23 +59,23 @@ pub struct Args {
     /// prediction (default) or current (filtered: corrects x̂(k) with y(k)).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "prediction")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::estimator())
     )]
-    #[serde(default = "super::args::defaults::prediction")]
+    #[serde(default = "super::args::defaults::estimator")]
     pub estimator: String,
     /// ackermann (default), bass-gura or canonical.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::method())
     )]
-    #[serde(default = "super::args::defaults::ackermann")]
+    #[serde(default = "super::args::defaults::method")]
     pub method: String,
     /// a-kc (default: A − KC) or a+lc (A + LC).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::observer_convention())
     )]
-    #[serde(default = "super::args::defaults::a_minus_kc")]
+    #[serde(default = "super::args::defaults::observer_convention")]
     pub convention: String,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]

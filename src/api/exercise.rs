@@ -56,23 +56,23 @@ pub struct GradeArgs {
     /// never from the submission.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "pole-placement")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::exercise_kind())
     )]
-    #[serde(default = "super::args::defaults::pole_placement")]
+    #[serde(default = "super::args::defaults::exercise_kind")]
     pub kind: String,
     /// With `variants`: the order the class was set (N or N..M; the book's default is 3).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "3")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::class_order())
     )]
-    #[serde(default = "super::args::defaults::order_3")]
+    #[serde(default = "super::args::defaults::class_order")]
     pub order: String,
     /// With `variants`: the convention the class was set (a-kc or a+lc).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::observer_convention())
     )]
-    #[serde(default = "super::args::defaults::a_minus_kc")]
+    #[serde(default = "super::args::defaults::observer_convention")]
     pub convention: String,
     /// Machine-readable summary.
     #[cfg_attr(feature = "commands", arg(long))]
@@ -107,16 +107,16 @@ pub struct NewArgs {
     /// The kind of exercise: pole-placement, dead-beat or reduced-order.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "pole-placement")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::exercise_kind())
     )]
-    #[serde(default = "super::args::defaults::pole_placement")]
+    #[serde(default = "super::args::defaults::exercise_kind")]
     pub kind: String,
     /// Order, or a range like 2..4.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "2..3")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::new_exercise_orders())
     )]
-    #[serde(default = "super::args::defaults::orders_2_to_3")]
+    #[serde(default = "super::args::defaults::new_exercise_orders")]
     pub order: String,
     /// Seed.
     #[cfg_attr(
@@ -138,9 +138,9 @@ pub struct NewArgs {
     /// a-kc (default) or a+lc.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::observer_convention())
     )]
-    #[serde(default = "super::args::defaults::a_minus_kc")]
+    #[serde(default = "super::args::defaults::observer_convention")]
     pub convention: String,
     /// Write the exercise here (default: print it).
     #[cfg_attr(

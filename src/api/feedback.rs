@@ -5,7 +5,7 @@ use super::args::{json_matrix, matrix};
 use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::feedback::{design_feedback, FeedbackConvention, FeedbackError};
-use crate::observer::{Detail, GainMethod};
+use crate::observer::Detail;
 use anyhow::{anyhow, Result};
 use serde_json::json;
 
@@ -27,16 +27,16 @@ pub struct Args {
     /// ackermann (default), bass-gura or canonical (on the dual pair (Aᵀ, Bᵀ)).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::method())
     )]
-    #[serde(default = "super::args::defaults::ackermann")]
+    #[serde(default = "super::args::defaults::method")]
     pub method: String,
     /// u=-kx (default: closed loop A − BK) or u=fx (A + BF).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "u=-kx")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::feedback_convention())
     )]
-    #[serde(default = "super::args::defaults::u_minus_kx")]
+    #[serde(default = "super::args::defaults::feedback_convention")]
     pub convention: String,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]
@@ -58,14 +58,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         &crate::linalg::Matrix::zeros(0, a.cols()),
         None,
     )?;
-    let method = GainMethod::parse(&args.method)
-        .filter(|m| *m != GainMethod::Lemma31)
-        .ok_or_else(|| {
-            anyhow!(
-                "in --method: unknown method '{}' (ackermann, bass-gura or canonical)",
-                args.method
-            )
-        })?;
+    let method = super::args::gain_method(&args.method)?;
     let convention = FeedbackConvention::parse(&args.convention).ok_or_else(|| {
         anyhow!(
             "in --convention: unknown convention '{}' (u=-kx or u=fx)",

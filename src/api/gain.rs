@@ -8,7 +8,9 @@ use super::args::json_matrix;
 use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::observer::float_check::{float_check, FloatCheck, FloatVerdict};
-use crate::observer::{design_with, Convention, DesiredPolynomial, Detail, GainMethod};
+use crate::observer::{
+    design_with, Convention, DesiredPolynomial, Detail, GainMethod, ObserverDesign,
+};
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 
@@ -28,16 +30,16 @@ pub struct Args {
     /// ackermann (default), bass-gura, canonical or lemma-3.1.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::method())
     )]
-    #[serde(default = "super::args::defaults::ackermann")]
+    #[serde(default = "super::args::defaults::method")]
     pub method: String,
     /// a-kc (default: observer matrix A − KC) or a+lc (A + LC).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::observer_convention())
     )]
-    #[serde(default = "super::args::defaults::a_minus_kc")]
+    #[serde(default = "super::args::defaults::observer_convention")]
     pub convention: String,
     /// Also run the float path and report how far it can be trusted.
     #[cfg_attr(feature = "commands", arg(long))]
@@ -51,9 +53,9 @@ pub struct Args {
     /// Relative tolerance for the float check.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value_t = 1e-6)
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::tolerance())
     )]
-    #[serde(default = "super::args::defaults::tolerance_1e_6")]
+    #[serde(default = "super::args::defaults::tolerance")]
     pub tolerance: f64,
     /// Record only the polynomials and the gain in the derivation, not the intermediate
     /// matrices (O_n, q_n, M, T_o, A − KC), which run to millions of digits for large systems.
@@ -178,12 +180,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             args.method
         )
     })?;
-    let convention = Convention::parse(&args.convention).ok_or_else(|| {
-        anyhow!(
-            "in --convention: unknown convention '{}' (a-kc or a+lc)",
-            args.convention
-        )
-    })?;
+    let convention = super::args::observer_convention(&args.convention)?;
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
         bail!(
             "in --tolerance: {} is not a positive relative tolerance",
@@ -222,73 +219,100 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             args.tolerance,
         )
     });
+    let exact = exact.as_ref();
     if args.json {
-        let mut out = json!({
-            "convention": convention.flag(),
-            "method": method.flag(),
-            "desired": desired.family.to_string(),
-            "exact": exact.is_some(),
-        });
-        match &exact {
-            Some(d) => {
-                out["gain"] = json_matrix(&d.gain.matrix);
-                out["observer_polynomial"] = json!(d.achieved.to_input());
-                out["places_exactly"] = json!(d.places_exactly());
-                out["observer_stable"] = json!(observer_stable(&d.achieved));
-                out["steps"] = serde_json::to_value(&d.derivation.steps)?;
-            }
-            None => {
-                let f = check
-                    .as_ref()
-                    .and_then(|f| f.float_gain.clone())
-                    .unwrap_or_default();
-                out["gain"] = json!(f
-                    .iter()
-                    .map(|x| vec![format!("{:e}", convention.sign() * x)])
-                    .collect::<Vec<_>>());
-                out["observer_polynomial"] = json!(desired.float.to_input());
-                out["inexact_reason"] = json!(desired.inexact_reason);
-            }
-        }
-        if let Some(f) = &check {
-            out["float"] = float_json(f);
-        }
-        rep.json(&out);
+        render_json(rep, &desired, exact, check.as_ref(), method, convention)?;
     } else {
-        match &exact {
-            Some(d) => {
-                rep.derivation(&d.derivation);
-                let letter = convention.letter();
-                outln!(rep, "Result ({convention} convention, {method} method):");
-                outln!(rep, "  {letter} = {}", d.gain.matrix.to_input());
-                let shown = d
-                    .achieved_factored()
-                    .map_or_else(|| d.achieved.to_string(), |f| f.to_string());
-                outln!(rep, "  observer polynomial = {shown}");
-                outln!(rep, "  {}", d.verdict().0);
-                if !observer_stable(&d.achieved) {
-                    outln!(rep, "{UNSTABLE}");
-                }
-            }
-            None => {
-                outln!(
-                    rep,
-                    "Desired polynomial ({}): {}",
-                    desired.family,
-                    desired.float
-                );
-                outln!(
-                    rep,
-                    "  {}",
-                    desired.inexact_reason.clone().unwrap_or_default()
-                );
-            }
-        }
-        if let Some(f) = &check {
-            print_float(rep, f);
-        }
+        render_text(rep, &desired, exact, check.as_ref(), method, convention);
     }
     Ok(Outcome::Ok)
+}
+
+/// The single-output answer as `--json` gives it (the stable shape).
+fn render_json(
+    rep: &mut Report,
+    desired: &DesiredPolynomial,
+    exact: Option<&ObserverDesign>,
+    check: Option<&FloatCheck>,
+    method: GainMethod,
+    convention: Convention,
+) -> Result<()> {
+    let mut out = json!({
+        "convention": convention.flag(),
+        "method": method.flag(),
+        "desired": desired.family.to_string(),
+        "exact": exact.is_some(),
+    });
+    match exact {
+        Some(d) => {
+            out["gain"] = json_matrix(&d.gain.matrix);
+            out["observer_polynomial"] = json!(d.achieved.to_input());
+            out["places_exactly"] = json!(d.places_exactly());
+            out["observer_stable"] = json!(observer_stable(&d.achieved));
+            out["steps"] = serde_json::to_value(&d.derivation.steps)?;
+        }
+        None => {
+            let f = check
+                .as_ref()
+                .and_then(|f| f.float_gain.clone())
+                .unwrap_or_default();
+            out["gain"] = json!(f
+                .iter()
+                .map(|x| vec![format!("{:e}", convention.sign() * x)])
+                .collect::<Vec<_>>());
+            out["observer_polynomial"] = json!(desired.float.to_input());
+            out["inexact_reason"] = json!(desired.inexact_reason);
+        }
+    }
+    if let Some(f) = check {
+        out["float"] = float_json(f);
+    }
+    rep.json(&out);
+    Ok(())
+}
+
+/// The single-output answer as text: the derivation and the result, or the desired polynomial
+/// known in f64 only; the float path's report when it ran.
+fn render_text(
+    rep: &mut Report,
+    desired: &DesiredPolynomial,
+    exact: Option<&ObserverDesign>,
+    check: Option<&FloatCheck>,
+    method: GainMethod,
+    convention: Convention,
+) {
+    match exact {
+        Some(d) => {
+            rep.derivation(&d.derivation);
+            let letter = convention.letter();
+            outln!(rep, "Result ({convention} convention, {method} method):");
+            outln!(rep, "  {letter} = {}", d.gain.matrix.to_input());
+            let shown = d
+                .achieved_factored()
+                .map_or_else(|| d.achieved.to_string(), |f| f.to_string());
+            outln!(rep, "  observer polynomial = {shown}");
+            outln!(rep, "  {}", d.verdict().0);
+            if !observer_stable(&d.achieved) {
+                outln!(rep, "{UNSTABLE}");
+            }
+        }
+        None => {
+            outln!(
+                rep,
+                "Desired polynomial ({}): {}",
+                desired.family,
+                desired.float
+            );
+            outln!(
+                rep,
+                "  {}",
+                desired.inexact_reason.clone().unwrap_or_default()
+            );
+        }
+    }
+    if let Some(f) = check {
+        print_float(rep, f);
+    }
 }
 
 /// Several outputs: exact from one chosen output, or the robust float method

@@ -56,9 +56,9 @@ pub struct Args {
     /// Grid points of the weight search in [0, 1].
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value_t = 1001)
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::kalman_grid())
     )]
-    #[serde(default = "super::args::defaults::grid_1001")]
+    #[serde(default = "super::args::defaults::kalman_grid")]
     pub grid: usize,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]

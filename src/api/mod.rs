@@ -125,11 +125,6 @@ impl Report {
     /// A derivation: its text appended, its steps kept for typesetting.
     pub fn derivation(&mut self, d: &Derivation) {
         out!(self, "{}", d.render());
-        self.keep_steps(d);
-    }
-
-    /// Keeps a derivation's steps (when the text shows it another way, e.g. as JSON).
-    pub fn keep_steps(&mut self, d: &Derivation) {
         self.steps.clone_from(&d.steps);
     }
 
@@ -238,25 +233,7 @@ impl Command {
     /// the browser runs and what the command fuzz target explores). `exercise new` writes a
     /// file only when asked (`out`), which [`Command::writes_files`] tells.
     pub fn in_memory(&self) -> bool {
-        match self {
-            Command::Observe(_)
-            | Command::Canonical(_)
-            | Command::Gain(_)
-            | Command::Feedback(_)
-            | Command::Discrete(_)
-            | Command::Zoh(_)
-            | Command::Dlqe(_)
-            | Command::Reduced(_)
-            | Command::Detectable(_)
-            | Command::Control(_)
-            | Command::Optimal(_)
-            | Command::Kalman(_)
-            | Command::Perfect(_)
-            | Command::Exercise(_) => true,
-            #[cfg(feature = "plot")]
-            Command::Simulate(_) => false,
-            Command::Verify(_) | Command::Check(_) | Command::Grade(_) => false,
-        }
+        Command::IN_MEMORY.contains(&self.name())
     }
 
     /// The plant's A and C (or transfer function) of the request, for the commands that take
@@ -387,14 +364,6 @@ impl Command {
     }
 }
 
-/// Whether the request asks for the JSON answer (`json`).
-fn report_asks_json(command: &Command) -> bool {
-    serde_json::to_value(command)
-        .ok()
-        .and_then(|v| v.get("json").and_then(serde_json::Value::as_bool))
-        .unwrap_or(false)
-}
-
 /// Keys of `given` (an object, recursively) that `known` (the same request written back) does
 /// not have.
 fn unknown_keys(
@@ -438,7 +407,7 @@ pub struct RequestError(pub String);
 /// had reported before.
 pub fn run(command: Command) -> Result<Report, Failure> {
     let mut report = Report::default();
-    // a plant given as a transfer function: the realisation is stated before anything else
+    // a plant given as a transfer function: the report states its realisation
     let realisation = match command.system().map(args::SystemPair::realisation) {
         Some(Ok(r)) => r,
         Some(Err(error)) => {
@@ -449,9 +418,6 @@ pub fn run(command: Command) -> Result<Report, Failure> {
         }
         None => None,
     };
-    if let (Some(r), false) = (&realisation, report_asks_json(&command)) {
-        out!(report, "{}", r.describe());
-    }
     let rep = &mut report;
     let result = match command {
         Command::Verify(a) => verify::run(a, rep),
@@ -474,12 +440,19 @@ pub fn run(command: Command) -> Result<Report, Failure> {
         Command::Grade(a) => exercise::grade(a, rep),
         Command::Exercise(a) => exercise::exercise(a, rep),
     };
-    if let (Some(r), Some(serde_json::Value::Object(o))) = (&realisation, report.json.as_mut()) {
-        // the JSON answer carries the realisation as one more key, and is printed again
-        o.insert("realisation".into(), r.json());
-        let v = serde_json::Value::Object(o.clone());
-        report.text = String::new();
-        report.json(&v);
+    if let (Ok(_), Some(r)) = (&result, &realisation) {
+        match report.json.take() {
+            // the JSON answer carries it as one more key
+            Some(mut v) => {
+                if let Some(o) = v.as_object_mut() {
+                    o.insert("realisation".into(), r.json());
+                }
+                report.text.clear();
+                report.json(&v);
+            }
+            // the text opens with it
+            None => report.text.insert_str(0, &r.describe()),
+        }
     }
     match result {
         Ok(outcome) => {

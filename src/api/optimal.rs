@@ -31,9 +31,9 @@ pub struct Args {
     /// j1 (minimum norm Σ k_i², default) or j2 (minimal dynamical error λ_max(H)).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "j1")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::index())
     )]
-    #[serde(default = "super::args::defaults::j1")]
+    #[serde(default = "super::args::defaults::index")]
     pub index: String,
     /// The weight D of J2 (Fᵀ H + H F = −D), default the identity.
     #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
@@ -42,30 +42,30 @@ pub struct Args {
     /// For J2: the output whose gain column is placed exactly from the others (1-based).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value_t = 1)
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::placed_output())
     )]
-    #[serde(default = "super::args::defaults::one")]
+    #[serde(default = "super::args::defaults::placed_output")]
     pub placed_output: usize,
     /// Seeded random starts of the search.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value_t = 40)
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::starts())
     )]
-    #[serde(default = "super::args::defaults::forty")]
+    #[serde(default = "super::args::defaults::starts")]
     pub starts: usize,
     /// Seed of the starts (same seed, same report).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value_t = 2024)
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::seed())
     )]
-    #[serde(default = "super::args::defaults::seed_2024")]
+    #[serde(default = "super::args::defaults::seed")]
     pub seed: u64,
     /// No new start after this many seconds (the report says how many starts ran).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value_t = 10.0)
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::time_limit())
     )]
-    #[serde(default = "super::args::defaults::ten_seconds")]
+    #[serde(default = "super::args::defaults::time_limit")]
     pub time_limit: f64,
     /// Check this gain (e.g. a printed one): its exact observer polynomial, its poles, J1 and J2.
     #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]

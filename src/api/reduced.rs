@@ -29,16 +29,16 @@ pub struct Args {
     /// ackermann (default), bass-gura or canonical.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::method())
     )]
-    #[serde(default = "super::args::defaults::ackermann")]
+    #[serde(default = "super::args::defaults::method")]
     pub method: String,
     /// a-kc (default: A₂₂ − L A₁₂) or a+lc (A₂₂ + L A₁₂).
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::observer_convention())
     )]
-    #[serde(default = "super::args::defaults::a_minus_kc")]
+    #[serde(default = "super::args::defaults::observer_convention")]
     pub convention: String,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]
@@ -131,16 +131,16 @@ pub struct DetectableArgs {
     /// ackermann (default), bass-gura or canonical.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "ackermann")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::method())
     )]
-    #[serde(default = "super::args::defaults::ackermann")]
+    #[serde(default = "super::args::defaults::method")]
     pub method: String,
     /// a-kc (default) or a+lc.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "a-kc")
+        arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::observer_convention())
     )]
-    #[serde(default = "super::args::defaults::a_minus_kc")]
+    #[serde(default = "super::args::defaults::observer_convention")]
     pub convention: String,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]

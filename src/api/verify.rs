@@ -25,9 +25,9 @@ pub struct Args {
     /// The folder of worked examples.
     #[cfg_attr(
         feature = "commands",
-        arg(allow_hyphen_values = true, long, default_value = "worked_examples")
+        arg(allow_hyphen_values = true, long, default_value_os_t = super::args::defaults::examples_folder())
     )]
-    #[serde(default = "super::args::defaults::worked_examples")]
+    #[serde(default = "super::args::defaults::examples_folder")]
     pub dir: PathBuf,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]

@@ -78,16 +78,6 @@ impl Family {
         }
     }
 
-    /// What the family's time constant is, for help texts: "all n poles at −1/T".
-    pub fn meaning(self) -> &'static str {
-        match self {
-            Family::Repeated => "all n poles at −1/T",
-            Family::Butterworth => "order-n Butterworth polynomial with time constant T",
-            Family::Bessel => "order-n Bessel (Thomson) polynomial with low-frequency delay T",
-            Family::Itae => "order-n ITAE polynomial (orders 1 to 6) with time constant T",
-        }
-    }
-
     /// The first family with a value among `values` (one per family, in [`Family::ALL`]'s
     /// order): how a request's or a file's `repeated`/`butterworth`/… fields are read.
     pub fn given(values: [Option<&String>; 4]) -> Option<(Family, &String)> {
