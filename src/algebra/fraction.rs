@@ -1,17 +1,25 @@
-//! Rational functions of named symbols, not reduced by a gcd, with at most one square root
-//! carried as the symbol `√d` (reduced by `√d² = d`): what the worked examples' proofs compute
-//! in (`worked::proof` proves a document's formula in T, a, a₁ over them). Equality is tested
-//! by cross-multiplication, which needs no gcd; one radicand per claim keeps the normal form
-//! unique, so equality is exact.
+//! Rational functions of named symbols (the plant's parameters `k`, `m`, `ω`, a time constant
+//! `T`, the proofs' `a`, `a₁`), with at most one square root carried as the symbol `√d`
+//! (reduced by `√d² = d`): the field the symbolic commands and the worked examples' proofs
+//! compute in.
+//!
+//! Every value is kept in **lowest terms**: the denominator is free of `√d` (rationalised by
+//! its conjugate), numerator and denominator have no common factor (a multivariate gcd,
+//! [`super::poly_gcd`]), their coefficients are integers without common factor and the
+//! denominator's leading coefficient is positive. The form is unique, so equality is equality
+//! of the parts and the printed form is stable. One radicand per value keeps it unique (the
+//! commands and the proofs read one quadratic field at a time).
 
-use super::{MultiPoly, One, Quadratic, Rational, Ring, Zero};
+use super::{
+    budget, poly_gcd, Field, IntegralDomain, MultiPoly, One, Quadratic, Rational, Ring, Zero,
+};
+use num_bigint::BigInt;
+use num_traits::Signed;
 use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
 
-/// A rational function `num / den` of the claim's symbols, with rational coefficients and at
-/// most one square root carried as the symbol `√d`. Not reduced by a gcd: equality is tested
-/// by cross-multiplication, which needs none.
-#[derive(Clone, Debug)]
+/// A rational function `num / den` of named symbols over Q (or Q(√d)), in lowest terms.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Fraction {
     pub(crate) num: MultiPoly,
     pub(crate) den: MultiPoly,
@@ -53,13 +61,97 @@ fn reduce(p: MultiPoly) -> MultiPoly {
     p
 }
 
+/// `p·(p̄)` and `p̄` for the conjugate `p̄` of `p` under `√d ↦ −√d` (`p` with `√d` of degree
+/// at most 1): the product is free of `√d`.
+fn rationalising(p: &MultiPoly) -> Option<MultiPoly> {
+    let name = p.variables().into_iter().find(|v| radicand(v).is_some())?;
+    let parts = p.coefficients_in(&name);
+    let mut conjugate = MultiPoly::zero();
+    for (k, c) in parts.into_iter().enumerate() {
+        let term = c * MultiPoly::term(Rational::one(), super::Monomial::var(&name, k as u32));
+        conjugate = if k % 2 == 0 {
+            conjugate + term
+        } else {
+            conjugate - term
+        };
+    }
+    Some(conjugate)
+}
+
+/// The rational `f` that makes `f·num`, `f·den` integer polynomials without common factor,
+/// with the denominator's leading coefficient positive.
+fn joint_scale(num: &MultiPoly, den: &MultiPoly) -> Rational {
+    let mut lcm = BigInt::one();
+    for (_, c) in num.terms().chain(den.terms()) {
+        lcm = num_integer::Integer::lcm(&lcm, c.denom());
+    }
+    let mut g = BigInt::zero();
+    for (_, c) in num.terms().chain(den.terms()) {
+        g = super::gcd(&g, &(c.numer() * (&lcm / c.denom())));
+    }
+    if g.is_zero() {
+        return Rational::one();
+    }
+    let f = Rational::new(lcm, g);
+    if den.leading_coefficient().is_some_and(Signed::is_negative) {
+        -f
+    } else {
+        f
+    }
+}
+
 impl Fraction {
     /// A polynomial as a fraction over 1.
     pub(crate) fn of(num: MultiPoly) -> Self {
-        Fraction {
-            num,
-            den: MultiPoly::one(),
+        Fraction::new(num, MultiPoly::one())
+    }
+
+    /// `num / den` in lowest terms (`den` nonzero).
+    pub(crate) fn new(num: MultiPoly, den: MultiPoly) -> Self {
+        let (mut num, mut den) = (reduce(num), reduce(den));
+        if num.is_zero() {
+            return Fraction {
+                num,
+                den: MultiPoly::one(),
+            };
         }
+        while let Some(conjugate) = rationalising(&den) {
+            budget::charge(
+                (num.number_of_terms() + den.number_of_terms()) as u64
+                    * conjugate.number_of_terms() as u64,
+            );
+            num = reduce(num * conjugate.clone());
+            den = reduce(den * conjugate);
+            if budget::exhausted() {
+                break;
+            }
+        }
+        if den.as_constant().is_none() {
+            let g = poly_gcd(&num, &den);
+            if g.as_constant().is_none() {
+                if let (Some(n), Some(d)) = (num.divide_exact(&g), den.divide_exact(&g)) {
+                    num = n;
+                    den = d;
+                }
+            }
+        }
+        let f = joint_scale(&num, &den);
+        if !f.is_one() {
+            let f = MultiPoly::constant(f);
+            num = num * f.clone();
+            den = den * f;
+        }
+        Fraction { num, den }
+    }
+
+    /// The numerator (lowest terms, integer coefficients).
+    pub fn numerator(&self) -> &MultiPoly {
+        &self.num
+    }
+
+    /// The denominator (lowest terms, integer coefficients, positive leading coefficient).
+    pub fn denominator(&self) -> &MultiPoly {
+        &self.den
     }
 
     /// `a + b√d`.
@@ -79,9 +171,11 @@ impl Fraction {
 
     /// `self / other`, or `None` when `other` is the zero function.
     pub fn checked_div(&self, other: &Self) -> Option<Self> {
-        (!other.num.is_zero()).then(|| Fraction {
-            num: reduce(self.num.clone() * other.den.clone()),
-            den: reduce(self.den.clone() * other.num.clone()),
+        (!other.num.is_zero()).then(|| {
+            Fraction::new(
+                self.num.clone() * other.den.clone(),
+                self.den.clone() * other.num.clone(),
+            )
         })
     }
 
@@ -136,10 +230,7 @@ impl Fraction {
         let (den, dd) = homogenised(&self.den);
         let q = |k: usize| (0..k).fold(MultiPoly::one(), |acc, _| reduce(acc * value.den.clone()));
         // (num / q^dn) / (den / q^dd)
-        Fraction {
-            num: reduce(num * q(dd)),
-            den: reduce(den * q(dn)),
-        }
+        Fraction::new(num * q(dd), den * q(dn))
     }
 
     /// The common monomial factor of numerator and denominator divided out, for showing.
@@ -189,19 +280,9 @@ impl Fraction {
             self.num
                 .coefficients_in(var)
                 .into_iter()
-                .map(|c| Fraction {
-                    num: c,
-                    den: self.den.clone(),
-                })
+                .map(|c| Fraction::new(c, self.den.clone()))
                 .collect()
         })
-    }
-}
-
-impl PartialEq for Fraction {
-    fn eq(&self, other: &Self) -> bool {
-        reduce(self.num.clone() * other.den.clone() - other.num.clone() * self.den.clone())
-            .is_zero()
     }
 }
 
@@ -274,16 +355,28 @@ impl fmt::Display for Fraction {
 impl Add for Fraction {
     type Output = Fraction;
     fn add(self, o: Fraction) -> Fraction {
+        if self.num.is_zero() {
+            return o;
+        }
+        if o.num.is_zero() {
+            return self;
+        }
         if self.den == o.den {
-            return Fraction {
-                num: self.num + o.num,
-                den: self.den,
-            };
+            return Fraction::new(self.num + o.num, self.den);
         }
-        Fraction {
-            num: reduce(self.num * o.den.clone() + o.num * self.den.clone()),
-            den: reduce(self.den * o.den),
-        }
+        budget::charge(
+            (self.num.number_of_terms() * o.den.number_of_terms()
+                + o.num.number_of_terms() * self.den.number_of_terms()) as u64,
+        );
+        // over the lcm of the denominators, not their product
+        let g = poly_gcd(&self.den, &o.den);
+        let (Some(left), Some(right)) = (o.den.divide_exact(&g), self.den.divide_exact(&g)) else {
+            return Fraction::new(
+                self.num * o.den.clone() + o.num * self.den.clone(),
+                self.den * o.den,
+            );
+        };
+        Fraction::new(self.num * left.clone() + o.num * right, self.den * left)
     }
 }
 
@@ -297,10 +390,14 @@ impl Sub for Fraction {
 impl Mul for Fraction {
     type Output = Fraction;
     fn mul(self, o: Fraction) -> Fraction {
-        Fraction {
-            num: reduce(self.num * o.num),
-            den: reduce(self.den * o.den),
+        if self.num.is_zero() || o.num.is_zero() {
+            return Fraction::zero();
         }
+        budget::charge(
+            (self.num.number_of_terms() * o.num.number_of_terms()
+                + self.den.number_of_terms() * o.den.number_of_terms()) as u64,
+        );
+        Fraction::new(self.num * o.num, self.den * o.den)
     }
 }
 
@@ -316,7 +413,10 @@ impl Neg for Fraction {
 
 impl Zero for Fraction {
     fn zero() -> Self {
-        Fraction::of(MultiPoly::zero())
+        Fraction {
+            num: MultiPoly::zero(),
+            den: MultiPoly::one(),
+        }
     }
     fn is_zero(&self) -> bool {
         self.num.is_zero()
@@ -325,13 +425,48 @@ impl Zero for Fraction {
 
 impl One for Fraction {
     fn one() -> Self {
-        Fraction::of(MultiPoly::one())
+        Fraction {
+            num: MultiPoly::one(),
+            den: MultiPoly::one(),
+        }
+    }
+}
+
+impl IntegralDomain for Fraction {
+    fn divide_exact(&self, divisor: &Self) -> Option<Self> {
+        self.checked_div(divisor)
+    }
+}
+
+impl Field for Fraction {
+    /// A field of fractions of polynomials: elimination runs in the field itself, every entry
+    /// in lowest terms.
+    type Integers = Fraction;
+    fn common_denominator(_: &[Self]) -> Fraction {
+        Fraction::one()
+    }
+    fn scale_to_integer(&self, d: &Fraction) -> Fraction {
+        self.clone() * d.clone()
+    }
+    fn from_integer_ratio(n: Fraction, d: Fraction) -> Option<Self> {
+        n.checked_div(&d)
+    }
+    fn inverse(&self) -> Option<Self> {
+        Fraction::one().checked_div(self)
     }
 }
 
 impl Ring for Fraction {
     fn from_i64(n: i64) -> Self {
         Fraction::of(MultiPoly::from_i64(n))
+    }
+    /// Short entries make good pivots: they keep the eliminated entries short.
+    fn pivot_weight(&self) -> f64 {
+        if self.num.is_zero() {
+            0.0
+        } else {
+            1.0 / (self.num.number_of_terms() + self.den.number_of_terms()) as f64
+        }
     }
     fn to_latex(&self) -> String {
         match self.den.as_constant() {

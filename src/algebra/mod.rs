@@ -13,14 +13,17 @@
 //!
 //! Exactness is a property of the type ([`Ring::EXACT`]); tolerances never appear in exact code.
 
+pub mod budget;
 mod fraction;
 pub(crate) mod gcd;
+mod multigcd;
 mod multivariate;
 mod quadratic;
 mod scalars;
 
 pub use fraction::Fraction;
 pub use gcd::{fraction, gcd, lcm_of_denominators};
+pub use multigcd::{normalised, normalising_factor, poly_gcd};
 pub(crate) use multivariate::latex_symbol;
 pub use multivariate::{DivisionTooCostly, Monomial, MultiPoly};
 pub use num_bigint::BigInt;

@@ -269,6 +269,14 @@ impl MultiPoly {
             })
             .sum()
     }
+    /// How many terms it has.
+    pub fn number_of_terms(&self) -> usize {
+        self.terms.len()
+    }
+    /// The coefficient of the leading term (the largest monomial in the lexicographic order).
+    pub fn leading_coefficient(&self) -> Option<&Rational> {
+        self.terms.values().next_back()
+    }
     /// The coefficient of the monomial `m`.
     pub fn coefficient(&self, m: &Monomial) -> Rational {
         self.terms.get(m).cloned().unwrap_or_else(Rational::zero)
