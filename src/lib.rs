@@ -187,6 +187,7 @@ pub mod observability;
 pub mod observer;
 pub mod poly;
 pub mod simulation;
+pub mod symbolic;
 pub mod syntax;
 pub mod system;
 pub mod worked;

@@ -233,46 +233,6 @@ impl Fraction {
         Fraction::new(num * q(dd), den * q(dn))
     }
 
-    /// The common monomial factor of numerator and denominator divided out, for showing.
-    fn cancelled(&self) -> Fraction {
-        let mut common: Option<Vec<(String, u32)>> = None;
-        for (m, _) in self.num.terms().chain(self.den.terms()) {
-            let here: Vec<(String, u32)> = m.factors().to_vec();
-            common = Some(match common {
-                None => here,
-                Some(c) => c
-                    .into_iter()
-                    .filter_map(|(v, e)| {
-                        let f = m.exponent(&v);
-                        (f > 0).then(|| (v, e.min(f)))
-                    })
-                    .collect(),
-            });
-        }
-        let common = common.unwrap_or_default();
-        if common.is_empty() {
-            return self.clone();
-        }
-        let divide = |p: &MultiPoly| -> MultiPoly {
-            p.terms()
-                .map(|(m, c)| {
-                    let mut t = MultiPoly::constant(c.clone());
-                    for (v, e) in m.factors() {
-                        let left = e - common.iter().find(|(w, _)| w == v).map_or(0, |(_, k)| *k);
-                        for _ in 0..left {
-                            t = t * MultiPoly::var(v);
-                        }
-                    }
-                    t
-                })
-                .fold(MultiPoly::zero(), |a, b| a + b)
-        };
-        Fraction {
-            num: divide(&self.num),
-            den: divide(&self.den),
-        }
-    }
-
     /// The coefficients of `var` (lowest power first), when `var` does not occur in the
     /// denominator.
     pub fn coefficients_in(&self, var: &str) -> Option<Vec<Fraction>> {
@@ -295,6 +255,66 @@ fn show(p: &MultiPoly) -> String {
         }
     }
     text
+}
+
+/// A polynomial with its square-root symbols written as `sqrt(d)`, in input syntax.
+fn show_input(p: &MultiPoly) -> String {
+    let mut text = p.to_input();
+    for v in p.variables() {
+        if let Some(d) = radicand(&v) {
+            text = text.replace(&v, &format!("sqrt({d})"));
+        }
+    }
+    text
+}
+
+/// `num/den` from the parts' texts: parentheses around a numerator or denominator of several
+/// terms, a constant denominator divided in.
+fn quotient(num: String, den: String, several: (bool, bool)) -> String {
+    let num = if several.0 { format!("({num})") } else { num };
+    let den = if several.1 { format!("({den})") } else { den };
+    format!("{num}/{den}")
+}
+
+impl Fraction {
+    /// `(num, den)` shown by `show`, with a constant denominator divided into the numerator.
+    fn parts(&self, show: fn(&MultiPoly) -> String) -> String {
+        if let Some(d) = self.den.as_constant() {
+            return show(&(self.num.clone() * MultiPoly::constant(d.recip())));
+        }
+        // a denominator needs parentheses unless it is one power of one symbol
+        let several = |p: &MultiPoly| {
+            p.number_of_terms() > 1 || p.terms().any(|(m, c)| m.factors().len() > 1 || !c.is_one())
+        };
+        quotient(
+            show(&self.num),
+            show(&self.den),
+            (self.num.number_of_terms() > 1, several(&self.den)),
+        )
+    }
+
+    /// The value when it is a rational number.
+    pub fn as_rational(&self) -> Option<Rational> {
+        let d = self.den.as_constant()?;
+        Some(self.num.as_constant()? / d)
+    }
+
+    /// The value when it is a number of a quadratic field (`a + b√d`).
+    pub fn as_quadratic(&self) -> Option<Quadratic> {
+        let d = self.den.as_constant()?;
+        let names = self.num.variables();
+        match names.as_slice() {
+            [] => Some(Quadratic::rational(self.num.as_constant()? / d)),
+            [r] => {
+                let radicand = radicand(r)?;
+                let parts = self.num.coefficients_in(r);
+                let a = parts.first()?.as_constant()? / d.clone();
+                let b = parts.get(1)?.as_constant()? / d;
+                Quadratic::new(a, b, radicand)
+            }
+            _ => None,
+        }
+    }
 }
 
 /// The term `c·n/m` of monomials, cancelled: `2/T`, `a1`, `-1/(a T^2)`.
@@ -335,20 +355,26 @@ fn over(c: Rational, n: &crate::algebra::Monomial, m: &crate::algebra::Monomial)
     }
 }
 
+impl Fraction {
+    /// The value written term by term when the denominator is a single term, each term of the
+    /// numerator over it and cancelled (`a1 + sqrt(2)/T`, how documents print a formula in T);
+    /// otherwise as [`Display`](fmt::Display).
+    pub fn termwise(&self) -> String {
+        let mut den_terms = self.den.terms();
+        match (den_terms.next(), den_terms.next()) {
+            (Some((m, k)), None) if self.den.as_constant().is_none() => {
+                let terms: Vec<String> = self.num.terms().map(|(n, a)| over(a / k, n, m)).collect();
+                terms.join(" + ").replace("+ -", "- ")
+            }
+            _ => self.to_string(),
+        }
+    }
+}
+
 impl fmt::Display for Fraction {
-    /// `num/den` with the common monomial factor cancelled; a constant denominator divided in;
-    /// a single-term denominator shown under each term of the numerator.
+    /// `num/den` in lowest terms, `(2 m w − c)/m`; a constant denominator divided in.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let c = self.cancelled();
-        if let Some(d) = c.den.as_constant() {
-            return write!(f, "{}", show(&(c.num * MultiPoly::constant(d.recip()))));
-        }
-        let mut den_terms = c.den.terms();
-        if let (Some((m, k)), None) = (den_terms.next(), den_terms.next()) {
-            let terms: Vec<String> = c.num.terms().map(|(n, a)| over(a / k, n, m)).collect();
-            return write!(f, "{}", terms.join(" + ").replace("+ -", "- "));
-        }
-        write!(f, "({}) / ({})", show(&c.num), show(&c.den))
+        write!(f, "{}", self.parts(show))
     }
 }
 
@@ -469,16 +495,21 @@ impl Ring for Fraction {
         }
     }
     fn to_latex(&self) -> String {
+        let latex = |p: &MultiPoly| {
+            let mut text = p.to_latex();
+            for v in p.variables() {
+                if let Some(d) = radicand(&v) {
+                    text = text.replace(&v, &format!("\\sqrt{{{d}}}"));
+                }
+            }
+            text
+        };
         match self.den.as_constant() {
-            Some(c) if c.is_one() => self.num.to_latex(),
-            _ => format!(
-                "\\frac{{{}}}{{{}}}",
-                self.num.to_latex(),
-                self.den.to_latex()
-            ),
+            Some(c) if c.is_one() => latex(&self.num),
+            _ => format!("\\frac{{{}}}{{{}}}", latex(&self.num), latex(&self.den)),
         }
     }
     fn to_input(&self) -> String {
-        self.to_string()
+        self.parts(show_input)
     }
 }

@@ -372,15 +372,35 @@ impl Style {
     }
 }
 
-/// LaTeX for a symbol name: `k1` → `k_{1}`, `lambda`/`λ` → `\lambda`.
+/// LaTeX for a symbol name: `k1` → `k_{1}`, `lambda`/`λ` → `\lambda`, Greek letters typed as
+/// words (`zeta` → `\zeta`, `omega` and `w` → `\omega`, so `w0` → `\omega_{0}`).
 pub(crate) fn latex_symbol(name: &str) -> String {
     let greek = [
         ("lambda", "\\lambda"),
         ("λ", "\\lambda"),
         ("omega", "\\omega"),
         ("ω", "\\omega"),
+        ("w", "\\omega"),
         ("alpha", "\\alpha"),
+        ("beta", "\\beta"),
+        ("gamma", "\\gamma"),
+        ("delta", "\\delta"),
+        ("epsilon", "\\varepsilon"),
+        ("zeta", "\\zeta"),
+        ("eta", "\\eta"),
+        ("theta", "\\theta"),
+        ("kappa", "\\kappa"),
+        ("mu", "\\mu"),
+        ("nu", "\\nu"),
+        ("xi", "\\xi"),
+        ("rho", "\\rho"),
+        ("sigma", "\\sigma"),
         ("tau", "\\tau"),
+        ("phi", "\\phi"),
+        ("psi", "\\psi"),
+        ("ζ", "\\zeta"),
+        ("γ", "\\gamma"),
+        ("τ", "\\tau"),
     ];
     let split = name
         .char_indices()

@@ -203,7 +203,7 @@ fn desired_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<P
     Ok(Proof {
         holds: value == print,
         symbols,
-        value: value.to_string(),
+        value: value.termwise(),
         method: "the family's definition P_T(s) = T⁻ⁿ P₁(T s), P₁ computed exactly",
     })
 }
@@ -308,8 +308,8 @@ fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
         symbols,
         value: format!(
             "K = [{}], Mᵀ O_n K = c − a = [{}]",
-            k.entries().iter().map(ToString::to_string).collect::<Vec<_>>().join("; "),
-            c_minus_a.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ")
+            k.entries().iter().map(Fraction::termwise).collect::<Vec<_>>().join("; "),
+            c_minus_a.iter().map(Fraction::termwise).collect::<Vec<_>>().join("; ")
         ),
         method: "Ackermann's K = P(A) O⁻¹ eₙ over the rational functions, then Mᵀ O_n K = c − a, so T_o K_o = O_n⁻¹ M⁻ᵀ (c − a) = K with T_o = (Mᵀ O_n)⁻¹",
     })
@@ -354,7 +354,7 @@ fn gain_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proo
             "[{}]",
             k.entries()
                 .iter()
-                .map(ToString::to_string)
+                .map(Fraction::termwise)
                 .collect::<Vec<_>>()
                 .join("; ")
         ),
@@ -383,10 +383,7 @@ mod tests {
         assert_ne!(f("1/(a T)"), f("1/(a T^2)"));
         let k2 = f("-c2/a");
         assert_eq!(f("c1 + a - k2").substitute("k2", &k2), f("c1 + a + c2/a"));
-        assert_eq!(
-            f("(a T^2 + sqrt(2) T)/T^3").to_string(),
-            "sqrt(2)/T^2 + a/T"
-        );
+        assert_eq!(f("(a T^2 + sqrt(2) T)/T^3").termwise(), "sqrt(2)/T^2 + a/T");
         assert!(
             read("T/(T - T)", &Environment::new()).is_err(),
             "a zero denominator"

@@ -1,0 +1,309 @@
+//! Designing with parameters: what a course writes on the board (`A = [0 1; −k/m −c/m]`, poles
+//! at `−ω`) computed as formulas, with the values for which the formula breaks.
+//!
+//! The design kernels are generic over [`Field`](crate::algebra::Field); here they run over
+//! [`Fraction`], the rational functions of the parameters in lowest terms. A generic answer
+//! holds for every value of the parameters except where one of its denominators vanishes (the
+//! plant's own, `det O_n`, the gain's): [`Exceptions`] collects those denominators, splits them
+//! into factors ([`factors`]: monomials, contents and square-free parts; a factor of total
+//! degree 1 is irreducible, a longer one is not claimed to be) and says "valid for m ≠ 0".
+//!
+//! Symbolic work can grow fast, so it is bounded: at most [`MAX_PARAMETERS`] parameters, order
+//! [`MAX_ORDER`], and [`WORK_BUDGET`] coefficient products on the [`budget`] meter, which the
+//! commands open around every symbolic computation.
+
+use crate::algebra::{
+    budget, normalised, poly_gcd, Fraction, IntegralDomain, MultiPoly, Ring, Zero,
+};
+use std::collections::BTreeMap;
+
+/// Names that are not parameters: the transform variables and the imaginary unit.
+pub const RESERVED: &[&str] = &["s", "z", "λ", "lambda", "i", "j"];
+/// The most parameters one command reads.
+pub const MAX_PARAMETERS: usize = 8;
+/// The largest order of a symbolic plant.
+pub const MAX_ORDER: usize = 8;
+/// The most coefficient products a symbolic command may spend (about a second of work).
+pub const WORK_BUDGET: u64 = 50_000_000;
+
+/// Why a symbolic request is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SymbolicError {
+    /// A reserved name used as a parameter.
+    #[error("'{name}' is reserved ({why}) and cannot be a parameter; rename it")]
+    Reserved {
+        /// The name.
+        name: String,
+        /// What it stands for.
+        why: &'static str,
+    },
+    /// Too many parameters.
+    #[error("{found} parameters ({names}); symbolic design takes at most {limit} (give values to some with --at NAME=VALUE)")]
+    TooManyParameters {
+        /// How many were found.
+        found: usize,
+        /// Their names.
+        names: String,
+        /// The limit.
+        limit: usize,
+    },
+    /// A plant too large for symbolic work.
+    #[error("a symbolic plant of order {order} is beyond the limit of {limit} (give the parameters values with --at NAME=VALUE)")]
+    TooLarge {
+        /// The order.
+        order: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The work budget ran out.
+    #[error("the symbolic computation needs more than {budget} coefficient products (about a second of work) and was stopped; give some parameters values with --at NAME=VALUE")]
+    TooMuchWork {
+        /// The budget.
+        budget: u64,
+    },
+}
+
+/// What each reserved name stands for.
+fn reserved_meaning(name: &str) -> Option<&'static str> {
+    match name {
+        "s" | "λ" | "lambda" => Some("the Laplace variable of the polynomials"),
+        "z" => Some("the z-transform variable"),
+        "i" | "j" => Some("the imaginary unit"),
+        _ => None,
+    }
+}
+
+/// The parameters (symbols) that `values` mention, sorted.
+pub fn parameters<'a>(values: impl IntoIterator<Item = &'a Fraction>) -> Vec<String> {
+    let mut names: Vec<String> = values.into_iter().flat_map(Fraction::symbols).collect();
+    names.sort();
+    names.dedup();
+    names
+}
+
+/// Checks the parameters a request mentions: no reserved name, not too many.
+///
+/// # Errors
+/// [`SymbolicError::Reserved`] or [`SymbolicError::TooManyParameters`].
+pub fn check_parameters(names: &[String]) -> Result<(), SymbolicError> {
+    if let Some(name) = names.iter().find(|n| reserved_meaning(n).is_some()) {
+        return Err(SymbolicError::Reserved {
+            name: name.clone(),
+            why: reserved_meaning(name).unwrap_or_default(),
+        });
+    }
+    if names.len() > MAX_PARAMETERS {
+        return Err(SymbolicError::TooManyParameters {
+            found: names.len(),
+            names: names.join(", "),
+            limit: MAX_PARAMETERS,
+        });
+    }
+    Ok(())
+}
+
+/// Runs a symbolic computation under the work budget: its result, or
+/// [`SymbolicError::TooMuchWork`] when the meter ran out (whatever the computation returned).
+///
+/// # Errors
+/// [`SymbolicError::TooMuchWork`].
+pub fn within_budget<T>(work: impl FnOnce() -> T) -> Result<T, SymbolicError> {
+    let meter = budget::Meter::open(WORK_BUDGET);
+    let out = work();
+    if meter.exhausted() {
+        return Err(SymbolicError::TooMuchWork {
+            budget: meter.budget(),
+        });
+    }
+    Ok(out)
+}
+
+/// `p` split into factors with multiplicities: the single variables of its monomial content,
+/// then, variable by variable, the content and the square-free parts (Yun's algorithm) of the
+/// primitive part. Constant factors are dropped; each factor is normalised (integer
+/// coefficients, positive leading coefficient); the order is by total degree, then text.
+pub fn factors(p: &MultiPoly) -> Vec<(MultiPoly, u32)> {
+    let mut out: Vec<(MultiPoly, u32)> = Vec::new();
+    if !p.is_zero() {
+        split(normalised(p), 1, &mut out);
+    }
+    let mut merged: BTreeMap<(u32, String), (MultiPoly, u32)> = BTreeMap::new();
+    for (f, e) in out {
+        let key = (f.total_degree(), f.to_input());
+        merged.entry(key).or_insert((f, 0)).1 += e;
+    }
+    merged.into_values().collect()
+}
+
+fn power(x: &str, e: u32) -> MultiPoly {
+    MultiPoly::term(
+        crate::algebra::Rational::from_i64(1),
+        crate::algebra::Monomial::var(x, e),
+    )
+}
+
+fn split(p: MultiPoly, times: u32, out: &mut Vec<(MultiPoly, u32)>) {
+    if p.as_constant().is_some() || budget::exhausted() {
+        return;
+    }
+    let mut p = p;
+    for v in p.variables() {
+        let e = p.terms().map(|(m, _)| m.exponent(&v)).min().unwrap_or(0);
+        if e > 0 {
+            out.push((MultiPoly::var(&v), e * times));
+            p = p.divide_exact(&power(&v, e)).unwrap_or(p);
+        }
+    }
+    if p.as_constant().is_some() {
+        return;
+    }
+    let Some(x) = p.variables().into_iter().next() else {
+        return;
+    };
+    let coefficients = p.coefficients_in(&x);
+    let content = coefficients
+        .iter()
+        .fold(MultiPoly::zero(), |g, c| poly_gcd(&g, c));
+    if content.as_constant().is_none() {
+        split(content.clone(), times, out);
+        p = p.divide_exact(&content).unwrap_or(p);
+    }
+    square_free(p, &x, times, out);
+}
+
+/// Yun's square-free decomposition of `p` (primitive in `x`, depending on `x`).
+fn square_free(p: MultiPoly, x: &str, times: u32, out: &mut Vec<(MultiPoly, u32)>) {
+    let derivative = p.derivative(x);
+    let mut c = poly_gcd(&p, &derivative);
+    let mut w = p.divide_exact(&c).unwrap_or_else(|| p.clone());
+    let mut i = 1;
+    while w.as_constant().is_none() && !budget::exhausted() {
+        let y = poly_gcd(&w, &c);
+        let z = w.divide_exact(&y).unwrap_or_else(|| w.clone());
+        if z.as_constant().is_none() {
+            out.push((normalised(&z), i * times));
+        }
+        i += 1;
+        c = c.divide_exact(&y).unwrap_or(c);
+        w = y;
+    }
+}
+
+/// A factor whose vanishing breaks a formula, and what breaks.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Exception {
+    /// The factor, in input syntax.
+    pub factor: String,
+    /// The factor in LaTeX.
+    #[serde(skip)]
+    pub latex: String,
+    /// Why it matters ("a denominator of A", "det O_n", "a denominator of the gain").
+    pub reason: String,
+    /// Whether the factor is known to be irreducible (total degree 1).
+    pub irreducible: bool,
+}
+
+/// The values of the parameters for which a generic result does not hold: the factors of the
+/// denominators it divided by, each with its reason (the first reason found is kept).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+#[serde(transparent)]
+pub struct Exceptions(pub Vec<Exception>);
+
+impl Exceptions {
+    /// Records the factors of `p` with `reason`.
+    pub fn add(&mut self, p: &MultiPoly, reason: &str) {
+        for (f, _) in factors(p) {
+            let text = f.to_input();
+            if self.0.iter().any(|e| e.factor == text) {
+                continue;
+            }
+            self.0.push(Exception {
+                factor: text,
+                latex: f.to_latex(),
+                reason: reason.to_string(),
+                irreducible: f.total_degree() == 1,
+            });
+        }
+    }
+    /// Records the denominators of `values` with `reason`.
+    pub fn add_denominators<'a>(
+        &mut self,
+        values: impl IntoIterator<Item = &'a Fraction>,
+        reason: &str,
+    ) {
+        for v in values {
+            self.add(v.denominator(), reason);
+        }
+    }
+    /// Whether nothing can break.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+    /// "m ≠ 0, k·m − c² ≠ 0" (or "every value of the parameters").
+    pub fn text(&self) -> String {
+        if self.0.is_empty() {
+            return "every value of the parameters".into();
+        }
+        self.0
+            .iter()
+            .map(|e| format!("{} ≠ 0", e.factor.replace('*', " ").replace(" - ", " − ")))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+    /// The same in LaTeX.
+    pub fn latex(&self) -> String {
+        if self.0.is_empty() {
+            return "\\text{every value of the parameters}".into();
+        }
+        self.0
+            .iter()
+            .map(|e| format!("{} \\neq 0", e.latex))
+            .collect::<Vec<_>>()
+            .join(",\\quad ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn poly(text: &str) -> MultiPoly {
+        crate::syntax::parse_scalar::<MultiPoly>(text).unwrap()
+    }
+
+    #[test]
+    fn factors_split_monomials_contents_and_squares() {
+        let f = factors(&poly("-4*m^3*k*(c^2 - 4*k*m)^2*(w + 1)"));
+        let shown: Vec<(String, u32)> = f.iter().map(|(p, e)| (p.to_input(), *e)).collect();
+        assert_eq!(
+            shown,
+            [
+                ("k".to_string(), 1),
+                ("m".to_string(), 3),
+                ("w + 1".to_string(), 1),
+                ("c^2 - 4*k*m".to_string(), 2)
+            ]
+        );
+        assert!(factors(&poly("7")).is_empty());
+    }
+
+    #[test]
+    fn exceptions_name_each_factor_once() {
+        let mut e = Exceptions::default();
+        e.add(&poly("m^2"), "a denominator of A");
+        e.add(&poly("2*m*k"), "det O_n");
+        assert_eq!(e.text(), "m ≠ 0, k ≠ 0");
+        assert_eq!(e.0[1].reason, "det O_n");
+    }
+
+    #[test]
+    fn reserved_names_and_limits() {
+        assert!(check_parameters(&["s".into()]).is_err());
+        let many: Vec<String> = (0..9).map(|i| format!("p{i}")).collect();
+        assert!(matches!(
+            check_parameters(&many),
+            Err(SymbolicError::TooManyParameters { .. })
+        ));
+        assert!(check_parameters(&["k".into(), "m".into()]).is_ok());
+    }
+}
