@@ -164,6 +164,11 @@ impl Fraction {
         Fraction::of(a + b * MultiPoly::var(&radical(q.radicand())))
     }
 
+    /// The rational number `c`.
+    pub fn constant(c: Rational) -> Self {
+        Fraction::of(MultiPoly::constant(c))
+    }
+
     /// The symbol `name`.
     pub fn symbol(name: &str) -> Self {
         Fraction::of(MultiPoly::var(name))

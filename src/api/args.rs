@@ -1,9 +1,10 @@
 //! Turning raw command-line strings into validated values, naming the flag on error.
 
-use crate::algebra::Quadratic;
-use crate::algebra::Rational;
+use crate::algebra::{Fraction, One, Quadratic, Rational, Zero};
 use crate::linalg::Matrix;
 use crate::observer::DesiredPolynomial;
+use crate::poly::Poly;
+use crate::syntax::Environment;
 use crate::syntax::{parse_list, parse_polynomial};
 use crate::syntax::{parse_matrix, parse_scalar, FromExpr};
 use anyhow::{anyhow, bail, Context, Result};
@@ -100,6 +101,127 @@ pub struct SystemPair {
     )]
     #[serde(default)]
     pub tf: Option<String>,
+    /// Values for the parameters, e.g. "k=2, m=1/2": the symbolic entries are evaluated there
+    /// and the command continues exactly with numbers.
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "NAME=VALUE,…")
+    )]
+    #[serde(default)]
+    pub at: Option<String>,
+}
+
+/// A plant read from `--a` and `--c`: numbers, or rational functions of parameters.
+#[derive(Debug, Clone)]
+pub enum Plant {
+    /// Every entry a rational number (after `--at`, if given).
+    Numeric(Matrix<Rational>, Matrix<Rational>),
+    /// Some entry mentions a parameter.
+    Symbolic(Matrix<Fraction>, Matrix<Fraction>),
+}
+
+/// The values of `--at NAME=VALUE, …` (empty without the flag); errors name the flag.
+pub fn parameter_values(text: Option<&str>) -> Result<Environment> {
+    let mut values = Environment::new();
+    let Some(text) = text else {
+        return Ok(values);
+    };
+    for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let Some((name, value)) = part.split_once('=') else {
+            bail!(
+                "in --at: '{}' is not NAME=VALUE",
+                crate::files::escape_untrusted(part)
+            );
+        };
+        let name = name.trim();
+        let well_formed = name.chars().next().is_some_and(char::is_alphabetic)
+            && name.chars().all(|c| c.is_alphanumeric() || c == '_');
+        if !well_formed {
+            bail!(
+                "in --at: '{}' is not a parameter name",
+                crate::files::escape_untrusted(name)
+            );
+        }
+        crate::symbolic::check_parameters(&[name.to_string()])
+            .map_err(|e| anyhow!("in --at: {e}"))?;
+        let v = parse_scalar::<Rational>(value.trim())
+            .map_err(|e| anyhow!("in --at: {name} = {}", e.show_in(value.trim())))?;
+        if values.insert(name.to_string(), v).is_some() {
+            bail!("in --at: {name} is given twice");
+        }
+    }
+    if values.len() > MAX_AT_VALUES {
+        bail!("in --at: {} values, at most {MAX_AT_VALUES}", values.len());
+    }
+    Ok(values)
+}
+
+/// The most values `--at` takes.
+const MAX_AT_VALUES: usize = 64;
+
+/// `x` with the parameters of `values` substituted.
+pub fn substituted(x: &Fraction, values: &Environment) -> Fraction {
+    let mut out = x.clone();
+    for name in x.symbols() {
+        if let Some(v) = values.get(&name) {
+            out = out.substitute(&name, &Fraction::constant(v.clone()));
+        }
+    }
+    out
+}
+
+/// Reads a flag as rational functions of the parameters (`Ok(None)` when it holds plain
+/// numbers, which the numeric readers take): the symbol error of the numeric reader decides.
+fn symbolic_matrix(flag: &str, text: &str) -> Result<Option<Matrix<Fraction>>> {
+    match parse_matrix::<Rational>(text) {
+        Err(crate::syntax::SyntaxError::UnknownSymbol { .. }) => {
+            Ok(Some(matrix::<Fraction>(flag, text)?))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// A matrix with the values of `--at` substituted, as numbers; errors name a parameter left
+/// without a value.
+fn evaluated(flag: &str, m: &Matrix<Fraction>, values: &Environment) -> Result<Matrix<Rational>> {
+    let mut rows = Vec::with_capacity(m.rows());
+    for i in 0..m.rows() {
+        let mut row = Vec::with_capacity(m.cols());
+        for x in m.row(i) {
+            let v = substituted(x, values);
+            match v.as_rational() {
+                Some(q) => row.push(q),
+                None => bail!(
+                    "in {flag}: entry ({}, {}) = {x} still has {} without a value (give it in --at NAME=VALUE)",
+                    i + 1,
+                    row.len() + 1,
+                    v.symbols().join(", ")
+                ),
+            }
+        }
+        rows.push(row);
+    }
+    Ok(Matrix::from_rows(rows)?)
+}
+
+/// A numeric command met a parameter: say how to give it a value.
+fn needs_values(flag: &str, m: &Matrix<Fraction>) -> anyhow::Error {
+    let names = crate::symbolic::parameters(m.entries());
+    anyhow!(
+        "in {flag}: {} {} a parameter; this command computes with numbers — give {} with --at {}",
+        names.join(", "),
+        if names.len() == 1 { "is" } else { "are" },
+        if names.len() == 1 {
+            "its value"
+        } else {
+            "their values"
+        },
+        names
+            .iter()
+            .map(|n| format!("{n}=…"))
+            .collect::<Vec<_>>()
+            .join(",")
+    )
 }
 
 /// A plant realised from `--tf`: its matrices and how they were formed.
@@ -146,15 +268,59 @@ impl Realisation {
 impl SystemPair {
     /// Both matrices, exact; errors name the flag and the column.
     pub fn parse(&self) -> Result<(Matrix<Rational>, Matrix<Rational>)> {
+        match self.plant()? {
+            Plant::Numeric(a, c) => Ok((a, c)),
+            Plant::Symbolic(a, c) => Err(if a.entries().iter().any(|x| !x.symbols().is_empty()) {
+                needs_values("--a", &a)
+            } else {
+                needs_values("--c", &c)
+            }),
+        }
+    }
+
+    /// The values of `--at`.
+    pub fn values(&self) -> Result<Environment> {
+        parameter_values(self.at.as_deref())
+    }
+
+    /// The plant, numeric or with parameters; `--at` substitutes values (and then every
+    /// parameter needs one).
+    pub fn plant(&self) -> Result<Plant> {
         if let Some(r) = self.realisation()? {
-            return Ok((r.a, r.c));
+            if self.at.is_some() {
+                bail!("in --at: --tf takes numbers only");
+            }
+            return Ok(Plant::Numeric(r.a, r.c));
         }
         let (Some(a), Some(c)) = (&self.a, &self.c) else {
             bail!("give the plant: --a and --c, or --tf");
         };
-        let (a, c) = (matrix("--a", a)?, matrix("--c", c)?);
+        let values = self.values()?;
+        let (sa, sc) = (symbolic_matrix("--a", a)?, symbolic_matrix("--c", c)?);
+        if sa.is_none() && sc.is_none() {
+            let (a, c) = (matrix("--a", a)?, matrix("--c", c)?);
+            check_plant(&a, None, &c, None)?;
+            return Ok(Plant::Numeric(a, c));
+        }
+        let a = sa.map_or_else(|| matrix::<Fraction>("--a", a), Ok)?;
+        let c = sc.map_or_else(|| matrix::<Fraction>("--c", c), Ok)?;
+        if values.is_empty() {
+            let names = crate::symbolic::parameters(a.entries().iter().chain(c.entries()));
+            crate::symbolic::check_parameters(&names).map_err(|e| anyhow!("in --a/--c: {e}"))?;
+            check_plant(
+                &a.map(|_| Rational::zero()),
+                None,
+                &c.map(|_| Rational::zero()),
+                None,
+            )?;
+            return Ok(Plant::Symbolic(a, c));
+        }
+        let (a, c) = (
+            evaluated("--a", &a, &values)?,
+            evaluated("--c", &c, &values)?,
+        );
         check_plant(&a, None, &c, None)?;
-        Ok((a, c))
+        Ok(Plant::Numeric(a, c))
     }
 
     /// The input matrix: `--b` as given, or the realisation's B when the plant is `--tf`.
@@ -398,6 +564,146 @@ impl DesiredArgs {
             self.bessel.as_ref(),
             self.itae.as_ref(),
         ])
+    }
+
+    /// The flag that is given and its text.
+    fn given(&self) -> Option<(String, &String)> {
+        if let Some(p) = &self.poles {
+            Some(("--poles".into(), p))
+        } else if let Some(p) = &self.poly {
+            Some(("--poly".into(), p))
+        } else {
+            self.family().map(|(f, t)| (format!("--{f}"), t))
+        }
+    }
+
+    /// The desired polynomial as requested, `poles -w, -w`.
+    pub fn describe(&self) -> String {
+        self.given()
+            .map(|(flag, text)| format!("{} {text}", flag.trim_start_matches('-')))
+            .unwrap_or_default()
+    }
+
+    /// Whether the desired polynomial mentions a parameter.
+    pub fn mentions_parameters(&self) -> bool {
+        self.given().is_some_and(|(_, text)| {
+            parse_list::<Fraction>(text).is_ok_and(|v| !crate::symbolic::parameters(&v).is_empty())
+        })
+    }
+
+    /// The desired polynomial of degree `n` as a polynomial in `s` over the rational functions
+    /// of the parameters (`--poles "-w, -w"`, `--poly "s^2 + 2 zeta w s + w^2"`, `--repeated T`
+    /// with a symbolic `T`); errors name the flag.
+    pub fn symbolic(&self, n: usize) -> Result<Poly<Fraction>> {
+        if let Some(p) = &self.poles {
+            let poles =
+                parse_list::<Fraction>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
+            if poles.len() != n {
+                bail!(
+                    "in --poles: {} poles given, the system has order {n}",
+                    poles.len()
+                );
+            }
+            let mut coeffs = vec![Fraction::one()];
+            for root in poles {
+                // multiply by (s − root)
+                let mut next = vec![Fraction::zero(); coeffs.len() + 1];
+                for (k, c) in coeffs.iter().enumerate() {
+                    next[k + 1] = next[k + 1].clone() + c.clone();
+                    next[k] = next[k].clone() - c.clone() * root.clone();
+                }
+                coeffs = next;
+            }
+            return Ok(Poly::new(coeffs, "s"));
+        }
+        if let Some(p) = &self.poly {
+            let poly = parse_polynomial::<Fraction>(p, "s")
+                .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
+            if poly.degree() != Some(n) || !poly.is_monic() {
+                bail!("in --poly: the desired polynomial must be monic of degree {n} (the order of A), it is {poly}");
+            }
+            return Ok(poly);
+        }
+        let Some((family, t)) = self.family() else {
+            bail!("give the desired observer polynomial: --poles, --poly, --repeated T, --butterworth T, --bessel T or --itae T");
+        };
+        let flag = format!("--{family}");
+        let t = parse_scalar::<Fraction>(t).map_err(|e| anyhow!("in {flag}: {}", e.show_in(t)))?;
+        let normalised = family
+            .polynomial(&Rational::one(), n)
+            .with_context(|| format!("in {flag}"))?;
+        let Some(p1) = normalised.exact else {
+            bail!("in {flag}: this family has no exact form at order {n}");
+        };
+        // P_T(s) = T⁻ⁿ P₁(T s): the coefficient of s^k is c_k T^(k − n)
+        let inverse = Fraction::one()
+            .checked_div(&t)
+            .ok_or_else(|| anyhow!("in {flag}: the time constant is zero"))?;
+        let mut coeffs = Vec::with_capacity(n + 1);
+        for k in 0..=n {
+            let mut c = Fraction::quadratic(&p1.coeff(k));
+            for _ in k..n {
+                c = c * inverse.clone();
+            }
+            coeffs.push(c);
+        }
+        Ok(Poly::new(coeffs, "s"))
+    }
+
+    /// The desired polynomial of degree `n` with the parameters' `values` substituted (as
+    /// [`DesiredArgs::parse`] without values); errors name the flag.
+    pub fn parse_at(&self, n: usize, values: &Environment) -> Result<DesiredPolynomial> {
+        if values.is_empty() || !self.mentions_parameters() {
+            return self.parse(n);
+        }
+        let number = |flag: &str, x: &Fraction| -> Result<Quadratic> {
+            let v = substituted(x, values);
+            v.as_quadratic().ok_or_else(|| {
+                anyhow!(
+                    "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
+                    v.symbols().join(", ")
+                )
+            })
+        };
+        if let Some(p) = &self.poles {
+            let poles =
+                parse_list::<Fraction>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
+            if poles.len() != n {
+                bail!(
+                    "in --poles: {} poles given, the system has order {n}",
+                    poles.len()
+                );
+            }
+            let poles = poles
+                .iter()
+                .map(|x| number("--poles", x))
+                .collect::<Result<Vec<_>>>()?;
+            return Ok(DesiredPolynomial::from_poles(&poles)?);
+        }
+        if self.poly.is_some() {
+            let p = self.symbolic(n)?;
+            let coeffs = p
+                .coeffs()
+                .iter()
+                .map(|x| number("--poly", x))
+                .collect::<Result<Vec<_>>>()?;
+            return Ok(DesiredPolynomial::from_polynomial(
+                Poly::new(coeffs, "s"),
+                n,
+            )?);
+        }
+        let Some((family, t)) = self.family() else {
+            return self.parse(n);
+        };
+        let flag = format!("--{family}");
+        let t = parse_scalar::<Fraction>(t).map_err(|e| anyhow!("in {flag}: {}", e.show_in(t)))?;
+        let t = number(&flag, &t)?;
+        let Some(t) = t.as_rational().cloned() else {
+            bail!("in {flag}: the time constant must be rational");
+        };
+        family
+            .polynomial(&t, n)
+            .with_context(|| format!("in {flag}"))
     }
 
     /// The desired polynomial of degree `n`; errors name the flag.

@@ -4,7 +4,8 @@
 //! `owb gain --a M --c M (--poles L | --poly P | --repeated T | --butterworth T) [--method M]
 //! [--convention a-kc|a+lc] [--float] [--json]`.
 
-use super::args::json_matrix;
+use super::args::{json_matrix, Plant};
+use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
 use crate::algebra::Rational;
 use crate::observer::float_check::{float_check, FloatCheck, FloatVerdict};
@@ -170,7 +171,13 @@ fn print_float(rep: &mut Report, f: &FloatCheck) {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
-    let (a, c) = args.system.parse()?;
+    let (a, c) = match args.system.plant()? {
+        Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
+        Plant::Numeric(a, c) if args.system.at.is_none() && args.desired.mentions_parameters() => {
+            return symbolic(&args, &lift(&a), &lift(&c), rep)
+        }
+        Plant::Numeric(a, c) => (a, c),
+    };
     if !a.is_square() {
         bail!("in --a: A must be square, it is {}×{}", a.rows(), a.cols());
     }
@@ -187,7 +194,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             args.tolerance
         );
     }
-    let desired = args.desired.parse(a.rows())?;
+    let desired = args.desired.parse_at(a.rows(), &args.system.values()?)?;
     if args.float || desired.exact.is_none() || (c.rows() > 1 && args.output.is_none()) {
         super::args::float_range("--a", &a)?;
         super::args::float_range("--c", &c)?;
@@ -400,6 +407,80 @@ fn multi_output(
             rep,
             "  (float result; for an exact gain fix the free parameters, e.g. --output k)"
         );
+    }
+    Ok(Outcome::Ok)
+}
+
+/// The gain as a formula in the plant's parameters: the same steps in symbols, the achieved
+/// polynomial checked as an identity, and the values where the formula breaks.
+fn symbolic(
+    args: &Args,
+    a: &crate::linalg::Matrix<crate::algebra::Fraction>,
+    c: &crate::linalg::Matrix<crate::algebra::Fraction>,
+    rep: &mut Report,
+) -> Result<Outcome> {
+    let method = GainMethod::parse(&args.method).ok_or_else(|| {
+        anyhow!(
+            "in --method: unknown method '{}' (ackermann, bass-gura, canonical, lemma-3.1)",
+            args.method
+        )
+    })?;
+    let convention = super::args::observer_convention(&args.convention)?;
+    if args.float {
+        bail!("in --float: the float path needs numbers; give the parameters values with --at NAME=VALUE");
+    }
+    let c = match (c.rows(), args.output) {
+        (1, _) => c.clone(),
+        (p, Some(k)) if (1..=p).contains(&k) => {
+            crate::linalg::Matrix::from_rows(vec![c.row(k - 1).to_vec()])?
+        }
+        (p, Some(k)) => bail!("in --output: output {k} does not exist (C has {p} rows)"),
+        (p, None) => {
+            bail!("in --c: C has {p} outputs; a symbolic design uses one (give --output k)")
+        }
+    };
+    let n = a.rows();
+    let desired = args.desired.symbolic(n)?;
+    let mut work = Parametric::new(a, &c, desired.coeffs())?;
+    let design = work.run(|| {
+        crate::observer::design_symbolic(a, &c, &desired, method, convention, args.detail())
+    })??;
+    work.observability(a, &c)?;
+    work.exceptions
+        .add_denominators(design.gain.matrix.entries(), "a denominator of the gain");
+    if args.json {
+        let mut out = json!({
+            "convention": convention.flag(),
+            "method": method.flag(),
+            "desired": args.desired.describe(),
+            "exact": true,
+            "gain": json_matrix(&design.gain.matrix),
+            "observer_polynomial": design.achieved.to_input(),
+            "places_exactly": design.identity,
+            "steps": serde_json::to_value(&design.derivation.steps)?,
+        });
+        work.add_json(&mut out);
+        rep.json(&out);
+    } else {
+        work.describe(rep);
+        rep.derivation(&design.derivation);
+        let letter = convention.letter();
+        outln!(rep, "Result ({convention} convention, {method} method):");
+        outln!(rep, "  {letter} = {}", design.gain.matrix.to_input());
+        outln!(rep, "  observer polynomial = {}", design.achieved);
+        outln!(
+            rep,
+            "  {}",
+            if design.identity {
+                format!(
+                    "the observer polynomial equals the desired polynomial identically in s and {}",
+                    work.names()
+                )
+            } else {
+                "the observer polynomial differs from the desired polynomial".to_string()
+            }
+        );
+        work.validity(rep);
     }
     Ok(Outcome::Ok)
 }

@@ -43,6 +43,7 @@ pub mod gain;
 pub mod kalman;
 pub mod observe;
 pub mod optimal;
+pub mod parametric;
 pub mod perfect;
 mod progress;
 pub mod reduced;

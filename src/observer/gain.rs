@@ -433,6 +433,54 @@ pub fn design_with(
     })
 }
 
+/// An observer gain designed with parameters: every entry a rational function of them.
+#[derive(Debug, Clone)]
+pub struct SymbolicDesign {
+    /// The gain, in the requested convention.
+    pub gain: ObserverGain<crate::algebra::Fraction>,
+    /// `det(sI − observer matrix)`, recomputed from the gain by the rank-one update.
+    pub achieved: Poly<crate::algebra::Fraction>,
+    /// Whether `achieved` equals the desired polynomial identically, as a polynomial in `s`
+    /// whose coefficients are rational functions of the parameters (in lowest terms, so
+    /// equality is exact, not checked at sample points).
+    pub identity: bool,
+    /// The steps, in symbols.
+    pub derivation: Derivation,
+}
+
+/// [`design_with`] over the rational functions of the plant's parameters: the same formulas
+/// (the steps of `design_in`), every entry in lowest terms, and the achieved polynomial
+/// compared with the desired one as an identity in `s` and the parameters.
+///
+/// # Errors
+/// As [`design`]; an unobservable pair means unobservable for *every* value of the
+/// parameters (det O_n is the zero function).
+pub fn design_symbolic(
+    a: &Matrix<crate::algebra::Fraction>,
+    c: &Matrix<crate::algebra::Fraction>,
+    desired: &Poly<crate::algebra::Fraction>,
+    method: GainMethod,
+    convention: Convention,
+    detail: Detail,
+) -> Result<SymbolicDesign, DesignError> {
+    single_output(c, method)?;
+    let (k, mut derivation, achieved) = design_in(a, c, desired, method, detail)?;
+    let gain = ObserverGain {
+        matrix: k,
+        convention: Convention::AMinusKC,
+    }
+    .to_convention(convention);
+    if convention == Convention::APlusLC {
+        derivation.push("L = −K", "gain for A + LC", &gain.matrix);
+    }
+    Ok(SymbolicDesign {
+        identity: &achieved == desired,
+        gain,
+        achieved,
+        derivation,
+    })
+}
+
 /// A derivation that records a step only when the detail asks for it.
 struct Steps {
     d: Derivation,

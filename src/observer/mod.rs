@@ -26,7 +26,7 @@ pub mod weighted;
 
 pub use convention::{Convention, ObserverGain};
 pub use gain::{
-    ackermann_gain, bass_gura_gain, canonical_gain, design, design_with, lemma_3_1_gain,
-    CanonicalGain, DesignError, Detail, GainMethod, ObserverDesign,
+    ackermann_gain, bass_gura_gain, canonical_gain, design, design_symbolic, design_with,
+    lemma_3_1_gain, CanonicalGain, DesignError, Detail, GainMethod, ObserverDesign, SymbolicDesign,
 };
 pub use polynomial::{DesiredPolynomial, Family, PolynomialFamily};
