@@ -164,6 +164,11 @@ impl Fraction {
         Fraction::of(a + b * MultiPoly::var(&radical(q.radicand())))
     }
 
+    /// A polynomial as a rational function.
+    pub fn of_polynomial(p: MultiPoly) -> Self {
+        Fraction::of(p)
+    }
+
     /// The rational number `c`.
     pub fn constant(c: Rational) -> Self {
         Fraction::of(MultiPoly::constant(c))

@@ -208,9 +208,13 @@ fn evaluated(flag: &str, m: &Matrix<Fraction>, values: &Environment) -> Result<M
 fn needs_values(flag: &str, m: &Matrix<Fraction>) -> anyhow::Error {
     let names = crate::symbolic::parameters(m.entries());
     anyhow!(
-        "in {flag}: {} {} a parameter; this command computes with numbers — give {} with --at {}",
+        "in {flag}: {} {}; this command computes with numbers — give {} with --at {}",
         names.join(", "),
-        if names.len() == 1 { "is" } else { "are" },
+        if names.len() == 1 {
+            "is a parameter"
+        } else {
+            "are parameters"
+        },
         if names.len() == 1 {
             "its value"
         } else {
@@ -584,8 +588,12 @@ impl DesiredArgs {
             .unwrap_or_default()
     }
 
-    /// Whether the desired polynomial mentions a parameter.
+    /// Whether the desired polynomial mentions a parameter (`s` in `--poly` is the variable).
     pub fn mentions_parameters(&self) -> bool {
+        if let Some(p) = &self.poly {
+            return parse_polynomial::<Fraction>(p, "s")
+                .is_ok_and(|p| !crate::symbolic::parameters(p.coeffs()).is_empty());
+        }
         self.given().is_some_and(|(_, text)| {
             parse_list::<Fraction>(text).is_ok_and(|v| !crate::symbolic::parameters(&v).is_empty())
         })

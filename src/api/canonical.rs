@@ -1,10 +1,12 @@
 //! `owb canonical`: observer canonical form by both textbook procedures.
 
 use super::args::json_matrix;
+use super::parametric::Parametric;
 use super::{Outcome, Report};
-use crate::algebra::Rational;
+use crate::algebra::{Field, Fraction};
 use crate::canonical_form::{observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm};
 use crate::derivation::Derivation;
+use crate::linalg::Matrix;
 use anyhow::Result;
 use serde_json::json;
 
@@ -27,7 +29,7 @@ pub struct Args {
     pub json: bool,
 }
 
-fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Derivation {
+fn derivation<F: Field>(title: &str, t_formula: &str, f: &CanonicalForm<F>) -> Derivation {
     let mut d = Derivation::new(title);
     d.push("O_n", "[C; CA; …]", &f.test_matrix);
     d.push("det(sI − A)", "open-loop polynomial", &f.open_loop);
@@ -52,25 +54,71 @@ fn derivation(title: &str, t_formula: &str, f: &CanonicalForm<Rational>) -> Deri
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
-    let (a, c) = args.system.parse()?;
+    let (a, c) = match args.system.plant()? {
+        super::args::Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
+        super::args::Plant::Numeric(a, c) => (a, c),
+    };
     let b = args.system.input(args.b.as_deref())?;
     super::args::check_plant(&a, b.as_ref(), &c, None)?;
     let di = observer_form_di_ruscio(&a, b.as_ref(), &c)?;
     let st = observer_form_stoustrup(&a, b.as_ref(), &c)?;
-    let same = di.t == st.t;
+    render(rep, args.json, &di, &st);
+    Ok(Outcome::Ok)
+}
+
+/// The canonical forms in the parameters, with where they break (the plant's denominators and
+/// det O_n, which T_o inverts).
+fn symbolic(
+    args: &Args,
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    rep: &mut Report,
+) -> Result<Outcome> {
+    let b = args
+        .b
+        .as_deref()
+        .map(|t| super::args::matrix::<Fraction>("--b", t))
+        .transpose()?;
+    if let Some(b) = &b {
+        super::args::expect_shape("--b", b, a.rows(), b.cols(), "states × inputs")?;
+    }
+    let mut work = Parametric::new(a, c, b.as_ref().map_or(&[][..], |b| b.entries()))?;
+    let (di, st) = work.run(|| {
+        Ok::<_, anyhow::Error>((
+            observer_form_di_ruscio(a, b.as_ref(), c)?,
+            observer_form_stoustrup(a, b.as_ref(), c)?,
+        ))
+    })??;
+    work.observability(a, c)?;
     if args.json {
-        let one = |f: &CanonicalForm<Rational>| {
-            json!({"T": json_matrix(&f.t), "T_inv": json_matrix(&f.t_inv), "A_o": json_matrix(&f.a),
-                   "B_o": json_matrix(&f.b), "C_o": json_matrix(&f.c), "open_loop": f.open_loop.to_input()})
-        };
-        rep.json(
-            &json!({"di_ruscio": one(&di), "stoustrup": one(&st), "same_transformation": same}),
-        );
+        let mut out = forms_json(&di, &st);
+        work.add_json(&mut out);
+        rep.json(&out);
+    } else {
+        work.describe(rep);
+        render(rep, false, &di, &st);
+        work.validity(rep);
+    }
+    Ok(Outcome::Ok)
+}
+
+fn forms_json<F: Field>(di: &CanonicalForm<F>, st: &CanonicalForm<F>) -> serde_json::Value {
+    let one = |f: &CanonicalForm<F>| {
+        json!({"T": json_matrix(&f.t), "T_inv": json_matrix(&f.t_inv), "A_o": json_matrix(&f.a),
+               "B_o": json_matrix(&f.b), "C_o": json_matrix(&f.c), "open_loop": f.open_loop.to_input()})
+    };
+    json!({"di_ruscio": one(di), "stoustrup": one(st), "same_transformation": di.t == st.t})
+}
+
+fn render<F: Field>(rep: &mut Report, json: bool, di: &CanonicalForm<F>, st: &CanonicalForm<F>) {
+    let same = di.t == st.t;
+    if json {
+        rep.json(&forms_json(di, st));
     } else {
         out!(
             rep,
             "{}",
-            derivation("Di Ruscio ss2ocf: T_o = (Mᵀ O_n)⁻¹", "(Mᵀ O_n)⁻¹", &di).render()
+            derivation("Di Ruscio ss2ocf: T_o = (Mᵀ O_n)⁻¹", "(Mᵀ O_n)⁻¹", di).render()
         );
         out!(
             rep,
@@ -78,7 +126,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             derivation(
                 "Stoustrup: t_n = O⁻¹ e_n, t_(k−1) = A t_k",
                 "[t_1 … t_n]",
-                &st
+                st
             )
             .render()
         );
@@ -87,5 +135,4 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             if same { "the same" } else { "different" }
         );
     }
-    Ok(Outcome::Ok)
 }
