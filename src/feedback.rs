@@ -217,3 +217,97 @@ pub fn design_feedback(
         derivation: d,
     })
 }
+
+/// A state feedback designed with parameters.
+#[derive(Clone, Debug)]
+pub struct SymbolicFeedback {
+    /// The gain (`F` or `K`), entries rational functions of the parameters.
+    pub gain: Matrix<crate::algebra::Fraction>,
+    /// `det(sI − closed loop)`, computed from the gain.
+    pub achieved: Poly<crate::algebra::Fraction>,
+    /// Whether it equals the desired polynomial identically in `s` and the parameters.
+    pub identity: bool,
+    /// The steps.
+    pub derivation: Derivation,
+}
+
+/// [`design_feedback`] over the rational functions of the parameters: the dual observer design
+/// in symbols, the closed loop's polynomial recomputed and compared as an identity.
+///
+/// # Errors
+/// As [`design_feedback`]; uncontrollable means uncontrollable for every value.
+pub fn design_feedback_symbolic(
+    a: &Matrix<crate::algebra::Fraction>,
+    b: &Matrix<crate::algebra::Fraction>,
+    desired: &Poly<crate::algebra::Fraction>,
+    method: GainMethod,
+    convention: FeedbackConvention,
+    detail: Detail,
+) -> Result<SymbolicFeedback, FeedbackError> {
+    let n = a.rows();
+    if !a.is_square() || b.rows() != n || b.cols() != 1 {
+        return Err(FeedbackError::Shape {
+            a_rows: a.rows(),
+            a_cols: a.cols(),
+            b_rows: b.rows(),
+            b_cols: b.cols(),
+        });
+    }
+    let (at, bt) = (a.transpose(), b.transpose());
+    let mut d = Derivation::new(&format!(
+        "State feedback u = {} x, closed loop {} (by duality with the observer gain of (Aᵀ, Bᵀ))",
+        if convention == FeedbackConvention::UEqualsFx {
+            "F"
+        } else {
+            "−K"
+        },
+        convention.closed_loop()
+    ));
+    let controllability = crate::observability::observability_matrix(&at, &bt)?;
+    let rank = linalg::rank(&controllability);
+    d.push(
+        "controllability matrix C_n",
+        "[B, AB, …, A^(n−1)B]",
+        &controllability.transpose(),
+    );
+    if rank < n {
+        let direction = linalg::null_space(&controllability)
+            .first()
+            .map_or_else(String::new, |v| v.transpose().to_input());
+        return Err(FeedbackError::Uncontrollable {
+            rank,
+            order: n,
+            modes: "(for every value of the parameters)".into(),
+            direction,
+        });
+    }
+    let observer =
+        crate::observer::design_symbolic(&at, &bt, desired, method, Convention::AMinusKC, detail)?;
+    d.extend(observer.derivation);
+    let k = observer.gain.matrix.transpose();
+    d.push("K (u = −K x, closed loop A − BK)", "K_dualᵀ", &k);
+    let gain = match convention {
+        FeedbackConvention::UEqualsMinusKx => k.clone(),
+        FeedbackConvention::UEqualsFx => {
+            let f = k.neg();
+            d.push("F (u = F x, closed loop A + BF)", "−K", &f);
+            f
+        }
+    };
+    let closed = a.sub(&b.mul(&k)?)?;
+    let achieved = linalg::characteristic_polynomial(&closed, "s")?;
+    d.push(
+        &format!(
+            "det(sI − ({})), checked as an identity",
+            convention.closed_loop()
+        ),
+        "",
+        &achieved,
+    );
+    Ok(SymbolicFeedback {
+        identity: &achieved == desired,
+        gain,
+        achieved,
+        derivation: d,
+    })
+}

@@ -290,6 +290,12 @@ impl SystemPair {
     /// The plant, numeric or with parameters; `--at` substitutes values (and then every
     /// parameter needs one).
     pub fn plant(&self) -> Result<Plant> {
+        self.plant_named("--c")
+    }
+
+    /// [`SystemPair::plant`] with the second matrix read under another flag's name (`--b` for
+    /// state feedback, whose pair is (A, B)).
+    pub fn plant_named(&self, second: &str) -> Result<Plant> {
         if let Some(r) = self.realisation()? {
             if self.at.is_some() {
                 bail!("in --at: --tf takes numbers only");
@@ -300,30 +306,38 @@ impl SystemPair {
             bail!("give the plant: --a and --c, or --tf");
         };
         let values = self.values()?;
-        let (sa, sc) = (symbolic_matrix("--a", a)?, symbolic_matrix("--c", c)?);
+        let feedback = second == "--b";
+        let shapes = |a: &Matrix<Rational>, c: &Matrix<Rational>| {
+            if feedback {
+                check_plant(a, Some(c), &Matrix::zeros(0, a.cols()), None)
+            } else {
+                check_plant(a, None, c, None)
+            }
+        };
+        let (sa, sc) = (symbolic_matrix("--a", a)?, symbolic_matrix(second, c)?);
         if sa.is_none() && sc.is_none() {
-            let (a, c) = (matrix("--a", a)?, matrix("--c", c)?);
-            check_plant(&a, None, &c, None)?;
+            let (a, c) = (matrix("--a", a)?, matrix(second, c)?);
+            if !feedback {
+                shapes(&a, &c)?;
+            }
             return Ok(Plant::Numeric(a, c));
         }
         let a = sa.map_or_else(|| matrix::<Fraction>("--a", a), Ok)?;
-        let c = sc.map_or_else(|| matrix::<Fraction>("--c", c), Ok)?;
+        let c = sc.map_or_else(|| matrix::<Fraction>(second, c), Ok)?;
         if values.is_empty() {
             let names = crate::symbolic::parameters(a.entries().iter().chain(c.entries()));
-            crate::symbolic::check_parameters(&names).map_err(|e| anyhow!("in --a/--c: {e}"))?;
-            check_plant(
-                &a.map(|_| Rational::zero()),
-                None,
-                &c.map(|_| Rational::zero()),
-                None,
-            )?;
+            crate::symbolic::check_parameters(&names)
+                .map_err(|e| anyhow!("in --a/{second}: {e}"))?;
+            shapes(&a.map(|_| Rational::zero()), &c.map(|_| Rational::zero()))?;
             return Ok(Plant::Symbolic(a, c));
         }
         let (a, c) = (
             evaluated("--a", &a, &values)?,
-            evaluated("--c", &c, &values)?,
+            evaluated(second, &c, &values)?,
         );
-        check_plant(&a, None, &c, None)?;
+        if !feedback {
+            shapes(&a, &c)?;
+        }
         Ok(Plant::Numeric(a, c))
     }
 

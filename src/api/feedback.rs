@@ -1,10 +1,14 @@
 //! `owb feedback`: a state feedback designed on its own, with controllability and the exact
 //! derivation, in the convention asked for (`u = F x` or `u = −K x`).
 
-use super::args::{json_matrix, matrix};
+use super::args::{json_matrix, Plant};
+use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
-use crate::algebra::Rational;
-use crate::feedback::{design_feedback, FeedbackConvention, FeedbackError};
+use crate::algebra::Fraction;
+use crate::feedback::{
+    design_feedback, design_feedback_symbolic, FeedbackConvention, FeedbackError,
+};
+use crate::linalg::Matrix;
 use crate::observer::Detail;
 use anyhow::{anyhow, Result};
 use serde_json::json;
@@ -20,6 +24,13 @@ pub struct Args {
     /// The input matrix B (n×1).
     #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
     pub b: String,
+    /// Values for the parameters, e.g. "k=2, m=1/2".
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "NAME=VALUE,…")
+    )]
+    #[serde(default)]
+    pub at: Option<String>,
     /// The desired polynomial (`poles`, `poly`, `repeated`, `butterworth`, `bessel`).
     #[serde(flatten)]
     #[cfg_attr(feature = "commands", command(flatten))]
@@ -50,8 +61,19 @@ pub struct Args {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
-    let a = matrix::<Rational>("--a", &args.a)?;
-    let b = matrix::<Rational>("--b", &args.b)?;
+    let pair = super::args::SystemPair {
+        a: Some(args.a.clone()),
+        c: Some(args.b.clone()),
+        tf: None,
+        at: args.at.clone(),
+    };
+    let (a, b) = match pair.plant_named("--b")? {
+        Plant::Symbolic(a, b) => return symbolic(&args, &a, &b, rep),
+        Plant::Numeric(a, b) if args.at.is_none() && args.desired.mentions_parameters() => {
+            return symbolic(&args, &lift(&a), &lift(&b), rep)
+        }
+        Plant::Numeric(a, b) => (a, b),
+    };
     super::args::check_plant(
         &a,
         Some(&b),
@@ -65,7 +87,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             args.convention
         )
     })?;
-    let desired = args.desired.parse(a.rows())?;
+    let desired = args.desired.parse_at(a.rows(), &pair.values()?)?;
     let d = design_feedback(&a, &b, &desired, method, convention, Detail::Full).map_err(
         |e| match e {
             FeedbackError::Shape { .. } => anyhow!("in --b: {e}"),
@@ -106,6 +128,71 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
                 "NOT the desired polynomial"
             }
         );
+    }
+    Ok(Outcome::Ok)
+}
+
+/// State feedback as a formula in the parameters.
+fn symbolic(
+    args: &Args,
+    a: &Matrix<Fraction>,
+    b: &Matrix<Fraction>,
+    rep: &mut Report,
+) -> Result<Outcome> {
+    let method = super::args::gain_method(&args.method)?;
+    let convention = FeedbackConvention::parse(&args.convention).ok_or_else(|| {
+        anyhow!(
+            "in --convention: unknown convention '{}' (u=-kx or u=fx)",
+            args.convention
+        )
+    })?;
+    let desired = args.desired.symbolic(a.rows())?;
+    let mut work = Parametric::new(a, b, desired.coeffs())?;
+    let d = work
+        .run(|| design_feedback_symbolic(a, b, &desired, method, convention, Detail::Full))?
+        .map_err(|e| match e {
+            FeedbackError::Shape { .. } => anyhow!("in --b: {e}"),
+            e => e.into(),
+        })?;
+    work.controllability(a, b)?;
+    work.exceptions
+        .add_denominators(d.gain.entries(), "a denominator of the gain");
+    if args.json {
+        let mut out = json!({
+            "gain": json_matrix(&d.gain),
+            "convention": convention.flag(),
+            "method": method.flag(),
+            "desired": args.desired.describe(),
+            "closed_loop_polynomial": d.achieved.to_input(),
+            "places_exactly": d.identity,
+            "controllable": true,
+            "steps": serde_json::to_value(&d.derivation.steps)?,
+        });
+        work.add_json(&mut out);
+        rep.json(&out);
+    } else {
+        work.describe(rep);
+        rep.derivation(&d.derivation);
+        outln!(
+            rep,
+            "Result (closed loop {}, {method} method on the dual pair):",
+            convention.closed_loop()
+        );
+        outln!(rep, "  {} = {}", convention.letter(), d.gain.to_input());
+        outln!(
+            rep,
+            "  closed-loop polynomial = {} ({})",
+            d.achieved,
+            if d.identity {
+                format!(
+                    "the desired polynomial, identically in s and {}",
+                    work.names()
+                )
+            } else {
+                "NOT the desired polynomial".to_string()
+            }
+        );
+        work.validity(rep);
     }
     Ok(Outcome::Ok)
 }

@@ -73,6 +73,19 @@ impl Parametric {
         Ok(())
     }
 
+    /// Records where `(a, b)` is uncontrollable: the factors of `det C_n` (one input).
+    ///
+    /// # Errors
+    /// The budget ran out.
+    pub fn controllability(&mut self, a: &Matrix<Fraction>, b: &Matrix<Fraction>) -> Result<()> {
+        let det = self.run(|| observability_determinant(&a.transpose(), &b.transpose()))?;
+        if let Some(d) = det {
+            self.exceptions
+                .add(d.numerator(), "det C_n: the pair is uncontrollable there");
+        }
+        Ok(())
+    }
+
     /// The parameters, `c, k, m, w`.
     pub fn names(&self) -> String {
         self.parameters.join(", ")
