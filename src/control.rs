@@ -131,23 +131,32 @@ pub fn transfer_matrix<F: Field>(
         .collect()
 }
 
+/// A polynomial factored over Q when it is rational (its rational roots shown), as it is
+/// otherwise (coefficients with parameters or √d).
+fn factored<F: Field>(p: &Poly<F>) -> Box<dyn crate::derivation::Show> {
+    match crate::algebra::from_concrete::<Poly<Rational>, _>(p.clone()) {
+        Some(q) => Box::new(Factored::of(&q)),
+        None => Box::new(p.clone()),
+    }
+}
+
 /// An observer-based controller with its working.
 #[derive(Clone, PartialEq, Debug)]
-pub struct ObserverBasedControl {
+pub struct ObserverBasedControl<F: Field = Rational> {
     /// `det(sI − (A + BF))`.
-    pub feedback_polynomial: Poly<Rational>,
+    pub feedback_polynomial: Poly<F>,
     /// `det(sI − (A + LC))`.
-    pub observer_polynomial: Poly<Rational>,
+    pub observer_polynomial: Poly<F>,
     /// `det(sI − [A + BF, BF; 0, A + LC])`.
-    pub closed_loop_polynomial: Poly<Rational>,
+    pub closed_loop_polynomial: Poly<F>,
     /// Whether the closed-loop polynomial is the product of the two (it must be).
     pub separation_holds: bool,
     /// The plant `G(s) = C (sI − A)⁻¹ B`.
-    pub plant: RationalFunction<Rational>,
+    pub plant: RationalFunction<F>,
     /// The controller `K(s) = −F (sI − A − BF − LC)⁻¹ L` (from y to u).
-    pub controller: RationalFunction<Rational>,
+    pub controller: RationalFunction<F>,
     /// `G (1 − K G)⁻¹`.
-    pub closed_loop: RationalFunction<Rational>,
+    pub closed_loop: RationalFunction<F>,
     /// The steps.
     pub derivation: Derivation,
 }
@@ -157,11 +166,11 @@ pub struct ObserverBasedControl {
 ///
 /// # Errors
 /// [`ControlError`] for non-SISO plants, a plant with feedthrough, or mismatched dimensions.
-pub fn observer_based_control(
-    plant: &StateSpace<Rational>,
-    f: &Matrix<Rational>,
-    l: &Matrix<Rational>,
-) -> Result<ObserverBasedControl, ControlError> {
+pub fn observer_based_control<F: Field>(
+    plant: &StateSpace<F>,
+    f: &Matrix<F>,
+    l: &Matrix<F>,
+) -> Result<ObserverBasedControl<F>, ControlError> {
     let (a, b, c) = (plant.a(), plant.b(), plant.c());
     if !plant.d().is_zero() {
         return Err(ControlError::Feedthrough(plant.d().to_input()));
@@ -184,12 +193,12 @@ pub fn observer_based_control(
     d.push(
         "det(sI − (A + BF))",
         "",
-        &Factored::of(&feedback_polynomial),
+        factored(&feedback_polynomial).as_ref(),
     );
     d.push(
         "det(sI − (A + LC))",
         "",
-        &Factored::of(&observer_polynomial),
+        factored(&observer_polynomial).as_ref(),
     );
     let n = a.rows();
     let top = a_bf.hstack(&bf)?;
@@ -197,20 +206,21 @@ pub fn observer_based_control(
     let closed = top.vstack(&bottom)?;
     d.push("A_cl", "[A + BF, BF; 0, A + LC] in (x, e)", &closed);
     let closed_loop_polynomial = linalg::characteristic_polynomial(&closed, "s")?;
-    d.push("det(sI − A_cl)", "", &Factored::of(&closed_loop_polynomial));
+    d.push(
+        "det(sI − A_cl)",
+        "",
+        factored(&closed_loop_polynomial).as_ref(),
+    );
     let separation_holds =
         closed_loop_polynomial == feedback_polynomial.clone() * observer_polynomial.clone();
-    let zero = Rational::from(num_bigint::BigInt::from(0));
+    let zero = F::zero();
     let plant = siso_transfer_function(a, b, c, &zero)?;
     d.push("G(s)", "C (sI − A)⁻¹ B", &plant);
     let a_k = a_bf.add(&l.mul(c)?)?;
     d.push("A + BF + LC", "controller state matrix", &a_k);
     let controller = siso_transfer_function(&a_k, l, &f.neg(), &zero)?;
     d.push("K(s)", "−F (sI − A − BF − LC)⁻¹ L", &controller);
-    let one = RationalFunction::from_poly(Poly::constant(
-        Rational::from(num_bigint::BigInt::from(1)),
-        "s",
-    ));
+    let one = RationalFunction::from_poly(Poly::constant(F::one(), "s"));
     let loop_tf = one - controller.clone() * plant.clone();
     let closed_loop = plant
         .checked_div(&loop_tf)
@@ -219,7 +229,7 @@ pub fn observer_based_control(
     d.push(
         "denominator",
         "factored",
-        &Factored::of(closed_loop.denominator()),
+        factored(closed_loop.denominator()).as_ref(),
     );
     Ok(ObserverBasedControl {
         feedback_polynomial,

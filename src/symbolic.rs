@@ -225,6 +225,14 @@ impl Exceptions {
             });
         }
     }
+    /// Adds the exceptions of `other` that are not here yet.
+    pub fn merge(&mut self, other: Exceptions) {
+        for e in other.0 {
+            if !self.0.iter().any(|x| x.factor == e.factor) {
+                self.0.push(e);
+            }
+        }
+    }
     /// Records the denominators of `values` with `reason`.
     pub fn add_denominators<'a>(
         &mut self,

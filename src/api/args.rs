@@ -204,6 +204,42 @@ fn evaluated(flag: &str, m: &Matrix<Fraction>, values: &Environment) -> Result<M
     Ok(Matrix::from_rows(rows)?)
 }
 
+/// A matrix flag with the values of `--at` substituted (read as numbers when there are none).
+pub fn matrix_at(flag: &str, text: &str, values: &Environment) -> Result<Matrix<Rational>> {
+    if values.is_empty() {
+        return matrix::<Rational>(flag, text);
+    }
+    evaluated(flag, &matrix::<Fraction>(flag, text)?, values)
+}
+
+/// Whether a matrix flag mentions a parameter.
+pub fn mentions_parameters(text: &str) -> bool {
+    matches!(
+        parse_matrix::<Rational>(text),
+        Err(crate::syntax::SyntaxError::UnknownSymbol { .. })
+    )
+}
+
+/// A polynomial flag in `s` with the values of `--at` substituted.
+pub fn polynomial_at(flag: &str, text: &str, values: &Environment) -> Result<Poly<Rational>> {
+    let p = parse_polynomial::<Fraction>(text, "s")
+        .map_err(|e| anyhow!("in {flag}: {}", e.show_in(text)))?;
+    let coeffs = p
+        .coeffs()
+        .iter()
+        .map(|x| {
+            let v = substituted(x, values);
+            v.as_rational().ok_or_else(|| {
+                anyhow!(
+                    "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
+                    v.symbols().join(", ")
+                )
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Poly::new(coeffs, "s"))
+}
+
 /// A numeric command met a parameter: say how to give it a value.
 fn needs_values(flag: &str, m: &Matrix<Fraction>) -> anyhow::Error {
     let names = crate::symbolic::parameters(m.entries());

@@ -1,9 +1,11 @@
 //! `owb control`: observer-based control of a SISO plant.
 
-use super::args::matrix;
+use super::args::{matrix, matrix_at, mentions_parameters, polynomial_at, Plant};
+use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
-use crate::algebra::Rational;
+use crate::algebra::Fraction;
 use crate::control::{observer_based_control, state_feedback};
+use crate::linalg::Matrix;
 use crate::observer::Convention;
 use crate::syntax::parse_polynomial;
 use crate::system::StateSpace;
@@ -62,12 +64,27 @@ pub struct Args {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
-    let (a, c) = args.system.parse()?;
-    let b = args
-        .system
-        .input(args.b.as_deref())?
-        .ok_or_else(|| anyhow::anyhow!("give the input matrix --b"))?;
-    let mut l = matrix::<Rational>("--l", &args.l)?;
+    let values = args.system.values()?;
+    let others = [Some(&args.l), args.b.as_ref(), args.f.as_ref()];
+    let others_symbolic = values.is_empty()
+        && (others.iter().flatten().any(|t| mentions_parameters(t))
+            || args.feedback_poly.as_deref().is_some_and(|p| {
+                parse_polynomial::<Fraction>(p, "s")
+                    .is_ok_and(|p| !crate::symbolic::parameters(p.coeffs()).is_empty())
+            }));
+    let (a, c) = match args.system.plant()? {
+        Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
+        Plant::Numeric(a, c) if others_symbolic => {
+            return symbolic(&args, &lift(&a), &lift(&c), rep)
+        }
+        Plant::Numeric(a, c) => (a, c),
+    };
+    let b = match (&args.b, values.is_empty()) {
+        (Some(b), false) => Some(matrix_at("--b", b, &values)?),
+        _ => args.system.input(args.b.as_deref())?,
+    }
+    .ok_or_else(|| anyhow::anyhow!("give the input matrix --b"))?;
+    let mut l = matrix_at("--l", &args.l, &values)?;
     super::args::check_plant(&a, Some(&b), &c, None)?;
     let (n, m, p) = (a.rows(), b.cols(), c.rows());
     super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
@@ -77,13 +94,12 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     }
     let f = match (&args.f, &args.feedback_poly) {
         (Some(f), _) => {
-            let f = matrix::<Rational>("--f", f)?;
+            let f = matrix_at("--f", f, &values)?;
             super::args::expect_shape("--f", &f, m, n, "inputs × states")?;
             f
         }
         (None, Some(p)) => {
-            let p = parse_polynomial::<Rational>(p, "s")
-                .map_err(|e| anyhow!("in --feedback-poly: {}", e.show_in(p)))?;
+            let p = polynomial_at("--feedback-poly", p, &values)?;
             state_feedback(&a, &b, &p)?
         }
         (None, None) => bail!("give --f or --feedback-poly"),
@@ -115,6 +131,92 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC))",
             if r.separation_holds { "=" } else { "≠" }
         );
+    }
+    Ok(Outcome::Ok)
+}
+
+/// Observer-based control with parameters: the controller K(s) and the closed loop as rational
+/// functions of s whose coefficients are rational functions of the parameters.
+fn symbolic(
+    args: &Args,
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    rep: &mut Report,
+) -> Result<Outcome> {
+    let Some(b) = &args.b else {
+        bail!("give the input matrix --b");
+    };
+    let b = matrix::<Fraction>("--b", b)?;
+    let mut l = matrix::<Fraction>("--l", &args.l)?;
+    let (n, p) = (a.rows(), c.rows());
+    super::args::expect_shape("--b", &b, n, b.cols(), "states × inputs")?;
+    super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
+    let convention = super::args::observer_convention(&args.convention)?;
+    if convention == Convention::AMinusKC {
+        l = l.neg();
+    }
+    let mut extra: Vec<Fraction> = b.entries().iter().chain(l.entries()).cloned().collect();
+    let mut work = Parametric::new(a, c, &[])?;
+    let f = match (&args.f, &args.feedback_poly) {
+        (Some(f), _) => {
+            let f = matrix::<Fraction>("--f", f)?;
+            super::args::expect_shape("--f", &f, b.cols(), n, "inputs × states")?;
+            f
+        }
+        (None, Some(text)) => {
+            let desired = parse_polynomial::<Fraction>(text, "s")
+                .map_err(|e| anyhow!("in --feedback-poly: {}", e.show_in(text)))?;
+            let design = work.run(|| {
+                crate::feedback::design_feedback_symbolic(
+                    a,
+                    &b,
+                    &desired,
+                    crate::observer::GainMethod::Ackermann,
+                    crate::feedback::FeedbackConvention::UEqualsFx,
+                    crate::observer::Detail::Summary,
+                )
+            })??;
+            work.controllability(a, &b)?;
+            design.gain
+        }
+        (None, None) => bail!("give --f or --feedback-poly"),
+    };
+    extra.extend(f.entries().iter().cloned());
+    let all = Parametric::new(a, c, &extra)?;
+    work.parameters = all.parameters;
+    work.exceptions.merge(all.exceptions);
+    let plant = StateSpace::new(a.clone(), Some(b), c.clone(), None)?;
+    let r = work.run(|| observer_based_control(&plant, &f, &l))??;
+    if args.json {
+        let mut out = json!({
+            "F": f.to_input(),
+            "L": l.to_input(),
+            "convention": "a+lc",
+            "separation_holds": r.separation_holds,
+            "closed_loop_polynomial": r.closed_loop_polynomial.to_input(),
+            "plant": r.plant.to_input(),
+            "controller": r.controller.to_input(),
+            "closed_loop": r.closed_loop.to_input(),
+            "steps": serde_json::to_value(&r.derivation.steps)?,
+        });
+        work.add_json(&mut out);
+        rep.json(&out);
+    } else {
+        work.describe(rep);
+        outln!(
+            rep,
+            "F = {} (u = F x̂), L = {} (A + LC)",
+            f.to_input(),
+            l.to_input()
+        );
+        rep.derivation(&r.derivation);
+        outln!(
+            rep,
+            "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC)), identically in s and {}",
+            if r.separation_holds { "=" } else { "≠" },
+            work.names()
+        );
+        work.validity(rep);
     }
     Ok(Outcome::Ok)
 }
