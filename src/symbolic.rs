@@ -20,11 +20,11 @@ use std::collections::BTreeMap;
 /// Names that are not parameters: the transform variables and the imaginary unit.
 pub const RESERVED: &[&str] = &["s", "z", "λ", "lambda", "i", "j"];
 /// The most parameters one command reads.
-pub const MAX_PARAMETERS: usize = 8;
+pub const MAX_PARAMETERS: usize = 12;
 /// The largest order of a symbolic plant.
 pub const MAX_ORDER: usize = 8;
 /// The most coefficient products a symbolic command may spend (about a second of work).
-pub const WORK_BUDGET: u64 = 50_000_000;
+pub const WORK_BUDGET: u64 = 1_000_000;
 
 /// Why a symbolic request is refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -56,7 +56,7 @@ pub enum SymbolicError {
         limit: usize,
     },
     /// The work budget ran out.
-    #[error("the symbolic computation needs more than {budget} coefficient products (about a second of work) and was stopped; give some parameters values with --at NAME=VALUE")]
+    #[error("the symbolic computation needs more than {budget} coefficient products (the limit of symbolic work, reached in under a second) and was stopped; give some parameters values with --at NAME=VALUE")]
     TooMuchWork {
         /// The budget.
         budget: u64,

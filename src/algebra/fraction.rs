@@ -108,6 +108,10 @@ impl Fraction {
 
     /// `num / den` in lowest terms (`den` nonzero).
     pub(crate) fn new(num: MultiPoly, den: MultiPoly) -> Self {
+        if budget::exhausted() {
+            // the result will not be shown (see `budget`): stop doing work
+            return Fraction::one();
+        }
         let (mut num, mut den) = (reduce(num), reduce(den));
         if num.is_zero() {
             return Fraction {
@@ -129,6 +133,9 @@ impl Fraction {
         if den.as_constant().is_none() {
             let g = poly_gcd(&num, &den);
             if g.as_constant().is_none() {
+                budget::charge(
+                    ((num.number_of_terms() + den.number_of_terms()) * g.number_of_terms()) as u64,
+                );
                 if let (Some(n), Some(d)) = (num.divide_exact(&g), den.divide_exact(&g)) {
                     num = n;
                     den = d;
@@ -391,6 +398,9 @@ impl fmt::Display for Fraction {
 impl Add for Fraction {
     type Output = Fraction;
     fn add(self, o: Fraction) -> Fraction {
+        if budget::exhausted() {
+            return Fraction::one();
+        }
         if self.num.is_zero() {
             return o;
         }
@@ -426,6 +436,9 @@ impl Sub for Fraction {
 impl Mul for Fraction {
     type Output = Fraction;
     fn mul(self, o: Fraction) -> Fraction {
+        if budget::exhausted() {
+            return Fraction::one();
+        }
         if self.num.is_zero() || o.num.is_zero() {
             return Fraction::zero();
         }

@@ -1,0 +1,253 @@
+//! Designing with parameters, at the level a user acts: each symbolic command through the
+//! binary (reviewed snapshots of the derivations a teacher reads), the formulas checked against
+//! the numeric commands at sample values (`--at`), where each design breaks, and the refusals.
+
+mod common;
+use common::owb;
+use observer_workbench::algebra::{Fraction, Rational};
+use observer_workbench::syntax::{parse_matrix, parse_scalar};
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let (code, out, err) = owb(args);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).expect("valid JSON")
+}
+
+fn gain_entries(v: &serde_json::Value) -> Vec<String> {
+    v["gain"]
+        .as_array()
+        .expect("gain rows")
+        .iter()
+        .flat_map(|r| r.as_array().expect("a row").clone())
+        .map(|x| x.as_str().expect("text").to_string())
+        .collect()
+}
+
+const MSD_A: &str = "[0 1; -k/m -c/m]";
+
+#[test]
+fn mass_spring_damper_gain_as_a_formula() {
+    let (code, out, _) = owb(&["gain", "--a", MSD_A, "--c", "[1 0]", "--poles", "-w, -w"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("K = [(2*m*w - c)/m; (m^2*w^2 - 2*c*m*w + c^2 - k*m)/m^2]"));
+    assert!(out.contains("valid for m ≠ 0"));
+    assert!(out.contains("identically in s and c, k, m, w"));
+    insta::assert_snapshot!(out);
+}
+
+/// The formula, evaluated at values, is the gain the numeric command computes there — for
+/// every method and both conventions.
+#[test]
+fn the_formula_at_values_is_the_numeric_gain() {
+    let points = [
+        (
+            "k=2,m=1,c=3,w=4",
+            [("k", 2, 1), ("m", 1, 1), ("c", 3, 1), ("w", 4, 1)],
+        ),
+        (
+            "k=-1/2,m=3,c=0,w=7/3",
+            [("k", -1, 2), ("m", 3, 1), ("c", 0, 1), ("w", 7, 3)],
+        ),
+    ];
+    for method in ["ackermann", "bass-gura", "canonical", "lemma-3.1"] {
+        for convention in ["a-kc", "a+lc"] {
+            let base = [
+                "gain",
+                "--a",
+                MSD_A,
+                "--c",
+                "[1 0]",
+                "--poles",
+                "-w, -w",
+                "--method",
+                method,
+                "--convention",
+                convention,
+                "--json",
+            ];
+            let formula = json(&base);
+            assert_eq!(formula["places_exactly"], true);
+            assert_eq!(
+                formula["parameters"],
+                serde_json::json!(["c", "k", "m", "w"])
+            );
+            for (at, values) in &points {
+                let mut with_at = base.to_vec();
+                with_at.extend(["--at", at]);
+                let numeric = gain_entries(&json(&with_at));
+                let evaluated: Vec<String> = gain_entries(&formula)
+                    .iter()
+                    .map(|e| {
+                        let mut f = parse_scalar::<Fraction>(e).expect("the formula reads back");
+                        for (name, n, d) in values {
+                            let v = Fraction::constant(Rational::new((*n).into(), (*d).into()));
+                            f = f.substitute(name, &v);
+                        }
+                        f.as_rational().expect("a number").to_string()
+                    })
+                    .collect();
+                assert_eq!(evaluated, numeric, "{method} {convention} at {at}");
+            }
+        }
+    }
+}
+
+#[test]
+fn unobservable_exactly_when_k_is_zero() {
+    let v = json(&["observe", "--a", MSD_A, "--c", "[0 1]", "--json"]);
+    assert_eq!(v["observable"], true);
+    assert_eq!(v["determinant"], "k/m");
+    let lost = &v["unobservable_where"][0];
+    assert_eq!(lost["factor"], "k");
+    assert_eq!(lost["substitution"], "k = 0");
+    assert_eq!(lost["rank"], 1);
+    assert_eq!(lost["unobservable_polynomial"], "s");
+    assert_eq!(v["valid_unless"][0]["factor"], "m");
+    let (code, out, _) = owb(&["observe", "--a", MSD_A, "--c", "[0 1]"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("observable unless k = 0"));
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn a_pair_unobservable_for_every_value_says_so() {
+    let v = json(&["observe", "--a", "[a 0; 0 b]", "--c", "[1 0]", "--json"]);
+    assert_eq!(v["observable"], false);
+    assert_eq!(v["unobservable_polynomial"], "s - b");
+}
+
+#[test]
+fn canonical_forms_in_symbols() {
+    let (code, out, _) = owb(&["canonical", "--a", MSD_A, "--c", "[1 0]", "--b", "[0; 1/m]"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("the same transformation"));
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn state_feedback_for_the_steering_model() {
+    // a double integrator with gain γ on the input: K places s² + 2ζω s + ω²
+    let args = [
+        "feedback",
+        "--a",
+        "[0 1; 0 0]",
+        "--b",
+        "[g; 1]",
+        "--poly",
+        "s^2 + 2*zeta*w*s + w^2",
+    ];
+    let (code, out, _) = owb(&args);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("K = [w^2, -g*w^2 + 2*w*zeta]"), "{out}");
+    assert!(out.contains("identically"));
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn observer_based_control_in_symbols() {
+    let (code, out, _) = owb(&[
+        "control",
+        "--a",
+        "[0 1; 0 0]",
+        "--b",
+        "[0; 1]",
+        "--c",
+        "[1 0]",
+        "--l",
+        "[-2*w; -w^2]",
+        "--feedback-poly",
+        "s^2 + 2*zeta*w*s + w^2",
+    ]);
+    assert_eq!(code, 0);
+    assert!(out.contains("Separation principle: det(sI − A_cl) = det"));
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn butterworth_with_a_symbolic_time_constant() {
+    let v = json(&[
+        "gain",
+        "--a",
+        "[0 1; 0 0]",
+        "--c",
+        "[1 0]",
+        "--butterworth",
+        "T",
+        "--json",
+    ]);
+    assert_eq!(gain_entries(&v), ["sqrt(2)/T", "1/T^2"]);
+    assert_eq!(v["valid_unless"][0]["factor"], "T");
+    assert_eq!(v["places_exactly"], true);
+}
+
+#[test]
+fn refusals_name_the_flag_and_the_way_out() {
+    let (code, _, err) = owb(&[
+        "gain",
+        "--a",
+        "[0 1; -s 0]",
+        "--c",
+        "[1 0]",
+        "--poles",
+        "-1,-2",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("'s' is reserved"), "{err}");
+    let (code, _, err) = owb(&[
+        "kalman",
+        "--a",
+        "[0 1; -k 0]",
+        "--c",
+        "[1 0]",
+        "--b",
+        "[0; 1]",
+        "--input-noise",
+        "[1]",
+        "--output-noise",
+        "[1]",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--at k=…"), "{err}");
+    let (code, _, err) = owb(&[
+        "gain", "--a", MSD_A, "--c", "[1 0]", "--poles", "-w,-w", "--at", "k=1",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("without a value"), "{err}");
+    let (code, _, err) = owb(&[
+        "gain", "--a", MSD_A, "--c", "[1 0]", "--poles", "-w,-w", "--float",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--at"), "{err}");
+    let nine: Vec<String> = (0..13).map(|i| format!("p{i}")).collect();
+    let a = format!("[{} 0; 0 0]", nine.join("+"));
+    let (code, _, err) = owb(&["observe", "--a", &a, "--c", "[1 1]"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("at most 12"), "{err}");
+}
+
+/// A dense symbolic plant whose gcds would run for minutes is refused by the work budget.
+#[test]
+fn the_work_budget_stops_a_runaway_design() {
+    let names = ["a", "b", "c", "d", "e1", "f", "g", "h"];
+    let rows: Vec<String> = (0..6)
+        .map(|i| {
+            (0..6)
+                .map(|j| format!("{}+{}", names[(i + j) % 8], names[(i * j + 3) % 8]))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .collect();
+    let a = format!("[{}]", rows.join("; "));
+    let (code, _, err) = owb(&[
+        "gain",
+        "--a",
+        &a,
+        "--c",
+        "[1 0 0 0 0 1]",
+        "--poles",
+        "-1,-2,-3,-4,-5,-6",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("coefficient products"), "{err}");
+    assert!(parse_matrix::<Rational>("[1 2]").is_ok());
+}
