@@ -307,7 +307,7 @@ mod tests {
     #[test]
     fn reserved_names_and_limits() {
         assert!(check_parameters(&["s".into()]).is_err());
-        let many: Vec<String> = (0..9).map(|i| format!("p{i}")).collect();
+        let many: Vec<String> = (0..=MAX_PARAMETERS).map(|i| format!("p{i}")).collect();
         assert!(matches!(
             check_parameters(&many),
             Err(SymbolicError::TooManyParameters { .. })
