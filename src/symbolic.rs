@@ -13,8 +13,9 @@
 //! commands open around every symbolic computation.
 
 use crate::algebra::{
-    budget, normalised, poly_gcd, Fraction, IntegralDomain, MultiPoly, Ring, Zero,
+    budget, normalised, poly_gcd, Fraction, IntegralDomain, MultiPoly, One, Ring, Zero,
 };
+use crate::poly::Poly;
 use std::collections::BTreeMap;
 
 /// Names that are not parameters: the transform variables and the imaginary unit.
@@ -187,6 +188,89 @@ fn square_free(p: MultiPoly, x: &str, times: u32, out: &mut Vec<(MultiPoly, u32)
         c = c.divide_exact(&y).unwrap_or(c);
         w = y;
     }
+}
+
+/// `x` with the parameters that have values in `values` substituted.
+pub fn substitute_values(x: &Fraction, values: &crate::syntax::Environment) -> Fraction {
+    let mut out = x.clone();
+    for name in x.symbols() {
+        if let Some(v) = values.get(&name) {
+            out = out.substitute(&name, &Fraction::constant(v.clone()));
+        }
+    }
+    out
+}
+
+/// `∏ (s − pᵢ)` for poles that may hold parameters (`−ω`, `−ζω`).
+pub fn poles_polynomial(poles: &[Fraction]) -> Poly<Fraction> {
+    let mut coeffs = vec![Fraction::one()];
+    for root in poles {
+        let mut next = vec![Fraction::zero(); coeffs.len() + 1];
+        for (k, c) in coeffs.iter().enumerate() {
+            next[k + 1] = next[k + 1].clone() + c.clone();
+            next[k] = next[k].clone() - c.clone() * root.clone();
+        }
+        coeffs = next;
+    }
+    Poly::new(coeffs, "s")
+}
+
+/// The polynomial of `family` of degree `n` with a time constant `t` that may be a parameter:
+/// `P_T(s) = T⁻ⁿ P₁(T s)`, the coefficient of `sᵏ` being `cₖ T^(k − n)`.
+///
+/// # Errors
+/// The family has no exact form at this order, or `t` is zero (named in words).
+pub fn family_polynomial(
+    family: crate::observer::Family,
+    t: &Fraction,
+    n: usize,
+) -> Result<Poly<Fraction>, String> {
+    let normalised = family
+        .polynomial(&crate::algebra::Rational::one(), n)
+        .map_err(|e| e.to_string())?;
+    let Some(p1) = normalised.exact else {
+        return Err(format!(
+            "the {family} polynomial has no exact form at order {n}"
+        ));
+    };
+    let inverse = Fraction::one()
+        .checked_div(t)
+        .ok_or_else(|| "the time constant is zero".to_string())?;
+    let mut coeffs = Vec::with_capacity(n + 1);
+    for k in 0..=n {
+        let mut c = Fraction::quadratic(&p1.coeff(k));
+        for _ in k..n {
+            c = c * inverse.clone();
+        }
+        coeffs.push(c);
+    }
+    Ok(Poly::new(coeffs, "s"))
+}
+
+/// A polynomial in `s` as one rational function of `s` and the parameters.
+pub fn as_fraction(p: &Poly<Fraction>) -> Fraction {
+    let s = Fraction::symbol(p.var());
+    p.coeffs()
+        .iter()
+        .rev()
+        .fold(Fraction::zero(), |acc, c| acc * s.clone() + c.clone())
+}
+
+/// Solves `factor = 0` for a parameter of degree 1 in it (one with a constant coefficient
+/// first): `(name, value)`.
+pub fn solve_for(factor: &MultiPoly) -> Option<(String, Fraction)> {
+    let mut candidates: Vec<(bool, String)> = factor
+        .variables()
+        .into_iter()
+        .filter(|v| factor.degree_in(v) == 1)
+        .map(|v| (factor.coefficients_in(&v)[1].as_constant().is_none(), v))
+        .collect();
+    candidates.sort();
+    let (_, name) = candidates.into_iter().next()?;
+    let parts = factor.coefficients_in(&name);
+    let value = Fraction::of_polynomial(-parts[0].clone())
+        .checked_div(&Fraction::of_polynomial(parts[1].clone()))?;
+    Some((name, value))
 }
 
 /// A factor whose vanishing breaks a formula, and what breaks.

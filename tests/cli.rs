@@ -205,7 +205,7 @@ fn bad_input_exits_2_with_the_reason() {
     let (code, _, err) = owb(&[
         "gain",
         "--a",
-        "[2 -3; 4 x]",
+        "[2 -3; 4 &]",
         "--c",
         "[-3 2]",
         "--poles",

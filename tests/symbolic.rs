@@ -251,3 +251,80 @@ fn the_work_budget_stops_a_runaway_design() {
     assert!(err.contains("coefficient products"), "{err}");
     assert!(parse_matrix::<Rational>("[1 2]").is_ok());
 }
+
+fn check(exercise: &str, answers: &str) -> serde_json::Value {
+    let dir = std::env::temp_dir().join(format!("owb-formula-{}-{exercise}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let file = dir.join(format!("answers-{}.toml", answers.len()));
+    std::fs::write(&file, answers).expect("the answers are written");
+    let path = format!("worked_examples/exercises/{exercise}.toml");
+    let (code, out, err) = owb(&["check", &path, file.to_str().expect("utf-8"), "--json"]);
+    assert!(code == 0 || code == 1, "{err}");
+    serde_json::from_str(&out).expect("valid JSON")
+}
+
+fn part<'a>(report: &'a serde_json::Value, id: &str) -> &'a serde_json::Value {
+    report["parts"]
+        .as_array()
+        .expect("parts")
+        .iter()
+        .find(|p| p["id"] == id)
+        .expect("the part")
+}
+
+#[test]
+fn formulas_are_checked_as_identities() {
+    // the gain written in another but equal form is right; the desired polynomial expanded
+    // or factored is right
+    let r = check(
+        "formula-mass-spring-damper",
+        "[answers]\ndesired = \"s^2 + 2 w s + w^2\"\nK = \"[2*w - c/m; w^2 - k/m - (2*w - c/m)*c/m]\"\ndet_velocity = \"k/m\"\n",
+    );
+    for id in ["desired", "K", "det_velocity"] {
+        assert_eq!(part(&r, id)["verdict"], "correct", "{id}: {r}");
+    }
+    let r = check(
+        "formula-mass-spring-damper",
+        "[answers]\ndesired = \"(s - w)^2\"\nK = \"[-(2*w - c/m); -(w^2 - k/m - (2*w - c/m)*c/m)]\"\ndet_velocity = \"-k/m\"\n",
+    );
+    assert_eq!(part(&r, "desired")["verdict"], "wrong");
+    assert_eq!(part(&r, "K")["mistake"], "sign_convention");
+    assert_eq!(part(&r, "det_velocity")["mistake"], "negated");
+}
+
+#[test]
+fn symbolic_mistakes_are_named() {
+    // K_o = c − a, the gain left in canonical coordinates
+    let r = check(
+        "formula-mass-spring-damper",
+        "[answers]\nK = \"[2*w - c/m; w^2 - k/m]\"\n",
+    );
+    assert_eq!(part(&r, "K")["mistake"], "canonical_coordinates");
+    // one entry wrong
+    let r = check(
+        "formula-diruscio-time-constant",
+        "[answers]\nK_double_root = \"[2/T + a + 1/(a T^2); 1/(a T^2)]\"\nK_butterworth = \"[-1/(a T^2); sqrt(2)/T + a + 1/(a T^2)]\"\n",
+    );
+    assert_eq!(part(&r, "K_double_root")["mistake"], "slip");
+    assert_eq!(part(&r, "K_butterworth")["mistake"], "reversed");
+    let r = check(
+        "formula-double-integrator",
+        "[answers]\nL = \"[-2*zeta*w; -w^2]\"\nF = \"[w^2, 2*zeta*w]\"\n",
+    );
+    assert_eq!(part(&r, "L")["verdict"], "correct");
+    assert_eq!(part(&r, "F")["mistake"], "feedback_sign");
+}
+
+#[test]
+fn right_only_at_some_values_is_said_with_the_values() {
+    // the double-root gain with T fixed at 1/8 inside the formula: right at T = 1/8 only
+    let r = check(
+        "formula-diruscio-time-constant",
+        "[answers]\nK_double_root = \"[16 + a + 1/(a T^2); -1/(a T^2)]\"\n",
+    );
+    let p = part(&r, "K_double_root");
+    assert_eq!(p["mistake"], "only_at_some_values", "{p}");
+    let feedback = p["feedback"].as_str().expect("feedback");
+    assert!(feedback.contains("T = 1/8"), "{feedback}");
+    assert_eq!(p["score"], 0.5);
+}

@@ -1,6 +1,6 @@
 //! Turning raw command-line strings into validated values, naming the flag on error.
 
-use crate::algebra::{Fraction, One, Quadratic, Rational, Zero};
+use crate::algebra::{Fraction, Quadratic, Rational, Zero};
 use crate::linalg::Matrix;
 use crate::observer::DesiredPolynomial;
 use crate::poly::Poly;
@@ -161,13 +161,7 @@ const MAX_AT_VALUES: usize = 64;
 
 /// `x` with the parameters of `values` substituted.
 pub fn substituted(x: &Fraction, values: &Environment) -> Fraction {
-    let mut out = x.clone();
-    for name in x.symbols() {
-        if let Some(v) = values.get(&name) {
-            out = out.substitute(&name, &Fraction::constant(v.clone()));
-        }
-    }
-    out
+    crate::symbolic::substitute_values(x, values)
 }
 
 /// Reads a flag as rational functions of the parameters (`Ok(None)` when it holds plain
@@ -662,17 +656,7 @@ impl DesiredArgs {
                     poles.len()
                 );
             }
-            let mut coeffs = vec![Fraction::one()];
-            for root in poles {
-                // multiply by (s − root)
-                let mut next = vec![Fraction::zero(); coeffs.len() + 1];
-                for (k, c) in coeffs.iter().enumerate() {
-                    next[k + 1] = next[k + 1].clone() + c.clone();
-                    next[k] = next[k].clone() - c.clone() * root.clone();
-                }
-                coeffs = next;
-            }
-            return Ok(Poly::new(coeffs, "s"));
+            return Ok(crate::symbolic::poles_polynomial(&poles));
         }
         if let Some(p) = &self.poly {
             let poly = parse_polynomial::<Fraction>(p, "s")
@@ -687,25 +671,7 @@ impl DesiredArgs {
         };
         let flag = format!("--{family}");
         let t = parse_scalar::<Fraction>(t).map_err(|e| anyhow!("in {flag}: {}", e.show_in(t)))?;
-        let normalised = family
-            .polynomial(&Rational::one(), n)
-            .with_context(|| format!("in {flag}"))?;
-        let Some(p1) = normalised.exact else {
-            bail!("in {flag}: this family has no exact form at order {n}");
-        };
-        // P_T(s) = T⁻ⁿ P₁(T s): the coefficient of s^k is c_k T^(k − n)
-        let inverse = Fraction::one()
-            .checked_div(&t)
-            .ok_or_else(|| anyhow!("in {flag}: the time constant is zero"))?;
-        let mut coeffs = Vec::with_capacity(n + 1);
-        for k in 0..=n {
-            let mut c = Fraction::quadratic(&p1.coeff(k));
-            for _ in k..n {
-                c = c * inverse.clone();
-            }
-            coeffs.push(c);
-        }
-        Ok(Poly::new(coeffs, "s"))
+        crate::symbolic::family_polynomial(family, &t, n).map_err(|e| anyhow!("in {flag}: {e}"))
     }
 
     /// The desired polynomial of degree `n` with the parameters' `values` substituted (as

@@ -105,23 +105,6 @@ struct Loss {
     unobservable_polynomial: Option<String>,
 }
 
-/// Solves `factor = 0` for a parameter of degree 1 in it (one with a constant coefficient
-/// first): `(name, value)`.
-fn solve_for(factor: &MultiPoly) -> Option<(String, Fraction)> {
-    let mut candidates: Vec<(bool, String)> = factor
-        .variables()
-        .into_iter()
-        .filter(|v| factor.degree_in(v) == 1)
-        .map(|v| (factor.coefficients_in(&v)[1].as_constant().is_none(), v))
-        .collect();
-    candidates.sort();
-    let (_, name) = candidates.into_iter().next()?;
-    let parts = factor.coefficients_in(&name);
-    let value = Fraction::of_polynomial(-parts[0].clone())
-        .checked_div(&Fraction::of_polynomial(parts[1].clone()))?;
-    Some((name, value))
-}
-
 fn substitute(m: &Matrix<Fraction>, name: &str, value: &Fraction) -> Matrix<Fraction> {
     m.map(|x| x.substitute(name, value))
 }
@@ -147,7 +130,7 @@ fn loss(a: &Matrix<Fraction>, c: &Matrix<Fraction>, factor: &MultiPoly) -> Loss 
         unobservable_subspace: Vec::new(),
         unobservable_polynomial: None,
     };
-    let Some((name, value)) = solve_for(factor) else {
+    let Some((name, value)) = crate::symbolic::solve_for(factor) else {
         return out;
     };
     out.substitution = Some(format!("{name} = {}", value.to_input()));

@@ -3,7 +3,7 @@
 use super::diagnose::diagnose;
 use super::format::AnswerFile;
 use super::key::AnswerKey;
-use crate::worked::{compare, Agreement};
+use crate::worked::{compare, Agreement, Value};
 use serde::Serialize;
 
 /// The verdict on one part.
@@ -165,7 +165,17 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                     },
                 },
                 Ok(_) => {
-                    let (diagnosis, notes) = diagnose(key, part, text);
+                    let (diagnosis, notes) = match (&key.formula, &part.value) {
+                        (Some(plant), Value::Formula(k)) => super::formula::diagnose(
+                            plant,
+                            &key.exercise,
+                            &part.spec,
+                            k,
+                            text,
+                            &key.env,
+                        ),
+                        _ => diagnose(key, part, text),
+                    };
                     let credit = diagnosis
                         .as_ref()
                         .and_then(|d| part.spec.partial.get(&d.mistake))

@@ -30,6 +30,10 @@ pub struct AnswerKey {
     pub env: Environment,
     /// The parts, in order.
     pub parts: Vec<KeyPart>,
+    /// The exercise file (its design, for the formula diagnoses).
+    pub exercise: ExerciseFile,
+    /// The plant with free parameters, when the answers are formulas.
+    pub formula: Option<super::formula::FormulaPlant>,
 }
 
 impl AnswerKey {
@@ -113,6 +117,37 @@ pub fn answer_key(file: &str, ex: &ExerciseFile) -> Result<AnswerKey, ExerciseEr
         system: ex.system.clone(),
         ..ExampleFile::default()
     };
+    let formula = super::formula::plant(ex, &env).map_err(|message| ExerciseError {
+        file: file.into(),
+        line: 0,
+        field: "system".into(),
+        message,
+    })?;
+    if let Some(plant) = &formula {
+        let mut parts = Vec::new();
+        for part in &ex.parts {
+            let (value, derivation) =
+                super::formula::key(ex, plant, part, &env).map_err(|message| ExerciseError {
+                    file: file.into(),
+                    line: 0,
+                    field: format!("parts.{}", part.id),
+                    message: format!("the answer key cannot be computed: {message}"),
+                })?;
+            parts.push(KeyPart {
+                spec: part.clone(),
+                claim: claim_for(ex, part, None),
+                value,
+                derivation,
+            });
+        }
+        return Ok(AnswerKey {
+            example,
+            env,
+            parts,
+            exercise: ex.clone(),
+            formula,
+        });
+    }
     let mut parts: Vec<KeyPart> = Vec::new();
     // the observer gain the control parts use: the computed gain part, if any
     let mut gain_text: Option<String> = None;
@@ -150,6 +185,8 @@ pub fn answer_key(file: &str, ex: &ExerciseFile) -> Result<AnswerKey, ExerciseEr
         example,
         env,
         parts,
+        exercise: ex.clone(),
+        formula: None,
     })
 }
 

@@ -34,6 +34,8 @@ named_enum! {
         FeedbackSign = "feedback_sign",
         /// The current estimator's gain L_c = A⁻¹K where the prediction gain K is asked.
         CurrentEstimator = "current_estimator",
+        /// A formula that equals the key only at particular values of the parameters.
+        OnlyAtSomeValues = "only_at_some_values",
     }
 }
 

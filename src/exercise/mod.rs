@@ -11,10 +11,13 @@
 //!   another time constant, found from the poles the answer actually places), a single slip, an
 //!   answer for another canonical-form convention, a negated polynomial or transfer function.
 //! * [`generate`]: fresh pole-placement exercises whose hand computation stays in small integers.
+//! * [`formula`]: exercises with free parameters — the key a formula, answers checked as
+//!   identities, mistakes named symbolically, right-only-at-some-values said with the values.
 
 pub mod check;
 pub mod diagnose;
 pub mod format;
+pub mod formula;
 pub mod generate;
 pub mod key;
 pub mod mistake;

@@ -24,6 +24,9 @@ pub enum Value {
     Scalar(Quadratic),
     /// A symbolic expression.
     Symbolic(MultiPoly),
+    /// A formula in free parameters: a matrix of rational functions of them (a polynomial in
+    /// `s` is a 1×1 matrix whose entry mentions `s`), compared as an identity.
+    Formula(Matrix<crate::algebra::Fraction>),
     /// Yes or no.
     Bool(bool),
     /// A multiset of exact roots.
@@ -81,6 +84,7 @@ impl Value {
         match self {
             Value::Matrix(m) => m.to_input(),
             Value::SymbolicMatrix(m) => m.to_input(),
+            Value::Formula(m) => formula_input(m),
             Value::Polynomial(p) => p.to_input(),
             Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, Style::Input),
             Value::Scalar(x) => x.to_input(),
@@ -117,6 +121,8 @@ impl Value {
         match self {
             Value::Matrix(m) => m.render(),
             Value::SymbolicMatrix(m) => m.render(),
+            Value::Formula(m) if m.shape() == (1, 1) => m.get(0, 0).to_string(),
+            Value::Formula(m) => m.render(),
             Value::Polynomial(p) => factored_text(p).unwrap_or_else(|| p.to_string()),
             Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, Style::Human),
             Value::Scalar(x) => x.to_string(),
@@ -151,6 +157,8 @@ impl Value {
         match self {
             Value::Matrix(m) => m.to_latex(),
             Value::SymbolicMatrix(m) => m.to_latex(),
+            Value::Formula(m) if m.shape() == (1, 1) => m.get(0, 0).to_latex(),
+            Value::Formula(m) => m.to_latex(),
             Value::Polynomial(p) => p.to_latex(),
             Value::SymbolicPolynomial(p, var) => symbolic_poly_text(p, var, Style::Latex),
             Value::Scalar(x) => x.to_latex(),
@@ -379,6 +387,7 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
     match value {
         Value::Matrix(m) => compare_matrix(m, printed, env, digits),
         Value::SymbolicMatrix(m) => compare_symbolic_matrix(m, printed, env),
+        Value::Formula(m) => compare_formula(m, printed, env),
         Value::Polynomial(q) => compare_polynomial(q, printed, env, digits),
         Value::SymbolicPolynomial(q, _) | Value::Symbolic(q) => compare_symbolic(q, printed, env),
         Value::Scalar(x) => compare_scalar(x, printed, env, digits),
@@ -395,6 +404,53 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
         } => compare_approximate((rows, cols), candidates, printed, env, digits),
         Value::LinearSystem(m, r) => compare_linear_system(m, r, printed),
     }
+}
+
+/// A formula in input syntax: a 1×1 as its entry.
+fn formula_input(m: &Matrix<crate::algebra::Fraction>) -> String {
+    if m.shape() == (1, 1) {
+        m.get(0, 0).to_input()
+    } else {
+        m.to_input()
+    }
+}
+
+/// A printed formula read as rational functions of the free parameters (values of `env`
+/// substituted), the same shape and every entry equal as a rational function.
+fn compare_formula(
+    m: &Matrix<crate::algebra::Fraction>,
+    printed: &str,
+    env: &Environment,
+) -> Result<Agreement, PrintError> {
+    // a single formula (a polynomial in s) is one expression: `2 w s` is a product there,
+    // not three entries of a row
+    let rows = if m.shape() == (1, 1) && !printed.trim_start().starts_with('[') {
+        let e =
+            crate::syntax::parse_expression(printed).map_err(|e| PrintError::syntax(e, printed))?;
+        vec![vec![evaluate_with::<crate::algebra::Fraction>(&e, env)
+            .map_err(|e| PrintError::syntax(e, printed))?]]
+    } else {
+        printed_rows::<crate::algebra::Fraction>(printed, env)?
+    };
+    let shape = (rows.len(), rows.first().map_or(0, Vec::len));
+    if shape != m.shape() {
+        return Ok(Agreement::Differs(format!(
+            "printed {}×{}, computed {}×{}",
+            shape.0,
+            shape.1,
+            m.rows(),
+            m.cols()
+        )));
+    }
+    let same = rows.iter().flatten().zip(m.entries()).all(|(x, y)| x == y);
+    Ok(if same {
+        Agreement::Exact
+    } else {
+        Agreement::Differs(format!(
+            "as formulas in the parameters, the print differs from {}",
+            formula_input(m)
+        ))
+    })
 }
 
 /// The printed text read as rows of values, symbols taken from `env` (errors shown in the text).
