@@ -217,7 +217,7 @@ await test("exercise: the book opened as a local file (file://) checks too", asy
 });
 
 await test("every exercise in the book has answer fields that check", async () => {
-  for (const chapter of ["observability", "canonical-forms", "gains", "polynomials", "control",
+  for (const chapter of ["observability", "canonical-forms", "gains", "polynomials", "parameters", "control",
     "multi-output", "kalman", "perfect", "discrete", "reduced-order", "detectability"]) {
     const page = await open(base + chapter + ".html");
     const forms = await page.locator(".owb-exercise[data-exercise]").all();
@@ -230,6 +230,26 @@ await test("every exercise in the book has answer fields that check", async () =
     }
     await page.close();
   }
+});
+
+await test("formula exercises: formulas as answers check in the page as owb check does", async () => {
+  const page = await open(base + "parameters.html");
+  const id = "formula-mass-spring-damper";
+  const right = { desired: "s^2 + 2 w s + w^2", K: "[2*w - c/m; w^2 - k/m - (2*w - c/m)*c/m]" };
+  const wrong = { desired: "(s + w)^2", K: "[2*w - c/m; w^2 - k/m]" };
+  for (const answers of [right, wrong]) {
+    const { shown, file } = await answer(page, `.owb-exercise[data-exercise-id="${id}"]`, answers);
+    sameAsCli(shown, owbCheck(id, file));
+    if (answers === right) assert.ok(shown.K.correct && shown.desired.correct, JSON.stringify(shown));
+    else assert.equal(shown.K.mistake, "canonical_coordinates");
+  }
+  const t = "formula-diruscio-time-constant";
+  const { shown, file } = await answer(page, `.owb-exercise[data-exercise-id="${t}"]`,
+    { K_double_root: "[16 + a + 1/(a T^2); -1/(a T^2)]" });
+  sameAsCli(shown, owbCheck(t, file));
+  assert.equal(shown.K_double_root.mistake, "only_at_some_values");
+  assert.ok(shown.K_double_root.feedback.includes("T = 1/8"), shown.K_double_root.feedback);
+  await page.close();
 });
 
 // ---- a student's own exercise ---------------------------------------------------------------
