@@ -172,13 +172,16 @@ pub fn playground(examples: &[(String, String)]) -> String {
 /// Every command the browser runs, with a request to start from: `key = value` lines, the keys
 /// named as the command line's flags (`true` for a flag without a value).
 pub const ANY_COMMAND_EXAMPLES: [(&str, &str); 13] = [
-    ("observe", "a = [0 1; -2 -3]\nc = [1 0]"),
+    ("observe", "a = [0 1; -k/m -c/m]\nc = [0 1]"),
     ("canonical", "a = [2 -3; 4 -5]\nc = [-3 2]\nb = [1; 0]"),
     (
         "gain",
         "a = [0 1; -2 -3]\nc = [1 0]\nitae = 1/2\nmethod = bass-gura",
     ),
-    ("feedback", "a = [0 1; -2 -3]\nb = [0; 1]\npoles = -4, -5"),
+    (
+        "feedback",
+        "a = [0 1; 0 0]\nb = [0; 1]\npoly = s^2 + 2*zeta*w*s + w^2",
+    ),
     (
         "discrete",
         "a = [1 1; 0 1]\nc = [1 0]\ndeadbeat = true\nestimator = current",
