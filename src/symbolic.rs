@@ -57,7 +57,7 @@ pub enum SymbolicError {
         limit: usize,
     },
     /// The work budget ran out.
-    #[error("the symbolic computation needs more than {budget} coefficient products (the limit of symbolic work, reached in under a second) and was stopped; give some parameters values with --at NAME=VALUE")]
+    #[error("the symbolic computation needs more than {budget} units of work (coefficient products weighted by their size; the limit of symbolic work, reached in under a second) and was stopped; give some parameters values with --at NAME=VALUE")]
     TooMuchWork {
         /// The budget.
         budget: u64,

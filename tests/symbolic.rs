@@ -248,7 +248,7 @@ fn the_work_budget_stops_a_runaway_design() {
         "-1,-2,-3,-4,-5,-6",
     ]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("coefficient products"), "{err}");
+    assert!(err.contains("units of work"), "{err}");
     assert!(parse_matrix::<Rational>("[1 2]").is_ok());
 }
 
@@ -327,4 +327,25 @@ fn right_only_at_some_values_is_said_with_the_values() {
     let feedback = p["feedback"].as_str().expect("feedback");
     assert!(feedback.contains("T = 1/8"), "{feedback}");
     assert_eq!(p["score"], 0.5);
+}
+
+/// Found by the `cli` fuzz target (session 9): a parameter beside a 100-digit decimal made the
+/// controller's transfer-function gcds run for minutes (num-bigint's binary gcd on growing
+/// coefficients, which the meter then counted by terms only); work is now weighted by the size
+/// of the numbers and the request refused at once.
+#[test]
+fn big_coefficients_beside_a_parameter_are_refused_quickly() {
+    let started = std::time::Instant::now();
+    let (code, _, err) = owb(&[
+        "control", "--a", "[0 1; 2 1]", "--b", "[0; 1]", "--c",
+        "[5.555455555 05222222222222000000000000000000000000000000000000000000000000000000000000000000000000000000000000014--repe395206007012]",
+        "--l", "[2; 1]", "--f", "[0 --3]", "--convention", "a-kc",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("units of work"), "{err}");
+    assert!(
+        started.elapsed().as_secs() < 10,
+        "took {:?}",
+        started.elapsed()
+    );
 }

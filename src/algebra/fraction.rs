@@ -120,10 +120,7 @@ impl Fraction {
             };
         }
         while let Some(conjugate) = rationalising(&den) {
-            budget::charge(
-                (num.number_of_terms() + den.number_of_terms()) as u64
-                    * conjugate.number_of_terms() as u64,
-            );
+            budget::charge(num.product_work(&conjugate) + den.product_work(&conjugate));
             num = reduce(num * conjugate.clone());
             den = reduce(den * conjugate);
             if budget::exhausted() {
@@ -133,9 +130,7 @@ impl Fraction {
         if den.as_constant().is_none() {
             let g = poly_gcd(&num, &den);
             if g.as_constant().is_none() {
-                budget::charge(
-                    ((num.number_of_terms() + den.number_of_terms()) * g.number_of_terms()) as u64,
-                );
+                budget::charge(num.product_work(&g) + den.product_work(&g));
                 if let (Some(n), Some(d)) = (num.divide_exact(&g), den.divide_exact(&g)) {
                     num = n;
                     den = d;
@@ -410,10 +405,7 @@ impl Add for Fraction {
         if self.den == o.den {
             return Fraction::new(self.num + o.num, self.den);
         }
-        budget::charge(
-            (self.num.number_of_terms() * o.den.number_of_terms()
-                + o.num.number_of_terms() * self.den.number_of_terms()) as u64,
-        );
+        budget::charge(self.num.product_work(&o.den) + o.num.product_work(&self.den));
         // over the lcm of the denominators, not their product
         let g = poly_gcd(&self.den, &o.den);
         let (Some(left), Some(right)) = (o.den.divide_exact(&g), self.den.divide_exact(&g)) else {
@@ -442,10 +434,7 @@ impl Mul for Fraction {
         if self.num.is_zero() || o.num.is_zero() {
             return Fraction::zero();
         }
-        budget::charge(
-            (self.num.number_of_terms() * o.num.number_of_terms()
-                + self.den.number_of_terms() * o.den.number_of_terms()) as u64,
-        );
+        budget::charge(self.num.product_work(&o.num) + self.den.product_work(&o.den));
         Fraction::new(self.num * o.num, self.den * o.den)
     }
 }

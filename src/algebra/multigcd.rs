@@ -113,7 +113,7 @@ fn gcd_any(a: &MultiPoly, b: &MultiPoly) -> MultiPoly {
     } else {
         (b, a)
     };
-    budget::charge(small.number_of_terms() as u64 * large.number_of_terms() as u64);
+    budget::charge(small.product_work(large));
     if large.divide_exact(small).is_some() {
         return small.clone();
     }
@@ -206,10 +206,9 @@ fn pseudo_remainder(f: Vec<MultiPoly>, g: &[MultiPoly]) -> Vec<MultiPoly> {
         let top = f.len() - 1;
         let lf = f[top].clone();
         let shift = top - dg;
-        let work: usize = f.iter().map(MultiPoly::number_of_terms).sum::<usize>()
-            * lead.number_of_terms()
-            + g.iter().map(MultiPoly::number_of_terms).sum::<usize>() * lf.number_of_terms();
-        budget::charge(work as u64);
+        let work: u64 = f.iter().map(|c| c.product_work(lead)).sum::<u64>()
+            + g.iter().map(|c| c.product_work(&lf)).sum::<u64>();
+        budget::charge(work);
         for c in f.iter_mut() {
             *c = std::mem::take(c) * lead.clone();
         }

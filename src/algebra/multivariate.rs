@@ -273,6 +273,26 @@ impl MultiPoly {
     pub fn number_of_terms(&self) -> usize {
         self.terms.len()
     }
+    /// The cost of one term in a product, in machine words: the largest coefficient's size
+    /// (numerator and denominator), at least 1. A work meter counts products by it, so
+    /// polynomials with 300-digit coefficients are not priced as small ones.
+    pub fn coefficient_words(&self) -> u64 {
+        self.terms
+            .values()
+            .map(|c| (c.numer().bits() + c.denom().bits()) / 64 + 1)
+            .max()
+            .unwrap_or(1)
+    }
+    /// The work of multiplying `self` by `other`, in word operations: terms × terms × words²
+    /// (each coefficient product is normalised by a gcd, quadratic in the words).
+    pub fn product_work(&self, other: &MultiPoly) -> u64 {
+        let words = self
+            .coefficient_words()
+            .saturating_add(other.coefficient_words());
+        (self.terms.len() as u64)
+            .saturating_mul(other.terms.len() as u64)
+            .saturating_mul(words.saturating_mul(words))
+    }
     /// The coefficient of the leading term (the largest monomial in the lexicographic order).
     pub fn leading_coefficient(&self) -> Option<&Rational> {
         self.terms.values().next_back()
