@@ -99,6 +99,52 @@ pub enum FeedbackError {
     Linalg(#[from] linalg::LinalgError),
 }
 
+/// `n` for a square `A` (n×n) and one input column `B` (n×1).
+fn single_input<R: crate::algebra::Ring>(
+    a: &Matrix<R>,
+    b: &Matrix<R>,
+) -> Result<usize, FeedbackError> {
+    let n = a.rows();
+    if !a.is_square() || b.rows() != n || b.cols() != 1 {
+        return Err(FeedbackError::Shape {
+            a_rows: a.rows(),
+            a_cols: a.cols(),
+            b_rows: b.rows(),
+            b_cols: b.cols(),
+        });
+    }
+    Ok(n)
+}
+
+/// The derivation's title: the convention and the duality it is computed by.
+fn titled(convention: FeedbackConvention) -> Derivation {
+    Derivation::new(&format!(
+        "State feedback u = {} x, closed loop {} (by duality with the observer gain of (Aᵀ, Bᵀ))",
+        if convention == FeedbackConvention::UEqualsFx {
+            "F"
+        } else {
+            "−K"
+        },
+        convention.closed_loop()
+    ))
+}
+
+/// The gain of `u = −K x` written in `convention` (`F = −K` for `u = F x`, a step recorded).
+fn in_convention<R: crate::algebra::Ring>(
+    k: &Matrix<R>,
+    convention: FeedbackConvention,
+    d: &mut Derivation,
+) -> Matrix<R> {
+    match convention {
+        FeedbackConvention::UEqualsMinusKx => k.clone(),
+        FeedbackConvention::UEqualsFx => {
+            let f = k.neg();
+            d.push("F (u = F x, closed loop A + BF)", "−K", &f);
+            f
+        }
+    }
+}
+
 /// A state feedback with its working.
 #[derive(Clone, Debug)]
 pub struct FeedbackDesign {
@@ -147,25 +193,9 @@ pub fn design_feedback(
     convention: FeedbackConvention,
     detail: Detail,
 ) -> Result<FeedbackDesign, FeedbackError> {
-    let n = a.rows();
-    if !a.is_square() || b.rows() != n || b.cols() != 1 {
-        return Err(FeedbackError::Shape {
-            a_rows: a.rows(),
-            a_cols: a.cols(),
-            b_rows: b.rows(),
-            b_cols: b.cols(),
-        });
-    }
+    let n = single_input(a, b)?;
     let (at, bt) = (a.transpose(), b.transpose());
-    let mut d = Derivation::new(&format!(
-        "State feedback u = {} x, closed loop {} (by duality with the observer gain of (Aᵀ, Bᵀ))",
-        if convention == FeedbackConvention::UEqualsFx {
-            "F"
-        } else {
-            "−K"
-        },
-        convention.closed_loop()
-    ));
+    let mut d = titled(convention);
     let dual = observability_report(&at, &bt)?;
     d.push(
         "controllability matrix C_n",
@@ -193,14 +223,7 @@ pub fn design_feedback(
     d.extend(observer.derivation);
     let k = observer.gain.matrix.transpose();
     d.push("K (u = −K x, closed loop A − BK)", "K_dualᵀ", &k);
-    let gain = match convention {
-        FeedbackConvention::UEqualsMinusKx => k.clone(),
-        FeedbackConvention::UEqualsFx => {
-            let f = k.neg();
-            d.push("F (u = F x, closed loop A + BF)", "−K", &f);
-            f
-        }
-    };
+    let gain = in_convention(&k, convention, &mut d);
     let lift = |x: &Rational| Quadratic::rational(x.clone());
     let closed = a.map(lift).sub(&b.map(lift).mul(&k)?)?;
     let achieved = linalg::characteristic_polynomial(&closed, "s")?;
@@ -244,25 +267,9 @@ pub fn design_feedback_symbolic(
     convention: FeedbackConvention,
     detail: Detail,
 ) -> Result<SymbolicFeedback, FeedbackError> {
-    let n = a.rows();
-    if !a.is_square() || b.rows() != n || b.cols() != 1 {
-        return Err(FeedbackError::Shape {
-            a_rows: a.rows(),
-            a_cols: a.cols(),
-            b_rows: b.rows(),
-            b_cols: b.cols(),
-        });
-    }
+    let n = single_input(a, b)?;
     let (at, bt) = (a.transpose(), b.transpose());
-    let mut d = Derivation::new(&format!(
-        "State feedback u = {} x, closed loop {} (by duality with the observer gain of (Aᵀ, Bᵀ))",
-        if convention == FeedbackConvention::UEqualsFx {
-            "F"
-        } else {
-            "−K"
-        },
-        convention.closed_loop()
-    ));
+    let mut d = titled(convention);
     let controllability = crate::observability::observability_matrix(&at, &bt)?;
     let rank = linalg::rank(&controllability);
     d.push(
@@ -286,14 +293,7 @@ pub fn design_feedback_symbolic(
     d.extend(observer.derivation);
     let k = observer.gain.matrix.transpose();
     d.push("K (u = −K x, closed loop A − BK)", "K_dualᵀ", &k);
-    let gain = match convention {
-        FeedbackConvention::UEqualsMinusKx => k.clone(),
-        FeedbackConvention::UEqualsFx => {
-            let f = k.neg();
-            d.push("F (u = F x, closed loop A + BF)", "−K", &f);
-            f
-        }
-    };
+    let gain = in_convention(&k, convention, &mut d);
     let closed = a.sub(&b.mul(&k)?)?;
     let achieved = linalg::characteristic_polynomial(&closed, "s")?;
     d.push(

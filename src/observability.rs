@@ -135,14 +135,7 @@ pub fn observability_report(
     } else {
         None
     };
-    // ker O_n is {0} when the rank is full (proved cheaply for large matrices)
-    let basis = if rank == n {
-        Vec::new()
-    } else {
-        linalg::null_space(&o)
-    };
-    let restricted = restriction(a, &basis)?;
-    let unobservable_polynomial = linalg::characteristic_polynomial(&restricted, "s")?;
+    let (basis, unobservable_polynomial) = unobservable_part(a, &o, rank)?;
     let unobservable_eigenvalues = exact_roots(&unobservable_polynomial);
     let pbh_confirmed = unobservable_eigenvalues
         .roots
@@ -160,12 +153,31 @@ pub fn observability_report(
     })
 }
 
+/// The unobservable part of `(A, C)` from `O_n` and its rank: a basis of `ker O_n` and the
+/// polynomial of the unobservable modes, `det(sI − A|ker O_n)` (1 when the rank is full). Over
+/// any field: the rational report and the symbolic one (in the plant's parameters) share it.
+///
+/// # Errors
+/// [`LinalgError`] for mismatched dimensions.
+pub fn unobservable_part<F: Field>(
+    a: &Matrix<F>,
+    o: &Matrix<F>,
+    rank: usize,
+) -> Result<(Vec<Matrix<F>>, Poly<F>), LinalgError> {
+    // ker O_n is {0} when the rank is full (proved cheaply for large matrices)
+    let basis = if rank == a.rows() {
+        Vec::new()
+    } else {
+        linalg::null_space(o)
+    };
+    let restricted = restriction(a, &basis)?;
+    let polynomial = linalg::characteristic_polynomial(&restricted, "s")?;
+    Ok((basis, polynomial))
+}
+
 /// `A` restricted to an `A`-invariant subspace spanned by the columns `basis`: the matrix `R`
 /// with `A·N = N·R`.
-fn restriction(
-    a: &Matrix<Rational>,
-    basis: &[Matrix<Rational>],
-) -> Result<Matrix<Rational>, LinalgError> {
+fn restriction<F: Field>(a: &Matrix<F>, basis: &[Matrix<F>]) -> Result<Matrix<F>, LinalgError> {
     let k = basis.len();
     if k == 0 {
         return Ok(Matrix::zeros(0, 0));

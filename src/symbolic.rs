@@ -247,6 +247,85 @@ pub fn family_polynomial(
     Ok(Poly::new(coeffs, "s"))
 }
 
+/// A desired polynomial as requested, in text: a pole list, a polynomial in `s`, or a family
+/// with a time constant — any of them with parameters. One reader for the commands' flags and
+/// the exercises' designs.
+#[derive(Debug, Clone, Copy)]
+pub enum DesiredRequest<'a> {
+    /// `-w, -w`.
+    Poles(&'a str),
+    /// `s^2 + 2*zeta*w*s + w^2`.
+    Poly(&'a str),
+    /// A family and its time constant `T`.
+    Family(crate::observer::Family, &'a str),
+}
+
+/// Reads one formula, values of `env` substituted.
+fn formula(text: &str, env: &crate::syntax::Environment) -> Result<Fraction, String> {
+    let e = crate::syntax::parse_expression(text).map_err(|e| e.show_in(text))?;
+    crate::syntax::evaluate_with::<Fraction>(&e, env).map_err(|e| e.show_in(text))
+}
+
+impl DesiredRequest<'_> {
+    /// The poles of a pole list, values of `env` substituted.
+    ///
+    /// # Errors
+    /// The text shown where it cannot be read.
+    pub fn poles(text: &str, env: &crate::syntax::Environment) -> Result<Vec<Fraction>, String> {
+        crate::syntax::parse_list_with::<Fraction>(text, env).map_err(|e| e.show_in(text))
+    }
+
+    /// The values the request is read into (the poles, the polynomial's coefficients, or the
+    /// time constant), values of `env` substituted.
+    ///
+    /// # Errors
+    /// The text shown where it cannot be read.
+    pub fn values(&self, env: &crate::syntax::Environment) -> Result<Vec<Fraction>, String> {
+        match *self {
+            DesiredRequest::Poles(text) => Self::poles(text, env),
+            DesiredRequest::Poly(text) => formula(text, env)?
+                .coefficients_in("s")
+                .ok_or_else(|| "s appears in a denominator; give a polynomial in s".to_string()),
+            DesiredRequest::Family(_, t) => Ok(vec![formula(t, env)?]),
+        }
+    }
+
+    /// The parameters it mentions (`s` of a polynomial is its variable, not a parameter).
+    pub fn parameters(&self, env: &crate::syntax::Environment) -> Vec<String> {
+        self.values(env).map(|v| parameters(&v)).unwrap_or_default()
+    }
+
+    /// The polynomial of degree `n` in `s` over the rational functions of the parameters.
+    ///
+    /// # Errors
+    /// A text that cannot be read, the wrong number of poles, a polynomial that is not monic
+    /// of degree `n`, a family without an exact form (in words; the caller names the flag).
+    pub fn polynomial(
+        &self,
+        env: &crate::syntax::Environment,
+        n: usize,
+    ) -> Result<Poly<Fraction>, String> {
+        let values = self.values(env)?;
+        match *self {
+            DesiredRequest::Poles(_) if values.len() != n => Err(format!(
+                "{} poles given, the system has order {n}",
+                values.len()
+            )),
+            DesiredRequest::Poles(_) => Ok(poles_polynomial(&values)),
+            DesiredRequest::Poly(_) => {
+                let poly = Poly::new(values, "s");
+                if poly.degree() != Some(n) || !poly.is_monic() {
+                    return Err(format!(
+                        "the desired polynomial must be monic of degree {n} (the order of A), it is {poly}"
+                    ));
+                }
+                Ok(poly)
+            }
+            DesiredRequest::Family(family, _) => family_polynomial(family, &values[0], n),
+        }
+    }
+}
+
 /// A polynomial in `s` as one rational function of `s` and the parameters.
 pub fn as_fraction(p: &Poly<Fraction>) -> Fraction {
     let s = Fraction::symbol(p.var());
@@ -397,5 +476,17 @@ mod tests {
             Err(SymbolicError::TooManyParameters { .. })
         ));
         assert!(check_parameters(&["k".into(), "m".into()]).is_ok());
+    }
+}
+
+impl crate::derivation::Show for Exceptions {
+    fn text(&self) -> String {
+        Exceptions::text(self)
+    }
+    fn latex(&self) -> String {
+        Exceptions::latex(self)
+    }
+    fn input(&self) -> String {
+        Exceptions::text(self)
     }
 }

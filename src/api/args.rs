@@ -4,6 +4,7 @@ use crate::algebra::{Fraction, Quadratic, Rational, Zero};
 use crate::linalg::Matrix;
 use crate::observer::DesiredPolynomial;
 use crate::poly::Poly;
+use crate::symbolic::DesiredRequest;
 use crate::syntax::Environment;
 use crate::syntax::{parse_list, parse_polynomial};
 use crate::syntax::{parse_matrix, parse_scalar, FromExpr};
@@ -614,120 +615,96 @@ impl DesiredArgs {
         ])
     }
 
-    /// The flag that is given and its text.
-    fn given(&self) -> Option<(String, &String)> {
+    /// The flag that is given and the request it holds.
+    fn request(&self) -> Option<(String, DesiredRequest<'_>)> {
         if let Some(p) = &self.poles {
-            Some(("--poles".into(), p))
+            Some(("--poles".into(), DesiredRequest::Poles(p)))
         } else if let Some(p) = &self.poly {
-            Some(("--poly".into(), p))
+            Some(("--poly".into(), DesiredRequest::Poly(p)))
         } else {
-            self.family().map(|(f, t)| (format!("--{f}"), t))
+            self.family()
+                .map(|(f, t)| (format!("--{f}"), DesiredRequest::Family(f, t)))
         }
     }
 
     /// The desired polynomial as requested, `poles -w, -w`.
     pub fn describe(&self) -> String {
-        self.given()
-            .map(|(flag, text)| format!("{} {text}", flag.trim_start_matches('-')))
+        let text = |r: DesiredRequest<'_>| match r {
+            DesiredRequest::Poles(t) | DesiredRequest::Poly(t) | DesiredRequest::Family(_, t) => {
+                t.to_string()
+            }
+        };
+        self.request()
+            .map(|(flag, r)| format!("{} {}", flag.trim_start_matches('-'), text(r)))
             .unwrap_or_default()
     }
 
     /// Whether the desired polynomial mentions a parameter (`s` in `--poly` is the variable).
     pub fn mentions_parameters(&self) -> bool {
-        if let Some(p) = &self.poly {
-            return parse_polynomial::<Fraction>(p, "s")
-                .is_ok_and(|p| !crate::symbolic::parameters(p.coeffs()).is_empty());
-        }
-        self.given().is_some_and(|(_, text)| {
-            parse_list::<Fraction>(text).is_ok_and(|v| !crate::symbolic::parameters(&v).is_empty())
-        })
+        self.request()
+            .is_some_and(|(_, r)| !r.parameters(&Environment::new()).is_empty())
     }
 
     /// The desired polynomial of degree `n` as a polynomial in `s` over the rational functions
     /// of the parameters (`--poles "-w, -w"`, `--poly "s^2 + 2 zeta w s + w^2"`, `--repeated T`
     /// with a symbolic `T`); errors name the flag.
     pub fn symbolic(&self, n: usize) -> Result<Poly<Fraction>> {
-        if let Some(p) = &self.poles {
-            let poles =
-                parse_list::<Fraction>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
-            if poles.len() != n {
-                bail!(
-                    "in --poles: {} poles given, the system has order {n}",
-                    poles.len()
-                );
-            }
-            return Ok(crate::symbolic::poles_polynomial(&poles));
-        }
-        if let Some(p) = &self.poly {
-            let poly = parse_polynomial::<Fraction>(p, "s")
-                .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?;
-            if poly.degree() != Some(n) || !poly.is_monic() {
-                bail!("in --poly: the desired polynomial must be monic of degree {n} (the order of A), it is {poly}");
-            }
-            return Ok(poly);
-        }
-        let Some((family, t)) = self.family() else {
+        let Some((flag, request)) = self.request() else {
             bail!("give the desired observer polynomial: --poles, --poly, --repeated T, --butterworth T, --bessel T or --itae T");
         };
-        let flag = format!("--{family}");
-        let t = parse_scalar::<Fraction>(t).map_err(|e| anyhow!("in {flag}: {}", e.show_in(t)))?;
-        crate::symbolic::family_polynomial(family, &t, n).map_err(|e| anyhow!("in {flag}: {e}"))
+        request
+            .polynomial(&Environment::new(), n)
+            .map_err(|e| anyhow!("in {flag}: {e}"))
     }
 
     /// The desired polynomial of degree `n` with the parameters' `values` substituted (as
     /// [`DesiredArgs::parse`] without values); errors name the flag.
     pub fn parse_at(&self, n: usize, values: &Environment) -> Result<DesiredPolynomial> {
-        if values.is_empty() || !self.mentions_parameters() {
+        let Some((flag, request)) = self.request() else {
+            return self.parse(n);
+        };
+        if values.is_empty() || request.parameters(&Environment::new()).is_empty() {
             return self.parse(n);
         }
-        let number = |flag: &str, x: &Fraction| -> Result<Quadratic> {
-            let v = substituted(x, values);
-            v.as_quadratic().ok_or_else(|| {
-                anyhow!(
-                    "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
-                    v.symbols().join(", ")
-                )
-            })
+        let numbers = |xs: Vec<Fraction>| -> Result<Vec<Quadratic>> {
+            xs.iter()
+                .map(|x| {
+                    x.as_quadratic().ok_or_else(|| {
+                        anyhow!(
+                            "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
+                            x.symbols().join(", ")
+                        )
+                    })
+                })
+                .collect()
         };
-        if let Some(p) = &self.poles {
-            let poles =
-                parse_list::<Fraction>(p).map_err(|e| anyhow!("in --poles: {}", e.show_in(p)))?;
-            if poles.len() != n {
-                bail!(
-                    "in --poles: {} poles given, the system has order {n}",
-                    poles.len()
-                );
+        let read = request
+            .values(values)
+            .map_err(|e| anyhow!("in {flag}: {e}"))?;
+        match request {
+            DesiredRequest::Poles(_) => {
+                if read.len() != n {
+                    bail!(
+                        "in {flag}: {} poles given, the system has order {n}",
+                        read.len()
+                    );
+                }
+                Ok(DesiredPolynomial::from_poles(&numbers(read)?)?)
             }
-            let poles = poles
-                .iter()
-                .map(|x| number("--poles", x))
-                .collect::<Result<Vec<_>>>()?;
-            return Ok(DesiredPolynomial::from_poles(&poles)?);
-        }
-        if self.poly.is_some() {
-            let p = self.symbolic(n)?;
-            let coeffs = p
-                .coeffs()
-                .iter()
-                .map(|x| number("--poly", x))
-                .collect::<Result<Vec<_>>>()?;
-            return Ok(DesiredPolynomial::from_polynomial(
-                Poly::new(coeffs, "s"),
+            DesiredRequest::Poly(_) => Ok(DesiredPolynomial::from_polynomial(
+                Poly::new(numbers(read)?, "s"),
                 n,
-            )?);
+            )?),
+            DesiredRequest::Family(family, _) => {
+                let t = numbers(read)?.remove(0);
+                let Some(t) = t.as_rational().cloned() else {
+                    bail!("in {flag}: the time constant must be rational");
+                };
+                family
+                    .polynomial(&t, n)
+                    .with_context(|| format!("in {flag}"))
+            }
         }
-        let Some((family, t)) = self.family() else {
-            return self.parse(n);
-        };
-        let flag = format!("--{family}");
-        let t = parse_scalar::<Fraction>(t).map_err(|e| anyhow!("in {flag}: {}", e.show_in(t)))?;
-        let t = number(&flag, &t)?;
-        let Some(t) = t.as_rational().cloned() else {
-            bail!("in {flag}: the time constant must be rational");
-        };
-        family
-            .polynomial(&t, n)
-            .with_context(|| format!("in {flag}"))
     }
 
     /// The desired polynomial of degree `n`; errors name the flag.

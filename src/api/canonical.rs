@@ -82,7 +82,9 @@ fn symbolic(
     if let Some(b) = &b {
         super::args::expect_shape("--b", b, a.rows(), b.cols(), "states × inputs")?;
     }
-    let mut work = Parametric::new(a, c, b.as_ref().map_or(&[][..], |b| b.entries()))?;
+    let mut work = Parametric::new(a)?
+        .with(c.entries(), "C")?
+        .with(b.as_ref().map_or(&[][..], |b| b.entries()), "B")?;
     let (di, st) = work.run(|| {
         Ok::<_, anyhow::Error>((
             observer_form_di_ruscio(a, b.as_ref(), c)?,
@@ -90,15 +92,8 @@ fn symbolic(
         ))
     })??;
     work.observability(a, c)?;
-    if args.json {
-        let mut out = forms_json(&di, &st);
-        work.add_json(&mut out);
-        rep.json(&out);
-    } else {
-        work.describe(rep);
-        render(rep, false, &di, &st);
-        work.validity(rep);
-    }
+    let json = args.json.then(|| forms_json(&di, &st));
+    work.answer(rep, json, |rep| render(rep, false, &di, &st));
     Ok(Outcome::Ok)
 }
 

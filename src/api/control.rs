@@ -3,11 +3,12 @@
 use super::args::{matrix, matrix_at, mentions_parameters, polynomial_at, Plant};
 use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
+use crate::algebra::Field;
 use crate::algebra::Fraction;
-use crate::control::{observer_based_control, state_feedback};
+use crate::control::{observer_based_control, state_feedback, ObserverBasedControl};
 use crate::linalg::Matrix;
 use crate::observer::Convention;
-use crate::syntax::parse_polynomial;
+use crate::symbolic::DesiredRequest;
 use crate::system::StateSpace;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -69,8 +70,9 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let others_symbolic = values.is_empty()
         && (others.iter().flatten().any(|t| mentions_parameters(t))
             || args.feedback_poly.as_deref().is_some_and(|p| {
-                parse_polynomial::<Fraction>(p, "s")
-                    .is_ok_and(|p| !crate::symbolic::parameters(p.coeffs()).is_empty())
+                !DesiredRequest::Poly(p)
+                    .parameters(&Default::default())
+                    .is_empty()
             }));
     let (a, c) = match args.system.plant()? {
         Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
@@ -107,32 +109,52 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let plant = StateSpace::new(a, Some(b), c, None)?;
     let r = observer_based_control(&plant, &f, &l)?;
     if args.json {
-        rep.json(&json!({
-            "F": f.to_input(),
-            "L": l.to_input(),
-            "convention": "a+lc",
-            "separation_holds": r.separation_holds,
-            "closed_loop_polynomial": r.closed_loop_polynomial.to_input(),
-            "plant": r.plant.to_input(),
-            "controller": r.controller.to_input(),
-            "closed_loop": r.closed_loop.to_input(),
-            "steps": serde_json::to_value(&r.derivation.steps)?,
-        }));
+        rep.json(&control_json(&f, &l, &r)?);
     } else {
-        outln!(
-            rep,
-            "F = {} (u = F x̂), L = {} (A + LC)",
-            f.to_input(),
-            l.to_input()
-        );
-        rep.derivation(&r.derivation);
-        outln!(
-            rep,
-            "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC))",
-            if r.separation_holds { "=" } else { "≠" }
-        );
+        control_text(rep, &f, &l, &r, "");
     }
     Ok(Outcome::Ok)
+}
+
+/// The answer as `--json` gives it (the stable shape), for numbers or formulas.
+fn control_json<F: Field>(
+    f: &Matrix<F>,
+    l: &Matrix<F>,
+    r: &ObserverBasedControl<F>,
+) -> Result<serde_json::Value> {
+    Ok(json!({
+        "F": f.to_input(),
+        "L": l.to_input(),
+        "convention": "a+lc",
+        "separation_holds": r.separation_holds,
+        "closed_loop_polynomial": r.closed_loop_polynomial.to_input(),
+        "plant": r.plant.to_input(),
+        "controller": r.controller.to_input(),
+        "closed_loop": r.closed_loop.to_input(),
+        "steps": serde_json::to_value(&r.derivation.steps)?,
+    }))
+}
+
+/// The answer as text; `how` qualifies the separation principle's equality.
+fn control_text<F: Field>(
+    rep: &mut Report,
+    f: &Matrix<F>,
+    l: &Matrix<F>,
+    r: &ObserverBasedControl<F>,
+    how: &str,
+) {
+    outln!(
+        rep,
+        "F = {} (u = F x̂), L = {} (A + LC)",
+        f.to_input(),
+        l.to_input()
+    );
+    rep.derivation(&r.derivation);
+    outln!(
+        rep,
+        "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC)){how}",
+        if r.separation_holds { "=" } else { "≠" }
+    );
 }
 
 /// Observer-based control with parameters: the controller K(s) and the closed loop as rational
@@ -151,21 +173,25 @@ fn symbolic(
     let (n, p) = (a.rows(), c.rows());
     super::args::expect_shape("--b", &b, n, b.cols(), "states × inputs")?;
     super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
-    let convention = super::args::observer_convention(&args.convention)?;
-    if convention == Convention::AMinusKC {
+    if super::args::observer_convention(&args.convention)? == Convention::AMinusKC {
         l = l.neg();
     }
-    let mut extra: Vec<Fraction> = b.entries().iter().chain(l.entries()).cloned().collect();
-    let mut work = Parametric::new(a, c, &[])?;
+    let mut work = Parametric::new(a)?
+        .with(c.entries(), "C")?
+        .with(b.entries(), "B")?
+        .with(l.entries(), "L")?;
     let f = match (&args.f, &args.feedback_poly) {
         (Some(f), _) => {
             let f = matrix::<Fraction>("--f", f)?;
             super::args::expect_shape("--f", &f, b.cols(), n, "inputs × states")?;
+            work = work.with(f.entries(), "F")?;
             f
         }
         (None, Some(text)) => {
-            let desired = parse_polynomial::<Fraction>(text, "s")
-                .map_err(|e| anyhow!("in --feedback-poly: {}", e.show_in(text)))?;
+            let desired = DesiredRequest::Poly(text)
+                .polynomial(&Default::default(), n)
+                .map_err(|e| anyhow!("in --feedback-poly: {e}"))?;
+            work = work.with(desired.coeffs(), "the feedback polynomial")?;
             let design = work.run(|| {
                 crate::feedback::design_feedback_symbolic(
                     a,
@@ -177,46 +203,16 @@ fn symbolic(
                 )
             })??;
             work.controllability(a, &b)?;
+            work.exceptions
+                .add_denominators(design.gain.entries(), "a denominator of F");
             design.gain
         }
         (None, None) => bail!("give --f or --feedback-poly"),
     };
-    extra.extend(f.entries().iter().cloned());
-    let all = Parametric::new(a, c, &extra)?;
-    work.parameters = all.parameters;
-    work.exceptions.merge(all.exceptions);
     let plant = StateSpace::new(a.clone(), Some(b), c.clone(), None)?;
     let r = work.run(|| observer_based_control(&plant, &f, &l))??;
-    if args.json {
-        let mut out = json!({
-            "F": f.to_input(),
-            "L": l.to_input(),
-            "convention": "a+lc",
-            "separation_holds": r.separation_holds,
-            "closed_loop_polynomial": r.closed_loop_polynomial.to_input(),
-            "plant": r.plant.to_input(),
-            "controller": r.controller.to_input(),
-            "closed_loop": r.closed_loop.to_input(),
-            "steps": serde_json::to_value(&r.derivation.steps)?,
-        });
-        work.add_json(&mut out);
-        rep.json(&out);
-    } else {
-        work.describe(rep);
-        outln!(
-            rep,
-            "F = {} (u = F x̂), L = {} (A + LC)",
-            f.to_input(),
-            l.to_input()
-        );
-        rep.derivation(&r.derivation);
-        outln!(
-            rep,
-            "Separation principle: det(sI − A_cl) {} det(sI − (A + BF))·det(sI − (A + LC)), identically in s and {}",
-            if r.separation_holds { "=" } else { "≠" },
-            work.names()
-        );
-        work.validity(rep);
-    }
+    let json = args.json.then(|| control_json(&f, &l, &r)).transpose()?;
+    let how = format!(", identically in s and {}", work.names());
+    work.answer(rep, json, |rep| control_text(rep, &f, &l, &r, &how));
     Ok(Outcome::Ok)
 }

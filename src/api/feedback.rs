@@ -55,6 +55,18 @@ pub struct Args {
     pub json: bool,
 }
 
+impl Args {
+    /// `--convention`.
+    fn feedback_convention(&self) -> Result<FeedbackConvention> {
+        FeedbackConvention::parse(&self.convention).ok_or_else(|| {
+            anyhow!(
+                "in --convention: unknown convention '{}' (u=-kx or u=fx)",
+                self.convention
+            )
+        })
+    }
+}
+
 /// `owb feedback`: state feedback by duality.
 ///
 /// # Errors
@@ -81,12 +93,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         None,
     )?;
     let method = super::args::gain_method(&args.method)?;
-    let convention = FeedbackConvention::parse(&args.convention).ok_or_else(|| {
-        anyhow!(
-            "in --convention: unknown convention '{}' (u=-kx or u=fx)",
-            args.convention
-        )
-    })?;
+    let convention = args.feedback_convention()?;
     let desired = args.desired.parse_at(a.rows(), &pair.values()?)?;
     let d = design_feedback(&a, &b, &desired, method, convention, Detail::Full).map_err(
         |e| match e {
@@ -140,14 +147,11 @@ fn symbolic(
     rep: &mut Report,
 ) -> Result<Outcome> {
     let method = super::args::gain_method(&args.method)?;
-    let convention = FeedbackConvention::parse(&args.convention).ok_or_else(|| {
-        anyhow!(
-            "in --convention: unknown convention '{}' (u=-kx or u=fx)",
-            args.convention
-        )
-    })?;
+    let convention = args.feedback_convention()?;
     let desired = args.desired.symbolic(a.rows())?;
-    let mut work = Parametric::new(a, b, desired.coeffs())?;
+    let mut work = Parametric::new(a)?
+        .with(b.entries(), "B")?
+        .with(desired.coeffs(), "the desired polynomial")?;
     let d = work
         .run(|| design_feedback_symbolic(a, b, &desired, method, convention, Detail::Full))?
         .map_err(|e| match e {
@@ -157,21 +161,22 @@ fn symbolic(
     work.controllability(a, b)?;
     work.exceptions
         .add_denominators(d.gain.entries(), "a denominator of the gain");
-    if args.json {
-        let mut out = json!({
-            "gain": json_matrix(&d.gain),
-            "convention": convention.flag(),
-            "method": method.flag(),
-            "desired": args.desired.describe(),
-            "closed_loop_polynomial": d.achieved.to_input(),
-            "places_exactly": d.identity,
-            "controllable": true,
-            "steps": serde_json::to_value(&d.derivation.steps)?,
-        });
-        work.add_json(&mut out);
-        rep.json(&out);
-    } else {
-        work.describe(rep);
+    let json = args
+        .json
+        .then(|| -> Result<serde_json::Value> {
+            Ok(json!({
+                "gain": json_matrix(&d.gain),
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "desired": args.desired.describe(),
+                "closed_loop_polynomial": d.achieved.to_input(),
+                "places_exactly": d.identity,
+                "controllable": true,
+                "steps": serde_json::to_value(&d.derivation.steps)?,
+            }))
+        })
+        .transpose()?;
+    work.answer(rep, json, |rep| {
         rep.derivation(&d.derivation);
         outln!(
             rep,
@@ -192,7 +197,6 @@ fn symbolic(
                 "NOT the desired polynomial".to_string()
             }
         );
-        work.validity(rep);
-    }
+    });
     Ok(Outcome::Ok)
 }

@@ -71,6 +71,15 @@ pub struct Args {
 }
 
 impl Args {
+    /// `--method`, with all four methods.
+    fn gain_method(&self) -> Result<GainMethod> {
+        GainMethod::parse(&self.method).ok_or_else(|| {
+            anyhow!(
+                "in --method: unknown method '{}' (ackermann, bass-gura, canonical, lemma-3.1)",
+                self.method
+            )
+        })
+    }
     fn detail(&self) -> Detail {
         if self.summary {
             Detail::Summary
@@ -181,12 +190,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     if !a.is_square() {
         bail!("in --a: A must be square, it is {}×{}", a.rows(), a.cols());
     }
-    let method = GainMethod::parse(&args.method).ok_or_else(|| {
-        anyhow!(
-            "in --method: unknown method '{}' (ackermann, bass-gura, canonical, lemma-3.1)",
-            args.method
-        )
-    })?;
+    let method = args.gain_method()?;
     let convention = super::args::observer_convention(&args.convention)?;
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
         bail!(
@@ -419,12 +423,7 @@ fn symbolic(
     c: &crate::linalg::Matrix<crate::algebra::Fraction>,
     rep: &mut Report,
 ) -> Result<Outcome> {
-    let method = GainMethod::parse(&args.method).ok_or_else(|| {
-        anyhow!(
-            "in --method: unknown method '{}' (ackermann, bass-gura, canonical, lemma-3.1)",
-            args.method
-        )
-    })?;
+    let method = args.gain_method()?;
     let convention = super::args::observer_convention(&args.convention)?;
     if args.float {
         bail!("in --float: the float path needs numbers; give the parameters values with --at NAME=VALUE");
@@ -441,28 +440,31 @@ fn symbolic(
     };
     let n = a.rows();
     let desired = args.desired.symbolic(n)?;
-    let mut work = Parametric::new(a, &c, desired.coeffs())?;
+    let mut work = Parametric::new(a)?
+        .with(c.entries(), "C")?
+        .with(desired.coeffs(), "the desired polynomial")?;
     let design = work.run(|| {
         crate::observer::design_symbolic(a, &c, &desired, method, convention, args.detail())
     })??;
     work.observability(a, &c)?;
     work.exceptions
         .add_denominators(design.gain.matrix.entries(), "a denominator of the gain");
-    if args.json {
-        let mut out = json!({
-            "convention": convention.flag(),
-            "method": method.flag(),
-            "desired": args.desired.describe(),
-            "exact": true,
-            "gain": json_matrix(&design.gain.matrix),
-            "observer_polynomial": design.achieved.to_input(),
-            "places_exactly": design.identity,
-            "steps": serde_json::to_value(&design.derivation.steps)?,
-        });
-        work.add_json(&mut out);
-        rep.json(&out);
-    } else {
-        work.describe(rep);
+    let json = args
+        .json
+        .then(|| -> Result<serde_json::Value> {
+            Ok(json!({
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "desired": args.desired.describe(),
+                "exact": true,
+                "gain": json_matrix(&design.gain.matrix),
+                "observer_polynomial": design.achieved.to_input(),
+                "places_exactly": design.identity,
+                "steps": serde_json::to_value(&design.derivation.steps)?,
+            }))
+        })
+        .transpose()?;
+    work.answer(rep, json, |rep| {
         rep.derivation(&design.derivation);
         let letter = convention.letter();
         outln!(rep, "Result ({convention} convention, {method} method):");
@@ -480,7 +482,6 @@ fn symbolic(
                 "the observer polynomial differs from the desired polynomial".to_string()
             }
         );
-        work.validity(rep);
-    }
+    });
     Ok(Outcome::Ok)
 }

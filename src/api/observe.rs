@@ -6,6 +6,7 @@ use super::{Outcome, Report};
 use crate::algebra::{Fraction, MultiPoly, Ring};
 use crate::linalg::Matrix;
 use crate::observability::observability_report;
+use crate::poly::Poly;
 use anyhow::Result;
 use serde_json::json;
 
@@ -89,77 +90,180 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
-/// What is lost where a factor of `det O_n` vanishes: the substitution that makes it vanish,
-/// the rank there, the unobservable subspace and the polynomial of the unobservable modes.
-#[derive(Debug, Clone, serde::Serialize)]
-struct Loss {
-    /// The factor, in input syntax.
-    factor: String,
-    /// The substitution solving `factor = 0` for one parameter (`k = 0`), when one exists.
-    substitution: Option<String>,
-    /// The rank of O_n there.
-    rank: Option<usize>,
-    /// A basis of ker O_n there.
-    unobservable_subspace: Vec<Vec<Vec<String>>>,
-    /// det(sI − A|ker O_n) there.
-    unobservable_polynomial: Option<String>,
+/// The unobservable part of a symbolic pair: a basis of ker O_n and det(sI − A|ker O_n).
+struct Unobservable {
+    rank: usize,
+    basis: Vec<Matrix<Fraction>>,
+    polynomial: Poly<Fraction>,
 }
 
-fn substitute(m: &Matrix<Fraction>, name: &str, value: &Fraction) -> Matrix<Fraction> {
-    m.map(|x| x.substitute(name, value))
-}
-
-/// The restriction of `a` to the span of `basis` (an invariant subspace):
-/// `R = (VᵀV)⁻¹ Vᵀ A V`.
-fn restriction(a: &Matrix<Fraction>, basis: &[Matrix<Fraction>]) -> Option<Matrix<Fraction>> {
-    let mut v = basis.first()?.clone();
-    for b in &basis[1..] {
-        v = v.hstack(b).ok()?;
-    }
-    let vt = v.transpose();
-    let gram = vt.mul(&v).ok()?;
-    let image = vt.mul(&a.mul(&v).ok()?).ok()?;
-    crate::linalg::solve(&gram, &image).ok()
-}
-
-fn loss(a: &Matrix<Fraction>, c: &Matrix<Fraction>, factor: &MultiPoly) -> Loss {
-    let mut out = Loss {
-        factor: factor.to_input(),
-        substitution: None,
-        rank: None,
-        unobservable_subspace: Vec::new(),
-        unobservable_polynomial: None,
-    };
-    let Some((name, value)) = crate::symbolic::solve_for(factor) else {
-        return out;
-    };
-    out.substitution = Some(format!("{name} = {}", value.to_input()));
-    let (a, c) = (substitute(a, &name, &value), substitute(c, &name, &value));
-    let Ok(o) = crate::observability::observability_matrix(&a, &c) else {
-        return out;
-    };
-    out.rank = Some(crate::linalg::rank(&o));
-    let basis = crate::linalg::null_space(&o);
-    out.unobservable_subspace = basis
-        .iter()
-        .map(|v| match json_matrix(v) {
-            serde_json::Value::Array(rows) => rows
-                .into_iter()
-                .map(|r| match r {
-                    serde_json::Value::Array(x) => x
-                        .into_iter()
-                        .map(|e| e.as_str().unwrap_or_default().to_string())
-                        .collect(),
-                    _ => Vec::new(),
-                })
-                .collect(),
-            _ => Vec::new(),
+impl Unobservable {
+    fn of(a: &Matrix<Fraction>, o: &Matrix<Fraction>) -> Option<Self> {
+        let rank = crate::linalg::rank(o);
+        let (basis, polynomial) = crate::observability::unobservable_part(a, o, rank).ok()?;
+        Some(Unobservable {
+            rank,
+            basis,
+            polynomial,
         })
-        .collect();
-    out.unobservable_polynomial = restriction(&a, &basis)
-        .and_then(|r| crate::linalg::characteristic_polynomial(&r, "s").ok())
-        .map(|p| p.to_input());
-    out
+    }
+    fn subspace_text(&self) -> String {
+        let v: Vec<String> = self.basis.iter().map(|v| v.to_input()).collect();
+        v.join(", ")
+    }
+}
+
+/// What is lost where a factor of `det O_n` vanishes: the substitution that makes it vanish
+/// (solving the factor for one parameter) and the unobservable part there.
+struct Loss {
+    factor: MultiPoly,
+    at: Option<(String, Fraction)>,
+    there: Option<Unobservable>,
+}
+
+impl Loss {
+    fn of(a: &Matrix<Fraction>, c: &Matrix<Fraction>, factor: &MultiPoly) -> Loss {
+        let at = crate::symbolic::solve_for(factor);
+        let there = at.as_ref().and_then(|(name, value)| {
+            let put = |m: &Matrix<Fraction>| m.map(|x| x.substitute(name, value));
+            let (a, c) = (put(a), put(c));
+            let o = crate::observability::observability_matrix(&a, &c).ok()?;
+            Unobservable::of(&a, &o)
+        });
+        Loss {
+            factor: factor.clone(),
+            at,
+            there,
+        }
+    }
+    fn substitution(&self) -> Option<String> {
+        self.at
+            .as_ref()
+            .map(|(name, value)| format!("{name} = {}", value.to_input()))
+    }
+    fn json(&self) -> serde_json::Value {
+        json!({
+            "factor": self.factor.to_input(),
+            "substitution": self.substitution(),
+            "rank": self.there.as_ref().map(|u| u.rank),
+            "unobservable_subspace": self.there.as_ref().map_or_else(Vec::new, |u| u.basis.iter().map(json_matrix).collect()),
+            "unobservable_polynomial": self.there.as_ref().filter(|u| !u.basis.is_empty()).map(|u| u.polynomial.to_input()),
+        })
+    }
+    fn report(&self, rep: &mut Report) {
+        let (Some(s), Some(u)) = (self.substitution(), &self.there) else {
+            outln!(
+                rep,
+                "    where {} = 0: the rank drops (no parameter to solve for)",
+                self.factor.to_input()
+            );
+            return;
+        };
+        outln!(
+            rep,
+            "    at {s}: rank O_n = {}, unobservable subspace {}",
+            u.rank,
+            u.subspace_text()
+        );
+        if !u.basis.is_empty() {
+            outln!(
+                rep,
+                "      the mode lost: det(sI − A|ker O_n) = {}",
+                u.polynomial.to_input()
+            );
+        }
+    }
+}
+
+/// Observability with parameters, computed: O_n in symbols, det O_n and its factors, the
+/// generic unobservable part, and what is lost where each factor vanishes.
+struct SymbolicObservability {
+    o: Matrix<Fraction>,
+    det: Option<Fraction>,
+    generic: Unobservable,
+    losses: Vec<Loss>,
+}
+
+impl SymbolicObservability {
+    fn of(work: &Parametric, a: &Matrix<Fraction>, c: &Matrix<Fraction>) -> Result<Self> {
+        let o = work.run(|| crate::observability::observability_matrix(a, c))??;
+        let generic = work
+            .run(|| Unobservable::of(a, &o))?
+            .ok_or_else(|| anyhow::anyhow!("in --a: the unobservable part cannot be computed"))?;
+        let det = work.run(|| super::parametric::observability_determinant(a, c))?;
+        let factors = det
+            .as_ref()
+            .map(|d| crate::symbolic::factors(d.numerator()))
+            .unwrap_or_default();
+        let losses = work.run(|| factors.iter().map(|(f, _)| Loss::of(a, c, f)).collect())?;
+        Ok(SymbolicObservability {
+            o,
+            det,
+            generic,
+            losses,
+        })
+    }
+    fn json(&self, n: usize) -> serde_json::Value {
+        let unobservable = self.generic.rank < n;
+        json!({
+            "observability_matrix": json_matrix(&self.o),
+            "rank": self.generic.rank,
+            "order": n,
+            "observable": !unobservable,
+            "determinant": self.det.as_ref().map(|d| d.to_input()),
+            "unobservable_where": self.losses.iter().map(Loss::json).collect::<Vec<_>>(),
+            "unobservable_subspace": self.generic.basis.iter().map(json_matrix).collect::<Vec<_>>(),
+            "unobservable_polynomial": unobservable.then(|| self.generic.polynomial.to_input()),
+        })
+    }
+    fn report(&self, rep: &mut Report, n: usize) {
+        outln!(rep, "Observability of (A, C)");
+        outln!(rep, "  O_n = [C; CA; …; CA^(n−1)]:");
+        for line in self.o.render().lines() {
+            outln!(rep, "      {line}");
+        }
+        if let Some(d) = &self.det {
+            let label = if self.o.rows() == n {
+                "det O_n"
+            } else {
+                "det(O_nᵀ O_n)"
+            };
+            outln!(rep, "  {label} = {d}");
+        }
+        let rank = self.generic.rank;
+        if self.losses.is_empty() {
+            outln!(rep, "  rank O_n = {rank} (order n = {n})");
+        } else {
+            outln!(
+                rep,
+                "  rank O_n = {rank} for all but special values (order n = {n})"
+            );
+        }
+        if rank < n {
+            outln!(rep, "  NOT observable, for any value of the parameters");
+            outln!(rep, "  unobservable subspace ker O_n, basis:");
+            for v in &self.generic.basis {
+                outln!(rep, "      {}", v.to_input());
+            }
+            outln!(
+                rep,
+                "  unobservable modes: det(sI − A|ker O_n) = {}",
+                self.generic.polynomial.to_input()
+            );
+        } else if self.losses.is_empty() {
+            outln!(rep, "  observable for every value of the parameters");
+        } else {
+            let unless: Vec<String> = self
+                .losses
+                .iter()
+                .map(|l| format!("{} = 0", l.factor.to_input().replace('*', " ")))
+                .collect();
+            outln!(rep, "  observable unless {}", unless.join(" or "));
+            for l in &self.losses {
+                l.report(rep);
+            }
+        }
+    }
 }
 
 /// Observability with parameters: O_n in symbols, det O_n factored, and for each factor what
@@ -170,118 +274,9 @@ fn symbolic(
     c: &Matrix<Fraction>,
     rep: &mut Report,
 ) -> Result<Outcome> {
-    let work = Parametric::new(a, c, &[])?;
-    let o = work.run(|| crate::observability::observability_matrix(a, c))??;
-    let n = a.rows();
-    let rank = work.run(|| crate::linalg::rank(&o))?;
-    let det = work.run(|| super::parametric::observability_determinant(a, c))?;
-    let factors = det
-        .as_ref()
-        .map(|d| crate::symbolic::factors(d.numerator()))
-        .unwrap_or_default();
-    let losses = work.run(|| {
-        factors
-            .iter()
-            .map(|(f, _)| loss(a, c, f))
-            .collect::<Vec<_>>()
-    })?;
-    let generic_basis = if rank < n {
-        work.run(|| crate::linalg::null_space(&o))?
-    } else {
-        Vec::new()
-    };
-    let generic_modes = if rank < n {
-        work.run(|| {
-            restriction(a, &generic_basis)
-                .and_then(|r| crate::linalg::characteristic_polynomial(&r, "s").ok())
-        })?
-    } else {
-        None
-    };
-    let unless: Vec<String> = factors
-        .iter()
-        .map(|(f, _)| format!("{} = 0", f.to_input().replace('*', " ")))
-        .collect();
-    if args.json {
-        let mut out = json!({
-            "observability_matrix": json_matrix(&o),
-            "rank": rank,
-            "order": n,
-            "observable": rank == n,
-            "determinant": det.as_ref().map(|d| d.to_input()),
-            "unobservable_where": losses,
-            "unobservable_subspace": generic_basis.iter().map(json_matrix).collect::<Vec<_>>(),
-            "unobservable_polynomial": generic_modes.as_ref().map(|p| p.to_input()),
-        });
-        work.add_json(&mut out);
-        rep.json(&out);
-        return Ok(Outcome::Ok);
-    }
-    work.describe(rep);
-    outln!(rep, "Observability of (A, C)");
-    outln!(rep, "  O_n = [C; CA; …; CA^(n−1)]:");
-    for line in o.render().lines() {
-        outln!(rep, "      {line}");
-    }
-    if let Some(d) = &det {
-        let label = if o.rows() == n {
-            "det O_n"
-        } else {
-            "det(O_nᵀ O_n)"
-        };
-        outln!(rep, "  {label} = {d}");
-    }
-    if factors.is_empty() {
-        outln!(rep, "  rank O_n = {rank} (order n = {n})");
-    } else {
-        outln!(
-            rep,
-            "  rank O_n = {rank} for all but special values (order n = {n})"
-        );
-    }
-    if rank < n {
-        outln!(rep, "  NOT observable, for any value of the parameters");
-        outln!(rep, "  unobservable subspace ker O_n, basis:");
-        for v in &generic_basis {
-            outln!(rep, "      {}", v.to_input());
-        }
-        if let Some(p) = &generic_modes {
-            outln!(rep, "  unobservable modes: det(sI − A|ker O_n) = {p}");
-        }
-    } else if unless.is_empty() {
-        outln!(rep, "  observable for every value of the parameters");
-    } else {
-        outln!(rep, "  observable unless {}", unless.join(" or "));
-        for l in &losses {
-            let Some(s) = &l.substitution else {
-                outln!(
-                    rep,
-                    "    where {} = 0: the rank drops (no parameter to solve for)",
-                    l.factor
-                );
-                continue;
-            };
-            outln!(
-                rep,
-                "    at {s}: rank O_n = {}, unobservable subspace {}",
-                l.rank.unwrap_or(n),
-                l.unobservable_subspace
-                    .iter()
-                    .map(|v| format!(
-                        "[{}]",
-                        v.iter()
-                            .map(|r| r.join(", "))
-                            .collect::<Vec<_>>()
-                            .join("; ")
-                    ))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
-            if let Some(p) = &l.unobservable_polynomial {
-                outln!(rep, "      the mode lost: det(sI − A|ker O_n) = {p}");
-            }
-        }
-    }
-    work.validity(rep);
+    let work = Parametric::new(a)?.with(c.entries(), "C")?;
+    let found = SymbolicObservability::of(&work, a, c)?;
+    let json = args.json.then(|| found.json(a.rows()));
+    work.answer(rep, json, |rep| found.report(rep, a.rows()));
     Ok(Outcome::Ok)
 }

@@ -24,14 +24,12 @@ pub struct Parametric {
 }
 
 impl Parametric {
-    /// Reads the parameters of `a`, `c` and `extra` (a desired polynomial's coefficients),
-    /// checks the limits, and records the denominators of the inputs.
+    /// Reads the parameters of the plant's `A`, checks the order, and records its
+    /// denominators; the other inputs come in with [`Parametric::with`].
     ///
     /// # Errors
     /// A reserved name, too many parameters, a plant beyond [`MAX_ORDER`].
-    pub fn new(a: &Matrix<Fraction>, c: &Matrix<Fraction>, extra: &[Fraction]) -> Result<Self> {
-        let names = parameters(a.entries().iter().chain(c.entries()).chain(extra));
-        check_parameters(&names).map_err(|e| anyhow!("{e}"))?;
+    pub fn new(a: &Matrix<Fraction>) -> Result<Self> {
         if a.rows() > MAX_ORDER {
             bail!(
                 "in --a: {}",
@@ -41,14 +39,46 @@ impl Parametric {
                 }
             );
         }
-        let mut exceptions = Exceptions::default();
-        exceptions.add_denominators(a.entries(), "a denominator of A");
-        exceptions.add_denominators(c.entries(), "a denominator of C");
-        exceptions.add_denominators(extra, "a denominator of the desired polynomial");
-        Ok(Parametric {
-            parameters: names,
-            exceptions,
-        })
+        Parametric {
+            parameters: Vec::new(),
+            exceptions: Exceptions::default(),
+        }
+        .with(a.entries(), "A")
+    }
+
+    /// Adds the parameters of `values` (checked against the limits) and records their
+    /// denominators as "a denominator of `what`".
+    ///
+    /// # Errors
+    /// A reserved name or too many parameters.
+    pub fn with(mut self, values: &[Fraction], what: &str) -> Result<Self> {
+        let mut names = parameters(values);
+        names.extend(std::mem::take(&mut self.parameters));
+        names.sort();
+        names.dedup();
+        check_parameters(&names).map_err(|e| anyhow!("{e}"))?;
+        self.parameters = names;
+        self.exceptions
+            .add_denominators(values, &format!("a denominator of {what}"));
+        Ok(self)
+    }
+
+    /// Answers in JSON (`json` given: the parameters and where the result breaks added) or in
+    /// text: the parameters, what `text` writes, and where the result holds.
+    pub fn answer(
+        &self,
+        rep: &mut Report,
+        json: Option<serde_json::Value>,
+        text: impl FnOnce(&mut Report),
+    ) {
+        if let Some(mut out) = json {
+            self.add_json(&mut out);
+            rep.json(&out);
+        } else {
+            self.describe(rep);
+            text(rep);
+            self.validity(rep);
+        }
     }
 
     /// Runs `work` under the symbolic work budget.
@@ -100,8 +130,14 @@ impl Parametric {
         );
     }
 
-    /// The lines saying where the result holds and why it breaks elsewhere.
+    /// The lines saying where the result holds and why it breaks elsewhere; the condition is
+    /// also kept as a derivation step, so the typeset derivation ends with it.
     pub fn validity(&self, rep: &mut Report) {
+        rep.steps.push(crate::derivation::Step::new(
+            "valid for",
+            "where no denominator divided by vanishes",
+            &self.exceptions,
+        ));
         if self.exceptions.is_empty() {
             outln!(rep, "  valid for every value of the parameters");
             return;

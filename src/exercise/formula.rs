@@ -12,7 +12,8 @@ use crate::derivation::Derivation;
 use crate::linalg::Matrix;
 use crate::observer::{Convention, Detail, Family, GainMethod};
 use crate::poly::Poly;
-use crate::syntax::{evaluate_with, parse_matrix_expressions, Environment};
+use crate::symbolic::DesiredRequest;
+use crate::syntax::Environment;
 use crate::worked::{Computation, Value};
 
 /// The plant of an exercise with free parameters, read once.
@@ -29,17 +30,7 @@ pub struct FormulaPlant {
 }
 
 fn read_matrix(text: &str, env: &Environment) -> Result<Matrix<Fraction>, String> {
-    let rows = parse_matrix_expressions(text).map_err(|e| e.show_in(text))?;
-    let values = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|e| evaluate_with::<Fraction>(e, env))
-                .collect::<Result<Vec<_>, _>>()
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.show_in(text))?;
-    Matrix::from_rows(values).map_err(|e| e.to_string())
+    crate::syntax::parse_matrix_with::<Fraction>(text, env).map_err(|e| e.show_in(text))
 }
 
 /// The plant with its free parameters, or `None` when every symbol has a value (the numeric
@@ -63,43 +54,20 @@ pub fn plant(ex: &ExerciseFile, env: &Environment) -> Result<Option<FormulaPlant
     if let Some(b) = &b {
         all.extend(b.entries());
     }
-    let mut design: Vec<Fraction> = Vec::new();
-    let d = &ex.design;
-    let mut texts: Vec<&String> = [&d.poles, &d.repeated, &d.butterworth, &d.bessel, &d.itae]
-        .into_iter()
+    // the design's parameters count too: a numeric plant with poles at −ω asks for formulas
+    let designs =
+        std::iter::once(&ex.design).chain(ex.parts.iter().filter_map(|p| p.design.as_ref()));
+    let design: Vec<Fraction> = designs
+        .filter_map(|d| {
+            request(
+                &d.poles,
+                &d.poly,
+                [&d.repeated, &d.butterworth, &d.bessel, &d.itae],
+            )
+        })
+        .filter_map(|r| r.values(env).ok())
         .flatten()
         .collect();
-    for part in &ex.parts {
-        if let Some(o) = &part.design {
-            texts.extend(
-                [&o.poles, &o.repeated, &o.butterworth, &o.bessel, &o.itae]
-                    .into_iter()
-                    .flatten(),
-            );
-        }
-    }
-    for t in texts {
-        if let Ok(rows) = parse_matrix_expressions(t) {
-            design.extend(
-                rows.iter()
-                    .flatten()
-                    .filter_map(|e| evaluate_with::<Fraction>(e, env).ok()),
-            );
-        }
-    }
-    for p in [&d.poly].into_iter().flatten().chain(
-        ex.parts
-            .iter()
-            .filter_map(|p| p.design.as_ref()?.poly.as_ref()),
-    ) {
-        if let Ok(e) = crate::syntax::parse_expression(p) {
-            if let Ok(x) = evaluate_with::<Fraction>(&e, env) {
-                if let Some(cs) = x.coefficients_in("s") {
-                    design.extend(cs);
-                }
-            }
-        }
-    }
     all.extend(design.iter());
     let parameters = crate::symbolic::parameters(all);
     if parameters.is_empty() {
@@ -120,45 +88,28 @@ fn desired(
     env: &Environment,
     n: usize,
 ) -> Result<Poly<Fraction>, String> {
-    let read = |t: &str| -> Result<Fraction, String> {
-        let e = crate::syntax::parse_expression(t).map_err(|e| e.show_in(t))?;
-        evaluate_with::<Fraction>(&e, env).map_err(|e| e.show_in(t))
-    };
-    if let Some(p) = &spec.poles {
-        let rows = parse_matrix_expressions(p).map_err(|e| e.show_in(p))?;
-        let poles = rows
-            .iter()
-            .flatten()
-            .map(|e| evaluate_with::<Fraction>(e, env).map_err(|e| e.show_in(p)))
-            .collect::<Result<Vec<_>, _>>()?;
-        if poles.len() != n {
-            return Err(format!("{} poles for order {n}", poles.len()));
-        }
-        return Ok(crate::symbolic::poles_polynomial(&poles));
+    request(
+        &spec.poles,
+        &spec.poly,
+        [&spec.repeated, &spec.butterworth, &spec.bessel, &spec.itae],
+    )
+    .ok_or_else(|| "the design names no desired polynomial".to_string())?
+    .polynomial(env, n)
+}
+
+/// The desired polynomial a design names.
+fn request<'a>(
+    poles: &'a Option<String>,
+    poly: &'a Option<String>,
+    family: [&'a Option<String>; 4],
+) -> Option<DesiredRequest<'a>> {
+    if let Some(p) = poles {
+        return Some(DesiredRequest::Poles(p));
     }
-    if let Some(p) = &spec.poly {
-        let whole = read(p)?;
-        let coeffs = whole
-            .coefficients_in("s")
-            .ok_or_else(|| "the polynomial has s in a denominator".to_string())?;
-        let poly = Poly::new(coeffs, "s");
-        if poly.degree() != Some(n) || !poly.is_monic() {
-            return Err(format!(
-                "the desired polynomial must be monic of degree {n}"
-            ));
-        }
-        return Ok(poly);
+    if let Some(p) = poly {
+        return Some(DesiredRequest::Poly(p));
     }
-    let family = Family::given([
-        spec.repeated.as_ref(),
-        spec.butterworth.as_ref(),
-        spec.bessel.as_ref(),
-        spec.itae.as_ref(),
-    ]);
-    let Some((family, t)) = family else {
-        return Err("the design names no desired polynomial".into());
-    };
-    crate::symbolic::family_polynomial(family, &read(t)?, n)
+    Family::given(family.map(Option::as_ref)).map(|(f, t)| DesiredRequest::Family(f, t))
 }
 
 fn convention(spec: &crate::worked::ClaimSpec) -> Convention {
@@ -253,18 +204,6 @@ pub fn key(
     }
 }
 
-/// The student's answer read as a matrix of formulas (values of `env` substituted); one
-/// formula (not in brackets) is one expression.
-fn read_answer(answer: &str, env: &Environment) -> Option<Matrix<Fraction>> {
-    if !answer.trim_start().starts_with('[') {
-        let e = crate::syntax::parse_expression(answer).ok()?;
-        let x = evaluate_with::<Fraction>(&e, env).ok()?;
-        return Matrix::from_rows(vec![vec![x]]).ok();
-    }
-    let m = read_matrix(answer, env).ok()?;
-    (m.rows() > 0 && m.cols() > 0).then_some(m)
-}
-
 /// Where two formulas agree, when they differ: the factors of the gcd of the numerators of
 /// the differences, and a value of one parameter that makes each vanish.
 fn agreement_set(
@@ -309,125 +248,132 @@ pub fn diagnose(
     env: &Environment,
 ) -> (Option<Diagnosis>, Vec<String>) {
     let mut notes = Vec::new();
-    let Some(ans) = read_answer(answer, env) else {
+    let Ok(ans) = crate::worked::read_formula(answer, env) else {
         return (None, notes);
     };
-    let found = |mistake: Mistake, message: String| Some(Diagnosis { mistake, message });
-    let is_gain = matches!(part.ask, Computation::Gain | Computation::StateFeedback);
-    if ans.shape() == key.shape() && ans == key.neg() {
-        let mistake = if is_gain {
-            if part.ask == Computation::Gain {
-                Mistake::SignConvention
-            } else {
-                Mistake::FeedbackSign
-            }
-        } else {
-            Mistake::Negated
+    if let Some(d) = transformed_key(plant, part, key, &ans) {
+        return (Some(d), notes);
+    }
+    if ans.shape() != key.shape() {
+        return (None, notes);
+    }
+    let diagnosis = partly_right(plant, key, &ans, &mut notes);
+    if diagnosis.is_none() && part.ask == Computation::Gain {
+        notes.extend(placed_polynomial(plant, ex, part, &ans, env));
+    }
+    (diagnosis, notes)
+}
+
+fn named(mistake: Mistake, message: impl Into<String>) -> Option<Diagnosis> {
+    Some(Diagnosis {
+        mistake,
+        message: message.into(),
+    })
+}
+
+/// The answer is the key transformed by a named mistake: negated, transposed, reversed, or a
+/// gain left in observer-canonical coordinates.
+fn transformed_key(
+    plant: &FormulaPlant,
+    part: &PartSpec,
+    key: &Matrix<Fraction>,
+    ans: &Matrix<Fraction>,
+) -> Option<Diagnosis> {
+    let same_shape = ans.shape() == key.shape();
+    if same_shape && *ans == key.neg() {
+        let mistake = match part.ask {
+            Computation::Gain => Mistake::SignConvention,
+            Computation::StateFeedback => Mistake::FeedbackSign,
+            _ => Mistake::Negated,
         };
-        return (
-            found(
-                mistake,
-                "your formula is the key with the opposite sign".into(),
+        return named(mistake, "your formula is the key with the opposite sign");
+    }
+    if key.rows() != key.cols() && *ans == key.transpose() {
+        return named(
+            Mistake::Transposed,
+            format!(
+                "the right entries, as a {}×{} where a {}×{} is asked",
+                ans.rows(),
+                ans.cols(),
+                key.rows(),
+                key.cols()
             ),
-            notes,
         );
     }
-    if ans.shape() == (key.cols(), key.rows()) && key.rows() != key.cols() && ans == key.transpose()
+    let reversed = key.entries().iter().rev();
+    if same_shape && ans != key && ans.entries().iter().eq(reversed) {
+        return named(Mistake::Reversed, "the right entries in reverse order");
+    }
+    if same_shape
+        && part.ask == Computation::Gain
+        && canonical_coordinates(plant, key).as_ref() == Some(ans)
     {
-        return (
-            found(
-                Mistake::Transposed,
-                format!(
-                    "the right entries, as a {}×{} where a {}×{} is asked",
-                    ans.rows(),
-                    ans.cols(),
-                    key.rows(),
-                    key.cols()
-                ),
-            ),
-            notes,
+        return named(
+            Mistake::CanonicalCoordinates,
+            "your gain is K_o, still in observer-canonical coordinates; transform it back with T_o",
         );
     }
-    if ans.shape() == key.shape() && key.entries().len() > 1 {
-        let reversed: Vec<Fraction> = key.entries().iter().rev().cloned().collect();
-        if ans.entries() == reversed.as_slice() && ans != *key {
-            return (
-                found(
-                    Mistake::Reversed,
-                    "the right entries in reverse order".into(),
-                ),
-                notes,
-            );
-        }
-    }
-    if part.ask == Computation::Gain && ans.shape() == key.shape() {
-        if let Some(k_o) = canonical_coordinates(plant, key) {
-            if ans == k_o {
-                return (
-                    found(
-                        Mistake::CanonicalCoordinates,
-                        "your gain is K_o, still in observer-canonical coordinates; transform it back with T_o".into(),
-                    ),
-                    notes,
-                );
-            }
-        }
-    }
-    if ans.shape() == key.shape() {
-        let wrong: Vec<usize> = (0..key.entries().len())
-            .filter(|&i| ans.entries()[i] != key.entries()[i])
+    None
+}
+
+/// The answer agrees with the key only at some values of the parameters (said, with the
+/// values, in `notes`), or in all entries but one.
+fn partly_right(
+    plant: &FormulaPlant,
+    key: &Matrix<Fraction>,
+    ans: &Matrix<Fraction>,
+    notes: &mut Vec<String>,
+) -> Option<Diagnosis> {
+    let places = agreement_set(ans, key);
+    if !places.is_empty() {
+        let list: Vec<String> = places
+            .iter()
+            .map(|(f, s)| match s {
+                Some(s) => format!("{} = 0 (e.g. {s})", f.replace('*', " ")),
+                None => format!("{} = 0", f.replace('*', " ")),
+            })
             .collect();
-        let places = agreement_set(&ans, key);
-        if !places.is_empty() {
-            let list: Vec<String> = places
-                .iter()
-                .map(|(f, s)| match s {
-                    Some(s) => format!("{} = 0 (e.g. {s})", f.replace('*', " ")),
-                    None => format!("{} = 0", f.replace('*', " ")),
-                })
-                .collect();
-            notes.push(format!(
-                "your formula equals the key only where {}, not for every value of {}",
-                list.join(" or "),
-                plant.parameters.join(", ")
-            ));
-        }
-        if !places.is_empty() {
-            return (
-                found(
-                    Mistake::OnlyAtSomeValues,
-                    "right at particular values of the parameters, not as a formula".into(),
-                ),
-                notes,
-            );
-        }
-        if wrong.len() == 1 && key.entries().len() > 1 {
-            let i = wrong[0];
-            let (r, c) = (i / key.cols() + 1, i % key.cols() + 1);
-            return (
-                found(
-                    Mistake::Slip,
-                    format!(
-                        "one entry is wrong: ({r}, {c}) should be {}, everything else is right",
-                        key.entries()[i].to_input()
-                    ),
-                ),
-                notes,
-            );
-        }
+        notes.push(format!(
+            "your formula equals the key only where {}, not for every value of {}",
+            list.join(" or "),
+            plant.parameters.join(", ")
+        ));
+        return named(
+            Mistake::OnlyAtSomeValues,
+            "right at particular values of the parameters, not as a formula",
+        );
     }
-    if part.ask == Computation::Gain && ans.shape() == key.shape() {
-        let spec = super::key::claim_for(ex, part, None);
-        let k = convention(&spec).from_a_minus_kc(&ans); // self-inverse: L ↦ −L
-        let placed = part_c(plant, part, env).ok().and_then(|c| {
-            let observer = plant.a.sub(&k.mul(&c).ok()?).ok()?;
-            crate::linalg::characteristic_polynomial(&observer, "s").ok()
-        });
-        if let Some(p) = placed {
-            notes.push(format!("your gain places the observer polynomial {p}"));
-        }
+    let wrong: Vec<usize> = (0..key.entries().len())
+        .filter(|&i| ans.entries()[i] != key.entries()[i])
+        .collect();
+    match wrong.as_slice() {
+        [i] if key.entries().len() > 1 => named(
+            Mistake::Slip,
+            format!(
+                "one entry is wrong: ({}, {}) should be {}, everything else is right",
+                i / key.cols() + 1,
+                i % key.cols() + 1,
+                key.entries()[*i].to_input()
+            ),
+        ),
+        _ => None,
     }
-    (None, notes)
+}
+
+/// The observer polynomial a wrong gain places, in words.
+fn placed_polynomial(
+    plant: &FormulaPlant,
+    ex: &ExerciseFile,
+    part: &PartSpec,
+    ans: &Matrix<Fraction>,
+    env: &Environment,
+) -> Option<String> {
+    let spec = super::key::claim_for(ex, part, None);
+    let k = convention(&spec).from_a_minus_kc(ans); // self-inverse: L ↦ −L
+    let c = part_c(plant, part, env).ok()?;
+    let observer = plant.a.sub(&k.mul(&c).ok()?).ok()?;
+    let p = crate::linalg::characteristic_polynomial(&observer, "s").ok()?;
+    Some(format!("your gain places the observer polynomial {p}"))
 }
 
 /// `K_o = T_o⁻¹ K`, the gain in observer-canonical coordinates (for naming that mistake).

@@ -261,6 +261,23 @@ pub fn parse_list<T: FromExpr>(input: &str) -> Result<Vec<T>, SyntaxError> {
     Ok(values)
 }
 
+/// [`parse_list`] with symbols taken from `env` (those not in it stay symbols when the type has
+/// them).
+///
+/// # Errors
+/// [`SyntaxError`] naming the column.
+pub fn parse_list_with<T: FromExpr>(input: &str, env: &Environment) -> Result<Vec<T>, SyntaxError> {
+    let rows = parser::parse_matrix_rows(input)?;
+    let values: Vec<T> = rows
+        .iter()
+        .flatten()
+        .map(|e| evaluate_with::<T>(e, env))
+        .collect::<Result<_, _>>()?;
+    let columns = rows.iter().flatten().map(|e| e.column);
+    eval::one_field(columns.zip(&values), "one list")?;
+    Ok(values)
+}
+
 /// The entries of a matrix in one quadratic field (see [`eval::one_field`]).
 fn one_field_in_matrix<T: FromExpr>(
     rows: &[Vec<parser::Expr>],

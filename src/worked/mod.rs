@@ -40,5 +40,5 @@ pub use report::{
     errata_markdown, errata_markdown_titled, render_derivations, render_table, report_json,
 };
 pub use scenario::{run_scenarios, CheckResult, ScenarioRun};
-pub use value::{compare, Agreement, PrintError, Value};
+pub use value::{compare, read_formula, Agreement, PrintError, Value};
 pub use verify::verify_example;

@@ -415,6 +415,25 @@ fn formula_input(m: &Matrix<crate::algebra::Fraction>) -> String {
     }
 }
 
+/// A formula as written (a student's answer, a print) read as rational functions of the free
+/// parameters, values of `env` substituted: a matrix in brackets, or one formula — a
+/// polynomial in s is one expression, where `2 w s` is a product, not three entries of a row.
+///
+/// # Errors
+/// [`PrintError`] showing where the text cannot be read.
+pub fn read_formula(
+    printed: &str,
+    env: &Environment,
+) -> Result<Matrix<crate::algebra::Fraction>, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
+    if printed.trim_start().starts_with('[') {
+        return crate::syntax::parse_matrix_with(printed, env).map_err(syntax);
+    }
+    let e = crate::syntax::parse_expression(printed).map_err(syntax)?;
+    let x = evaluate_with::<crate::algebra::Fraction>(&e, env).map_err(syntax)?;
+    Matrix::from_rows(vec![vec![x]]).map_err(|e| PrintError::Form(e.to_string()))
+}
+
 /// A printed formula read as rational functions of the free parameters (values of `env`
 /// substituted), the same shape and every entry equal as a rational function.
 fn compare_formula(
@@ -422,28 +441,17 @@ fn compare_formula(
     printed: &str,
     env: &Environment,
 ) -> Result<Agreement, PrintError> {
-    // a single formula (a polynomial in s) is one expression: `2 w s` is a product there,
-    // not three entries of a row
-    let rows = if m.shape() == (1, 1) && !printed.trim_start().starts_with('[') {
-        let e =
-            crate::syntax::parse_expression(printed).map_err(|e| PrintError::syntax(e, printed))?;
-        vec![vec![evaluate_with::<crate::algebra::Fraction>(&e, env)
-            .map_err(|e| PrintError::syntax(e, printed))?]]
-    } else {
-        printed_rows::<crate::algebra::Fraction>(printed, env)?
-    };
-    let shape = (rows.len(), rows.first().map_or(0, Vec::len));
-    if shape != m.shape() {
+    let read = read_formula(printed, env)?;
+    if read.shape() != m.shape() {
         return Ok(Agreement::Differs(format!(
             "printed {}×{}, computed {}×{}",
-            shape.0,
-            shape.1,
+            read.rows(),
+            read.cols(),
             m.rows(),
             m.cols()
         )));
     }
-    let same = rows.iter().flatten().zip(m.entries()).all(|(x, y)| x == y);
-    Ok(if same {
+    Ok(if read == *m {
         Agreement::Exact
     } else {
         Agreement::Differs(format!(
