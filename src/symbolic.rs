@@ -347,8 +347,7 @@ pub fn solve_for(factor: &MultiPoly) -> Option<(String, Fraction)> {
     candidates.sort();
     let (_, name) = candidates.into_iter().next()?;
     let parts = factor.coefficients_in(&name);
-    let value = Fraction::of_polynomial(-parts[0].clone())
-        .checked_div(&Fraction::of_polynomial(parts[1].clone()))?;
+    let value = Fraction::of(-parts[0].clone()).checked_div(&Fraction::of(parts[1].clone()))?;
     Some((name, value))
 }
 
@@ -434,6 +433,18 @@ impl Exceptions {
     }
 }
 
+impl crate::derivation::Show for Exceptions {
+    fn text(&self) -> String {
+        Exceptions::text(self)
+    }
+    fn latex(&self) -> String {
+        Exceptions::latex(self)
+    }
+    fn input(&self) -> String {
+        Exceptions::text(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -476,17 +487,5 @@ mod tests {
             Err(SymbolicError::TooManyParameters { .. })
         ));
         assert!(check_parameters(&["k".into(), "m".into()]).is_ok());
-    }
-}
-
-impl crate::derivation::Show for Exceptions {
-    fn text(&self) -> String {
-        Exceptions::text(self)
-    }
-    fn latex(&self) -> String {
-        Exceptions::latex(self)
-    }
-    fn input(&self) -> String {
-        Exceptions::text(self)
     }
 }

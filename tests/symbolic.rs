@@ -25,6 +25,20 @@ fn gain_entries(v: &serde_json::Value) -> Vec<String> {
 
 const MSD_A: &str = "[0 1; -k/m -c/m]";
 
+/// A formula from the workbench's output evaluated at `values` (`"k=2, m=1"`), as the
+/// workbench prints the number.
+fn at(formula: &str, values: &str) -> String {
+    let mut f = parse_scalar::<Fraction>(formula).expect("the formula reads back");
+    for pair in values.split(',') {
+        let (name, value) = pair.split_once('=').expect("NAME=VALUE");
+        let v = parse_scalar::<Rational>(value.trim()).expect("a number");
+        f = f.substitute(name.trim(), &Fraction::constant(v));
+    }
+    f.as_rational()
+        .expect("every parameter has a value")
+        .to_string()
+}
+
 #[test]
 fn mass_spring_damper_gain_as_a_formula() {
     let (code, out, _) = owb(&["gain", "--a", MSD_A, "--c", "[1 0]", "--poles", "-w, -w"]);
@@ -96,12 +110,32 @@ fn the_formula_at_values_is_the_numeric_gain() {
 fn unobservable_exactly_when_k_is_zero() {
     let v = json(&["observe", "--a", MSD_A, "--c", "[0 1]", "--json"]);
     assert_eq!(v["observable"], true);
-    assert_eq!(v["determinant"], "k/m");
+    let numeric = |values: &str| {
+        json(&[
+            "observe", "--a", MSD_A, "--c", "[0 1]", "--at", values, "--json",
+        ])
+    };
+    // det O_n as a formula is the numeric determinant at values
+    let values = "k=5, m=2, c=3";
+    let det = v["determinant"].as_str().expect("a determinant");
+    assert_eq!(
+        at(det, values),
+        numeric(values)["determinant"].as_str().expect("text")
+    );
+    // where it vanishes, the numeric report loses the same mode
     let lost = &v["unobservable_where"][0];
     assert_eq!(lost["factor"], "k");
     assert_eq!(lost["substitution"], "k = 0");
-    assert_eq!(lost["rank"], 1);
-    assert_eq!(lost["unobservable_polynomial"], "s");
+    let there = numeric("k=0, m=2, c=3");
+    assert_eq!(there["observable"], false);
+    assert_eq!(lost["rank"], there["rank"]);
+    let mode = lost["unobservable_polynomial"]
+        .as_str()
+        .expect("a polynomial");
+    assert_eq!(
+        mode,
+        there["unobservable_polynomial"].as_str().expect("text")
+    );
     assert_eq!(v["valid_unless"][0]["factor"], "m");
     let (code, out, _) = owb(&["observe", "--a", MSD_A, "--c", "[0 1]"]);
     assert_eq!(code, 0);
@@ -113,7 +147,24 @@ fn unobservable_exactly_when_k_is_zero() {
 fn a_pair_unobservable_for_every_value_says_so() {
     let v = json(&["observe", "--a", "[a 0; 0 b]", "--c", "[1 0]", "--json"]);
     assert_eq!(v["observable"], false);
-    assert_eq!(v["unobservable_polynomial"], "s - b");
+    // the lost mode as a formula is the numeric report's at values
+    let numeric = json(&[
+        "observe",
+        "--a",
+        "[a 0; 0 b]",
+        "--c",
+        "[1 0]",
+        "--at",
+        "a=1, b=3",
+        "--json",
+    ]);
+    let formula = parse_scalar::<Fraction>(v["unobservable_polynomial"].as_str().expect("text"))
+        .expect("reads back")
+        .substitute("b", &Fraction::constant(Rational::from_integer(3.into())));
+    assert_eq!(
+        observer_workbench::algebra::Ring::to_input(&formula),
+        numeric["unobservable_polynomial"].as_str().expect("text")
+    );
 }
 
 #[test]
@@ -138,8 +189,22 @@ fn state_feedback_for_the_steering_model() {
     ];
     let (code, out, _) = owb(&args);
     assert_eq!(code, 0, "{out}");
-    assert!(out.contains("K = [w^2, -g*w^2 + 2*w*zeta]"), "{out}");
     assert!(out.contains("identically"));
+    // the formula at values is what the numeric design computes there
+    let mut with_json = args.to_vec();
+    with_json.push("--json");
+    let formula = json(&with_json);
+    assert_eq!(formula["places_exactly"], true);
+    for values in ["g=2, w=3, zeta=1/2", "g=-1/3, w=1/5, zeta=7"] {
+        let mut numeric = with_json.clone();
+        numeric.extend(["--at", values]);
+        let expected = gain_entries(&json(&numeric));
+        let evaluated: Vec<String> = gain_entries(&formula)
+            .iter()
+            .map(|e| at(e, values))
+            .collect();
+        assert_eq!(evaluated, expected, "at {values}");
+    }
     insta::assert_snapshot!(out);
 }
 
@@ -165,7 +230,7 @@ fn observer_based_control_in_symbols() {
 
 #[test]
 fn butterworth_with_a_symbolic_time_constant() {
-    let v = json(&[
+    let base = [
         "gain",
         "--a",
         "[0 1; 0 0]",
@@ -174,10 +239,36 @@ fn butterworth_with_a_symbolic_time_constant() {
         "--butterworth",
         "T",
         "--json",
-    ]);
-    assert_eq!(gain_entries(&v), ["sqrt(2)/T", "1/T^2"]);
+    ];
+    let v = json(&base);
     assert_eq!(v["valid_unless"][0]["factor"], "T");
     assert_eq!(v["places_exactly"], true);
+    // against the numeric Butterworth family (its own code path) at T = 1/2 and T = 3: the
+    // formula's entries hold √2, so compare the exact texts the workbench prints
+    for t in ["1/2", "3"] {
+        let numeric = gain_entries(&json(&[
+            "gain",
+            "--a",
+            "[0 1; 0 0]",
+            "--c",
+            "[1 0]",
+            "--butterworth",
+            t,
+            "--json",
+        ]));
+        let evaluated: Vec<String> = gain_entries(&v)
+            .iter()
+            .map(|e| {
+                let f = parse_scalar::<Fraction>(e).expect("reads back").substitute(
+                    "T",
+                    &Fraction::constant(parse_scalar::<Rational>(t).unwrap()),
+                );
+                let q = f.as_quadratic().expect("a number of Q(√2)");
+                observer_workbench::algebra::Ring::to_input(&q)
+            })
+            .collect();
+        assert_eq!(evaluated, numeric, "T = {t}");
+    }
 }
 
 #[test]
@@ -348,4 +439,98 @@ fn big_coefficients_beside_a_parameter_are_refused_quickly() {
         "took {:?}",
         started.elapsed()
     );
+}
+
+/// Every command that computes with numbers takes `--at` for the letters in any of its
+/// matrices, and names it when a letter has no value.
+#[test]
+fn numeric_commands_take_values_for_letters() {
+    let cases: [(&[&str], &[&str]); 3] = [
+        (
+            &[
+                "zoh",
+                "--a",
+                "[0 1; 0 -k]",
+                "--b",
+                "[0; 1]",
+                "--period",
+                "T",
+                "--json",
+            ],
+            &[
+                "zoh",
+                "--a",
+                "[0 1; 0 -2]",
+                "--b",
+                "[0; 1]",
+                "--period",
+                "1/2",
+                "--json",
+            ],
+        ),
+        (
+            &[
+                "dlqe",
+                "--a",
+                "[1 k; 0 1]",
+                "--c",
+                "[1 0]",
+                "--qn",
+                "[q 0; 0 q]",
+                "--rn",
+                "[1]",
+                "--json",
+            ],
+            &[
+                "dlqe",
+                "--a",
+                "[1 2; 0 1]",
+                "--c",
+                "[1 0]",
+                "--qn",
+                "[1/2 0; 0 1/2]",
+                "--rn",
+                "[1]",
+                "--json",
+            ],
+        ),
+        (
+            &[
+                "kalman",
+                "--a",
+                "[0 1; -k 0]",
+                "--b",
+                "[0; k]",
+                "--c",
+                "[1 0]",
+                "--input-noise",
+                "[q]",
+                "--output-noise",
+                "[1]",
+                "--json",
+            ],
+            &[
+                "kalman",
+                "--a",
+                "[0 1; -2 0]",
+                "--b",
+                "[0; 2]",
+                "--c",
+                "[1 0]",
+                "--input-noise",
+                "[1/2]",
+                "--output-noise",
+                "[1]",
+                "--json",
+            ],
+        ),
+    ];
+    for (letters, numbers) in cases {
+        let (code, _, err) = owb(letters);
+        assert_eq!(code, 2, "{letters:?}");
+        assert!(err.contains("--at"), "{err}");
+        let mut valued = letters.to_vec();
+        valued.extend(["--at", "k=2, T=1/2, q=1/2"]);
+        assert_eq!(json(&valued), json(numbers), "{letters:?}");
+    }
 }

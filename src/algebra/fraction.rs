@@ -13,8 +13,6 @@
 use super::{
     budget, poly_gcd, Field, IntegralDomain, MultiPoly, One, Quadratic, Rational, Ring, Zero,
 };
-use num_bigint::BigInt;
-use num_traits::Signed;
 use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
 
@@ -78,31 +76,9 @@ fn rationalising(p: &MultiPoly) -> Option<MultiPoly> {
     Some(conjugate)
 }
 
-/// The rational `f` that makes `f·num`, `f·den` integer polynomials without common factor,
-/// with the denominator's leading coefficient positive.
-fn joint_scale(num: &MultiPoly, den: &MultiPoly) -> Rational {
-    let mut lcm = BigInt::one();
-    for (_, c) in num.terms().chain(den.terms()) {
-        lcm = num_integer::Integer::lcm(&lcm, c.denom());
-    }
-    let mut g = BigInt::zero();
-    for (_, c) in num.terms().chain(den.terms()) {
-        g = super::gcd(&g, &(c.numer() * (&lcm / c.denom())));
-    }
-    if g.is_zero() {
-        return Rational::one();
-    }
-    let f = Rational::new(lcm, g);
-    if den.leading_coefficient().is_some_and(Signed::is_negative) {
-        -f
-    } else {
-        f
-    }
-}
-
 impl Fraction {
-    /// A polynomial as a fraction over 1.
-    pub(crate) fn of(num: MultiPoly) -> Self {
+    /// A polynomial as a rational function (over 1).
+    pub fn of(num: MultiPoly) -> Self {
         Fraction::new(num, MultiPoly::one())
     }
 
@@ -137,7 +113,10 @@ impl Fraction {
                 }
             }
         }
-        let f = joint_scale(&num, &den);
+        // integers without common factor across both parts, the denominator's leading
+        // coefficient positive
+        let both: Vec<&Rational> = num.terms().chain(den.terms()).map(|(_, c)| c).collect();
+        let f = super::multigcd::scale_to_primitive(&both, den.leading_coefficient());
         if !f.is_one() {
             let f = MultiPoly::constant(f);
             num = num * f.clone();
@@ -164,11 +143,6 @@ impl Fraction {
         }
         let b = MultiPoly::constant(q.radical_part().clone());
         Fraction::of(a + b * MultiPoly::var(&radical(q.radicand())))
-    }
-
-    /// A polynomial as a rational function.
-    pub fn of_polynomial(p: MultiPoly) -> Self {
-        Fraction::of(p)
     }
 
     /// The rational number `c`.

@@ -53,21 +53,30 @@ pub fn normalised(p: &MultiPoly) -> MultiPoly {
 
 /// The rational `f` with `f·p` normalised (1 for the zero polynomial).
 pub fn normalising_factor(p: &MultiPoly) -> Rational {
+    let coefficients: Vec<&Rational> = p.terms().map(|(_, c)| c).collect();
+    scale_to_primitive(&coefficients, p.leading_coefficient())
+}
+
+/// The rational `f` that makes `f·c` integers without common factor for every coefficient `c`,
+/// with `f·leading` positive (1 when every coefficient is zero): the normal form of a
+/// polynomial here, and of a rational function's numerator and denominator taken together.
+pub(crate) fn scale_to_primitive(
+    coefficients: &[&Rational],
+    leading: Option<&Rational>,
+) -> Rational {
     let mut den = BigInt::one();
-    let mut num = BigInt::zero();
-    for (_, c) in p.terms() {
+    for c in coefficients {
         den = num_integer::Integer::lcm(&den, c.denom());
     }
-    for (_, c) in p.terms() {
-        let scaled = c.numer() * (&den / c.denom());
-        num = super::gcd(&num, &scaled);
+    let mut num = BigInt::zero();
+    for c in coefficients {
+        num = super::gcd(&num, &(c.numer() * (&den / c.denom())));
     }
     if num.is_zero() {
         return Rational::one();
     }
-    let negative = p.leading_coefficient().is_some_and(|c| c.is_negative());
     let f = Rational::new(den, num);
-    if negative {
+    if leading.is_some_and(Signed::is_negative) {
         -f
     } else {
         f

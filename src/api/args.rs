@@ -52,6 +52,23 @@ pub fn float_range(flag: &str, m: &Matrix<Rational>) -> Result<()> {
     Ok(())
 }
 
+/// A rational flag of a command that computes with numbers, the values of `--at` substituted.
+pub fn rational_at(flag: &str, text: &str, values: &Environment) -> Result<Rational> {
+    if !matches!(
+        parse_scalar::<Rational>(text),
+        Err(crate::syntax::SyntaxError::UnknownSymbol { .. })
+    ) {
+        return rational(flag, text);
+    }
+    let x =
+        parse_scalar::<Fraction>(text).map_err(|e| anyhow!("in {flag}: {}", e.show_in(text)))?;
+    let m = Matrix::from_rows(vec![vec![x]])?;
+    if values.is_empty() {
+        return Err(needs_values(flag, &m));
+    }
+    Ok(evaluated(flag, &m, values)?.get(0, 0).clone())
+}
+
 /// Parses a rational flag, e.g. `--repeated 1/4`.
 pub fn rational(flag: &str, text: &str) -> Result<Rational> {
     parse_scalar::<Rational>(text)
@@ -160,11 +177,6 @@ pub fn parameter_values(text: Option<&str>) -> Result<Environment> {
 /// The most values `--at` takes.
 const MAX_AT_VALUES: usize = 64;
 
-/// `x` with the parameters of `values` substituted.
-pub fn substituted(x: &Fraction, values: &Environment) -> Fraction {
-    crate::symbolic::substitute_values(x, values)
-}
-
 /// Reads a flag as rational functions of the parameters (`Ok(None)` when it holds plain
 /// numbers, which the numeric readers take): the symbol error of the numeric reader decides.
 fn symbolic_matrix(flag: &str, text: &str) -> Result<Option<Matrix<Fraction>>> {
@@ -183,7 +195,7 @@ fn evaluated(flag: &str, m: &Matrix<Fraction>, values: &Environment) -> Result<M
     for i in 0..m.rows() {
         let mut row = Vec::with_capacity(m.cols());
         for x in m.row(i) {
-            let v = substituted(x, values);
+            let v = crate::symbolic::substitute_values(x, values);
             match v.as_rational() {
                 Some(q) => row.push(q),
                 None => bail!(
@@ -199,12 +211,14 @@ fn evaluated(flag: &str, m: &Matrix<Fraction>, values: &Environment) -> Result<M
     Ok(Matrix::from_rows(rows)?)
 }
 
-/// A matrix flag with the values of `--at` substituted (read as numbers when there are none).
+/// A matrix flag of a command that computes with numbers, with the values of `--at`
+/// substituted; a parameter left without a value is refused with the way to give it one.
 pub fn matrix_at(flag: &str, text: &str, values: &Environment) -> Result<Matrix<Rational>> {
-    if values.is_empty() {
-        return matrix::<Rational>(flag, text);
+    match symbolic_matrix(flag, text)? {
+        None => matrix::<Rational>(flag, text),
+        Some(m) if values.is_empty() => Err(needs_values(flag, &m)),
+        Some(m) => evaluated(flag, &m, values),
     }
-    evaluated(flag, &matrix::<Fraction>(flag, text)?, values)
 }
 
 /// Whether a matrix flag mentions a parameter.
@@ -217,17 +231,16 @@ pub fn mentions_parameters(text: &str) -> bool {
 
 /// A polynomial flag in `s` with the values of `--at` substituted.
 pub fn polynomial_at(flag: &str, text: &str, values: &Environment) -> Result<Poly<Rational>> {
-    let p = parse_polynomial::<Fraction>(text, "s")
-        .map_err(|e| anyhow!("in {flag}: {}", e.show_in(text)))?;
-    let coeffs = p
-        .coeffs()
+    let read = DesiredRequest::Poly(text)
+        .values(values)
+        .map_err(|e| anyhow!("in {flag}: {e}"))?;
+    let coeffs = read
         .iter()
         .map(|x| {
-            let v = substituted(x, values);
-            v.as_rational().ok_or_else(|| {
+            x.as_rational().ok_or_else(|| {
                 anyhow!(
                     "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
-                    v.symbols().join(", ")
+                    x.symbols().join(", ")
                 )
             })
         })
@@ -379,7 +392,10 @@ impl SystemPair {
                 bail!("in --b: with --tf, B comes from the transfer function")
             }
             (Some(r), None) => Ok(Some(r.b)),
-            (None, b) => b.map(|t| matrix::<Rational>("--b", t)).transpose(),
+            (None, b) => {
+                let values = self.values()?;
+                b.map(|t| matrix_at("--b", t, &values)).transpose()
+            }
         }
     }
 
@@ -515,11 +531,12 @@ impl InputMatrices {
         let Some(b) = &self.b else {
             bail!("give the input matrix --b");
         };
-        let b = matrix::<Rational>("--b", b)?;
+        let values = system.values()?;
+        let b = matrix_at("--b", b, &values)?;
         let d = self
             .d
             .as_deref()
-            .map(|t| matrix::<Rational>("--d", t))
+            .map(|t| matrix_at("--d", t, &values))
             .transpose()?;
         Ok((b, d))
     }

@@ -2,7 +2,7 @@
 //! from a continuous specification) and `owb zoh` (a continuous plant sampled with a
 //! zero-order hold).
 
-use super::args::{json_matrix, matrix, SystemPair};
+use super::args::{json_matrix, SystemPair};
 use super::{Outcome, Report};
 use crate::algebra::{Quadratic, Rational};
 use crate::observer::discrete::{
@@ -310,6 +310,13 @@ pub struct ZohArgs {
         arg(allow_hyphen_values = true, long, value_name = "T")
     )]
     pub period: String,
+    /// Values for the parameters, e.g. "k=2, T=1/10": entries with letters are evaluated there.
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "NAME=VALUE,…")
+    )]
+    #[serde(default)]
+    pub at: Option<String>,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]
     #[serde(default)]
@@ -322,11 +329,12 @@ pub struct ZohArgs {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
-    let a = matrix::<Rational>("--a", &args.a)?;
-    let b = matrix::<Rational>("--b", &args.b)?;
+    let values = super::args::parameter_values(args.at.as_deref())?;
+    let a = super::args::matrix_at("--a", &args.a, &values)?;
+    let b = super::args::matrix_at("--b", &args.b, &values)?;
     super::args::float_range("--a", &a)?;
     super::args::float_range("--b", &b)?;
-    let t = super::args::rational("--period", &args.period)?;
+    let t = super::args::rational_at("--period", &args.period, &values)?;
     let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
     let rows = |m: &[Vec<f64>]| -> Vec<Vec<String>> {
         m.iter()
@@ -401,6 +409,13 @@ pub struct DlqeArgs {
     /// The measurement-noise covariance R_n.
     #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long))]
     pub rn: String,
+    /// Values for the parameters, e.g. "k=2, T=1/10": entries with letters are evaluated there.
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long, value_name = "NAME=VALUE,…")
+    )]
+    #[serde(default)]
+    pub at: Option<String>,
     /// Machine-readable output.
     #[cfg_attr(feature = "commands", arg(long))]
     #[serde(default)]
@@ -414,14 +429,16 @@ pub struct DlqeArgs {
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
     use crate::observer::discrete_kalman::discrete_kalman;
-    let a = matrix::<Rational>("--a", &args.a)?;
-    let c = matrix::<Rational>("--c", &args.c)?;
+    let values = super::args::parameter_values(args.at.as_deref())?;
+    let read = |flag: &str, text: &str| super::args::matrix_at(flag, text, &values);
+    let a = read("--a", &args.a)?;
+    let c = read("--c", &args.c)?;
     let g = match &args.g {
-        Some(t) => matrix::<Rational>("--g", t)?,
+        Some(t) => read("--g", t)?,
         None => crate::linalg::Matrix::identity(a.rows()),
     };
-    let qn = matrix::<Rational>("--qn", &args.qn)?;
-    let rn = matrix::<Rational>("--rn", &args.rn)?;
+    let qn = read("--qn", &args.qn)?;
+    let rn = read("--rn", &args.rn)?;
     for (flag, m) in [
         ("--a", &a),
         ("--c", &c),

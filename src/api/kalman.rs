@@ -1,7 +1,6 @@
 //! `owb kalman`: the steady-state Kalman filter of a plant with noisy input and outputs, and
 //! the noise let through by observers with chosen poles (Furlan et al.'s comparison).
 
-use super::args::matrix;
 use super::{Outcome, Report};
 use crate::algebra::{Rational, Zero};
 use crate::linalg::definiteness::{definiteness, Definiteness};
@@ -254,8 +253,9 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let (b, d) = args.inputs.parse(&args.system)?;
     super::args::check_plant(&a, Some(&b), &c, d.as_ref())?;
     let d = d.unwrap_or_else(|| Matrix::zeros(c.rows(), b.cols()));
-    let cu = matrix::<Rational>("--input-noise", &args.input_noise)?;
-    let cy = matrix::<Rational>("--output-noise", &args.output_noise)?;
+    let values = args.system.values()?;
+    let cu = super::args::matrix_at("--input-noise", &args.input_noise, &values)?;
+    let cy = super::args::matrix_at("--output-noise", &args.output_noise, &values)?;
     for (flag, m) in [("--a", &a), ("--b", &b), ("--c", &c), ("--d", &d)] {
         // (the noise intensities have their own range check below, which says more)
         super::args::float_range(flag, m)?;

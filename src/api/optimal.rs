@@ -166,11 +166,16 @@ fn request(args: &Args) -> Result<Request> {
         );
     }
     crate::observability::require_observable(&a, &c)?;
-    let p = args.desired.parse(n)?.rational().ok_or_else(|| {
-        anyhow!("the optimal designs need a desired polynomial with rational coefficients")
-    })?;
+    let values = args.system.values()?;
+    let p = args
+        .desired
+        .parse_at(n, &values)?
+        .rational()
+        .ok_or_else(|| {
+            anyhow!("the optimal designs need a desired polynomial with rational coefficients")
+        })?;
     let weight = match &args.weight {
-        Some(w) => matrix::<Rational>("--weight", w)?,
+        Some(w) => super::args::matrix_at("--weight", w, &values)?,
         None => Matrix::identity(n),
     };
     if weight.rows() != n || weight.cols() != n {

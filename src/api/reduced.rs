@@ -60,7 +60,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         super::args::observer_convention(&args.convention)?,
     );
     let order = a.rows().saturating_sub(c.rows());
-    let desired = args.desired.parse(order)?;
+    let desired = args.desired.parse_at(order, &args.system.values()?)?;
     let r = reduced_order_observer(&a, b.as_ref(), &c, &desired, method)?;
     if args.json {
         let mut out = json!({
