@@ -98,8 +98,8 @@ fn norm(m: &DMatrix<f64>) -> f64 {
     max_or_nan(m.iter().map(|x| x.abs()))
 }
 
-/// The residual accepted for a verified solution: ‖Ric(P) − P‖ / ‖P‖.
-const RESIDUAL_TOLERANCE: f64 = 1e-8;
+/// The residual accepted for a verified solution: ‖Ric(P) − P‖ / ‖P‖ (largest entries).
+pub const RESIDUAL_TOLERANCE: f64 = 1e-8;
 
 /// The exact conditions for a stabilising solution (see [`discrete_kalman`]): covariances,
 /// detectability of (A, C) and no unit-circle mode of A unreached by G Q_n Gᵀ. Returns whether
