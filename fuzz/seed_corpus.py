@@ -16,7 +16,7 @@ CORPUS = ROOT / "fuzz" / "corpus"
 # the order of CLI_SUBCOMMANDS in src/fuzzing.rs: the cli target's first byte picks one
 SUBCOMMANDS = ["observe", "canonical", "gain", "control", "optimal", "kalman", "perfect", "exercise",
                "feedback", "discrete", "zoh", "reduced", "detectable", "dlqe", "verify", "simulate",
-               "check"]
+               "check", "grade"]
 
 
 def put(target, data):
@@ -69,6 +69,12 @@ def main():
         'detectable --a "[-1 0; 1 -1]" --c "[1 0]" --poles "-3" --json',
         'dlqe --a "[1 1/10; 0 1]" --g "[1/200; 1/10]" --c "[1 0]" --qn "[1]" --rn "[1/100]"',
         'exercise new --kind dead-beat --order 2 --student ada',
+        'grade stoustrup-pole-assignment submissions --csv report.csv --feedback feedback',
+        'grade variants submissions --csv report.csv --kind dead-beat --order 2 --json',
+        'grade variants submissions --csv report.csv --kind reduced-order --order 3 --convention a+lc',
+        'check stoustrup-pole-assignment answers.toml --json',
+        'verify stoustrup-pole-assignment --derivations --json',
+        'simulate baranowski-rc-ladder --scenario x0-sensitivity --json',
     ]:
         args = shlex.split(line)
         put("cli", bytes([SUBCOMMANDS.index(args[0])]) + "\n".join(args[1:]).encode())

@@ -70,16 +70,17 @@ pub fn worked_example(data: &[u8]) {
     let _ = crate::worked::parse_example("example.toml", &text);
 }
 
-/// The subcommands whose argument sets the `cli` target explores: those that compute from their
-/// flags alone ([`crate::api::Command::in_memory`]), then `verify`, `simulate` and `check`, which
-/// read files: there every argument naming a path is dropped and every flag that writes
-/// (`--out`, `--svg`, `--csv`, `--errata`, `--feedback`) with its value, so a campaign reads only
-/// the working folder's files and writes none. `grade` always writes its CSV report: its
-/// hostile input, the submissions, goes through the `answers` target.
+/// The subcommands whose argument sets the `cli` target explores: every one. First those that
+/// compute from their flags alone ([`crate::api::Command::in_memory`]), then `verify`,
+/// `simulate` and `check`, which read files: there every argument naming a path is dropped and
+/// every flag that writes (`--out`, `--svg`, `--csv`, `--errata`, `--feedback`) with its value,
+/// so a campaign reads only the working folder's files and writes none. Last `grade`, which
+/// always writes its CSV report: its flags are explored as given, but the folder it grades and
+/// the files it writes are moved into a private temporary folder ([`grading_folder`]).
 #[cfg(feature = "cli")]
-pub const CLI_SUBCOMMANDS: [&str; 17] = {
+pub const CLI_SUBCOMMANDS: [&str; 18] = {
     // the in-memory commands first (the corpora's first bytes name them), then the readers
-    let mut all = [""; 17];
+    let mut all = [""; 18];
     let mut i = 0;
     while i < crate::api::Command::IN_MEMORY.len() {
         all[i] = crate::api::Command::IN_MEMORY[i];
@@ -88,8 +89,60 @@ pub const CLI_SUBCOMMANDS: [&str; 17] = {
     all[14] = "verify";
     all[15] = "simulate";
     all[16] = "check";
+    all[17] = "grade";
     all
 };
+
+/// The private folder `grade` works in during a campaign: `submissions/` holds a right answer, a
+/// wrong one, a student id with a formula and invisible characters, and an unreadable file;
+/// the report and the feedback files are written beside it. Made once per process.
+#[cfg(feature = "cli")]
+fn grading_folder() -> Option<&'static Path> {
+    static DIR: std::sync::OnceLock<Option<std::path::PathBuf>> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = std::env::temp_dir().join(format!("owb-fuzz-grade-{}", std::process::id()));
+        let submissions = dir.join("submissions");
+        std::fs::create_dir_all(&submissions).ok()?;
+        let files = [
+            (
+                "ada.toml",
+                "student = \"ada\"\n[answers]\nL = \"[-6; -12]\"\n",
+            ),
+            (
+                "bob.toml",
+                "student = \"bob\"\n[answers]\nL = \"[6; 12]\"\n",
+            ),
+            (
+                "eve.toml",
+                "student = \"=HYPERLINK(1)\\u202e\"\n[answers]\nL = \"[1;\\u00072]\"\n",
+            ),
+            ("bad.toml", "[answers\nL = "),
+        ];
+        for (name, text) in files {
+            std::fs::write(submissions.join(name), text).ok()?;
+        }
+        Some(dir)
+    })
+    .as_deref()
+}
+
+/// A `grade` request moved into the campaign's private folder: the submissions graded are
+/// [`grading_folder`]'s, the report and feedback go there.
+#[cfg(feature = "cli")]
+fn confined(command: crate::api::Command) -> Option<crate::api::Command> {
+    match command {
+        crate::api::Command::Grade(mut g) => {
+            let dir = grading_folder()?;
+            g.submissions = dir.join("submissions");
+            g.csv = dir.join("report.csv");
+            if g.feedback.is_some() {
+                g.feedback = Some(dir.join("feedback"));
+            }
+            Some(crate::api::Command::Grade(g))
+        }
+        other => (!other.writes_files()).then_some(other),
+    }
+}
 
 /// The flags that make a command write a file: dropped (with their value) from campaign inputs.
 #[cfg(feature = "cli")]
@@ -129,9 +182,11 @@ fn bound_requested_work(args: &mut Vec<String>) {
     }
 }
 
-/// Builds what the answer target checks against once, before the campaign's clock runs.
+/// Builds what the answer and command targets use once, before the campaign's clock runs.
 pub fn warm_up() {
     let _ = stoustrup_key();
+    #[cfg(feature = "cli")]
+    let _ = grading_folder();
 }
 
 /// A command line: the first byte picks one of [`CLI_SUBCOMMANDS`], the rest are its arguments,
@@ -151,7 +206,8 @@ pub fn cli(data: &[u8]) {
         if std::mem::take(&mut skip_value) {
             continue;
         }
-        if WRITING_FLAGS.iter().any(|f| arg.starts_with(f)) {
+        // grade's writing flags are kept: where they write is moved by `confined`
+        if sub != "grade" && WRITING_FLAGS.iter().any(|f| arg.starts_with(f)) {
             // `--out FILE` or `--out=FILE`: not on a campaign's disk
             skip_value = !arg.contains('=');
             continue;
@@ -162,10 +218,11 @@ pub fn cli(data: &[u8]) {
         args.push(arg.to_string());
     }
     bound_requested_work(&mut args);
-    if let Ok(command) = crate::api::Command::from_words(&args) {
-        if !command.writes_files() {
-            let _ = crate::api::run(command);
-        }
+    if let Some(command) = crate::api::Command::from_words(&args)
+        .ok()
+        .and_then(confined)
+    {
+        let _ = crate::api::run(command);
     }
 }
 

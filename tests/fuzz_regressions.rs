@@ -71,3 +71,24 @@ mod garbage {
         }
     }
 }
+
+/// The command target reaches `grade` too, confined to its private folder: the request's own
+/// folder and report names are replaced, the class in that folder is graded and its report
+/// written there (and nowhere the input named).
+#[test]
+fn command_target_grades_in_its_private_folder() {
+    let index = observer_workbench::fuzzing::CLI_SUBCOMMANDS
+        .iter()
+        .position(|s| *s == "grade")
+        .expect("grade is a fuzzed subcommand");
+    let mut input = vec![u8::try_from(index).unwrap()];
+    input.extend_from_slice(b"stoustrup-pole-assignment\nelsewhere\n--csv\nnot-here.csv");
+    observer_workbench::fuzzing::cli(&input);
+    assert!(!Path::new("elsewhere").exists() && !Path::new("not-here.csv").exists());
+    let folder = std::env::temp_dir().join(format!("owb-fuzz-grade-{}", std::process::id()));
+    let report = std::fs::read_to_string(folder.join("report.csv")).expect("the report is written");
+    assert!(report.contains("ada") && report.contains("bob"), "{report}");
+    // the formula a student named themselves is not a live cell
+    assert!(!report.contains(",=HYPERLINK"), "{report}");
+    let _ = std::fs::remove_dir_all(folder);
+}

@@ -22,6 +22,35 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// Stop a computation running longer than this, with an error (0: no limit)
+    ///
+    /// Exact work grows fast with the order of the system and the size of its numbers: a command
+    /// past this many seconds stops with an error naming this limit instead of running for
+    /// minutes. Commands that write files (grade, --csv, --svg, --out, --errata) always run to
+    /// the end; `optimal` gets its own --time-limit on top.
+    #[arg(long, global = true, allow_hyphen_values = true, value_name = "SECONDS", default_value_t = DEFAULT_TIME_BUDGET)]
+    pub time_budget: f64,
+}
+
+/// The default of `--time-budget`, in seconds.
+pub const DEFAULT_TIME_BUDGET: f64 = 10.0;
+
+/// The stack of the thread a command runs on: as large as the main thread's on Linux, so the
+/// parsers' depth limits hold the same.
+const WORKER_STACK: usize = 64 << 20;
+
+/// Why a command did not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum Stopped {
+    /// The time budget ran out.
+    #[error("stopped after {0} s, the time budget (--time-budget SECONDS raises it, 0 removes it): the computation grows fast with the order of the system and the size of its numbers; the README's \"Commands\" section says what each command finishes within 10 s")]
+    TimeBudget(f64),
+    /// The budget given is not a number of seconds.
+    #[error("in --time-budget: {0} is not a number of seconds from 0 (no limit) to 86400")]
+    BadBudget(f64),
+    /// The command's thread could not start.
+    #[error("the command could not be started: {0}")]
+    Spawn(std::io::Error),
 }
 
 /// Whether a panic is `println!` finding its reader gone (`owb verify | head -1`).
@@ -40,16 +69,50 @@ fn json_requested() -> bool {
     std::env::args().skip(1).any(|a| a == "--json")
 }
 
+/// Runs a command within a time budget (seconds, 0 for none): on a thread of its own, which
+/// the program leaves behind (and the process ends) when the budget runs out. A command that
+/// writes files runs to the end on this thread, so that no half-written file is left.
+fn run_within(command: Command, budget: f64) -> anyhow::Result<Result<api::Report, api::Failure>> {
+    if !(budget.is_finite() && (0.0..=86_400.0).contains(&budget)) {
+        return Err(Stopped::BadBudget(budget).into());
+    }
+    if budget == 0.0 || command.writes_files() {
+        return Ok(api::run(command));
+    }
+    // optimal's search has its own limit: the budget comes on top of it
+    let budget = match &command {
+        Command::Optimal(a) if a.time_limit.is_finite() && a.time_limit > 0.0 => {
+            budget + a.time_limit.min(86_400.0)
+        }
+        _ => budget,
+    };
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::Builder::new()
+        .name("owb-command".into())
+        .stack_size(WORKER_STACK)
+        .spawn(move || {
+            // the receiver may have given up: nothing to do then
+            let _ = send.send(api::run(command));
+        })
+        .map_err(Stopped::Spawn)?;
+    match receive.recv_timeout(std::time::Duration::from_secs_f64(budget)) {
+        Ok(result) => Ok(result),
+        Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Err(Stopped::TimeBudget(budget).into()),
+        // the command's thread panicked (its message is printed): the status of a panic
+        Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => std::process::exit(101),
+    }
+}
+
 /// Runs a parsed command: its report printed (warnings on standard error), its outcome
 /// returned. A failure's partial report is printed before the error.
-fn dispatch(command: Command) -> anyhow::Result<Outcome> {
+fn dispatch(command: Command, budget: f64) -> anyhow::Result<Outcome> {
     let print = |r: &api::Report| {
         out!("{}", r.text);
         for w in &r.warnings {
             eprintln!("{w}");
         }
     };
-    match api::run(command) {
+    match run_within(command, budget)? {
         Ok(report) => {
             print(&report);
             Ok(report.outcome)
@@ -104,7 +167,7 @@ pub fn main() -> ExitCode {
         }
         Err(e) => e.exit(),
     };
-    let result = dispatch(cli.command);
+    let result = dispatch(cli.command, cli.time_budget);
     let status = report(result);
     // what was written must have arrived: a full disk or a closed standard output is an
     // error with a non-zero status, a reader gone away the status of SIGPIPE
