@@ -1041,3 +1041,59 @@ fn a_computation_past_its_time_budget_stops_with_the_limit_named() {
     assert_eq!(code, 0);
     assert!(out.contains("K = [6; 0]"), "{out}");
 }
+
+/// dlqe does float work first: the exact read-back of P is tried only within its work budget
+/// (a common denominator of at most 256 bits), and a generic order-50 filter — whose exact
+/// read-back alone took 5.8 s — is solved in a fraction of a second and says the read-back was
+/// not tried; a P with small fractions is still read back and verified exactly.
+#[test]
+fn dlqe_tries_the_exact_read_back_only_within_its_budget() {
+    let n = 50;
+    let mut x: u64 = 3;
+    let mut entry = || {
+        x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+        format!("{}/40", ((x >> 33) % 19) as i64 - 9)
+    };
+    let a = format!(
+        "[{}]",
+        (0..n)
+            .map(|_| (0..n).map(|_| entry()).collect::<Vec<_>>().join(" "))
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
+    let c = format!("[1{}]", " 0".repeat(n - 1));
+    let qn = format!(
+        "[{}]",
+        (0..n)
+            .map(|i| (0..n)
+                .map(|j| if i == j { "1" } else { "0" })
+                .collect::<Vec<_>>()
+                .join(" "))
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
+    let (code, out, err, took) = owb_within(
+        &[
+            "dlqe", "--a", &a, "--c", &c, "--qn", &qn, "--rn", "[1]", "--json",
+        ],
+        Duration::from_secs(30),
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(took < Duration::from_secs(3), "took {took:?}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["exact_read_back_tried"], false);
+    assert_eq!(v["exact"], false);
+    assert!(v["residual"].as_f64().is_some_and(|r| r <= 1e-8));
+    let (code, out, _, _) = owb_within(
+        &[
+            "dlqe", "--a", "[2]", "--c", "[1]", "--qn", "[0]", "--rn", "[1]", "--json",
+        ],
+        Duration::from_secs(10),
+    );
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        (v["exact_read_back_tried"].clone(), v["exact"].clone()),
+        (true.into(), true.into())
+    );
+}

@@ -9,6 +9,7 @@ use crate::observer::discrete::{
     deadbeat_polynomial, discrete_observer, from_continuous_poles, map_pole, zero_order_hold,
     Estimator, Sampled,
 };
+use crate::observer::discrete_kalman::READ_BACK_BITS;
 use crate::observer::float_check::float_check;
 use crate::observer::{Convention, DesiredPolynomial, Detail};
 use crate::syntax::{parse_list, parse_polynomial};
@@ -465,6 +466,7 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
             "spectral_radius": k.spectral_radius,
             "refined": k.refined,
             "exact": k.exact_p.is_some(),
+            "exact_read_back_tried": k.read_back_tried,
         });
         if let (Some(p), Some(l)) = (&k.exact_p, &k.exact_gain) {
             out["exact_p"] = json_matrix(p);
@@ -534,7 +536,8 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
             outln!(rep, "    P = {}", p.to_input());
             outln!(rep, "    L = {}", l.to_input());
         }
-        _ => outln!(rep, "  no small-fraction P satisfies the equation exactly: the solution is known in f64 (residual above)"),
+        _ if k.read_back_tried => outln!(rep, "  no small-fraction P satisfies the equation exactly: the solution is known in f64 (residual above)"),
+        _ => outln!(rep, "  exact read-back not tried: P's entries as fractions with denominators up to 10⁶ have no common denominator of at most {READ_BACK_BITS} bits (the exact check's work budget); the solution is known in f64 (residual above)"),
     }
     Ok(Outcome::Ok)
 }

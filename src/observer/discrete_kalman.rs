@@ -87,7 +87,16 @@ pub struct DiscreteKalman {
     pub exact_p: Option<Matrix<Rational>>,
     /// The exact prediction gain from that P.
     pub exact_gain: Option<Matrix<Rational>>,
+    /// Whether the exact read-back was tried: only when P's entries, read as the nearest
+    /// fractions with denominators up to 10⁶, share a common denominator of at most
+    /// [`READ_BACK_BITS`] bits (a P with small rational entries has one; a generic float P
+    /// has thousands of unrelated denominators, whose exact check would cost more than the
+    /// whole float solution).
+    pub read_back_tried: bool,
 }
+
+/// The largest common denominator, in bits, of a P whose exact read-back is tried.
+pub const READ_BACK_BITS: u64 = 256;
 
 fn to_f64(m: &Matrix<Rational>) -> DMatrix<f64> {
     DMatrix::from_fn(m.rows(), m.cols(), |i, j| rational_to_f64(m.get(i, j)))
@@ -144,6 +153,10 @@ fn exact_conditions(
     }
     // the modes the noise does not reach: the unobservable part of (Aᵀ, G Q_n Gᵀ)
     let w = g.mul(qn)?.mul(&g.transpose())?;
+    // a nonsingular G Q_n Gᵀ reaches every mode (its columns alone span the space)
+    if crate::linalg::modular::has_full_rank(&w) {
+        return Ok(true);
+    }
     let reached = crate::observability::observability_report(&a.transpose(), &w)?;
     if reached.observable() {
         return Ok(true);
@@ -376,7 +389,9 @@ pub fn discrete_kalman(
         .iter()
         .map(|z| (z.re, z.im))
         .collect();
-    let (exact_p, exact_gain) = match exact_solution(&pf, (a, g, c, qn, rn)) {
+    let candidate = read_back(&pf);
+    let read_back_tried = candidate.is_some();
+    let (exact_p, exact_gain) = match candidate.and_then(|p| exact_solution(p, (a, g, c, qn, rn))) {
         Some((p, l)) => (Some(p), Some(l)),
         None => (None, None),
     };
@@ -391,6 +406,7 @@ pub fn discrete_kalman(
         eigenvalues,
         exact_p,
         exact_gain,
+        read_back_tried,
     })
 }
 
@@ -402,21 +418,35 @@ type Plant<'a> = (
     &'a Matrix<Rational>,
 );
 
-/// P read back as small fractions; kept only if it satisfies the Riccati equation exactly and
-/// A − LC is stable (every root of its characteristic polynomial inside the unit circle, exact).
-fn exact_solution(
-    pf: &DMatrix<f64>,
-    (a, g, c, qn, rn): Plant<'_>,
-) -> Option<(Matrix<Rational>, Matrix<Rational>)> {
+/// P read back as the nearest fractions with denominators up to 10⁶, when they share a common
+/// denominator of at most [`READ_BACK_BITS`] bits (the work budget of the exact check: its
+/// products grow with that denominator); `None` otherwise.
+fn read_back(pf: &DMatrix<f64>) -> Option<Matrix<Rational>> {
     let n = pf.nrows();
+    let mut common = num_bigint::BigInt::from(1);
     let mut rows = Vec::with_capacity(n);
     for i in 0..n {
-        let row: Option<Vec<Rational>> = (0..n)
-            .map(|j| nearest_fraction(pf[(i, j)], 1_000_000))
-            .collect();
-        rows.push(row?);
+        let mut row = Vec::with_capacity(n);
+        for j in 0..n {
+            let x = nearest_fraction(pf[(i, j)], 1_000_000)?;
+            common = num_integer::Integer::lcm(&common, x.denom());
+            if common.bits() > READ_BACK_BITS {
+                return None;
+            }
+            row.push(x);
+        }
+        rows.push(row);
     }
-    let p = Matrix::from_rows(rows).ok()?;
+    Matrix::from_rows(rows).ok()
+}
+
+/// P read back as small fractions ([`read_back`]); kept only if it satisfies the Riccati
+/// equation exactly and A − LC is stable (every root of its characteristic polynomial inside
+/// the unit circle, exact).
+fn exact_solution(
+    p: Matrix<Rational>,
+    (a, g, c, qn, rn): Plant<'_>,
+) -> Option<(Matrix<Rational>, Matrix<Rational>)> {
     let s = c.mul(&p).ok()?.mul(&c.transpose()).ok()?.add(rn).ok()?;
     let s_inv = linalg::inverse(&s).ok()?;
     let apc = a.mul(&p).ok()?.mul(&c.transpose()).ok()?;
