@@ -224,9 +224,13 @@ pub fn design_feedback(
     let k = observer.gain.matrix.transpose();
     d.push("K (u = −K x, closed loop A − BK)", "K_dualᵀ", &k);
     let gain = in_convention(&k, convention, &mut d);
+    // det(sI − (A − BK)) = det(sI − (Aᵀ − Kᵀ Bᵀ)): the dual observer's polynomial, recomputed
+    // from the gain by the rank-one update (only C_nᵀ Kᵀ and det(sI − A) enter, whatever the
+    // size of K's numbers) — the check `gain` makes
     let lift = |x: &Rational| Quadratic::rational(x.clone());
-    let closed = a.map(lift).sub(&b.map(lift).mul(&k)?)?;
-    let achieved = linalg::characteristic_polynomial(&closed, "s")?;
+    let open_loop = linalg::characteristic_polynomial(&a.map(lift), "s")?;
+    let achieved =
+        crate::observer::observer_polynomial(&dual.matrix.map(lift), &open_loop, &k.transpose())?;
     d.push(
         &format!("det(sI − ({})), checked exactly", convention.closed_loop()),
         "",

@@ -229,6 +229,18 @@ impl<T: Ring> Matrix<T> {
                 return Ok(r);
             }
         }
+        // Q(√d) matrices whose entries are all rational (a rational design checked over Q(√d)
+        // because a desired polynomial may bring √d): the same fraction-free product, without
+        // a gcd per Q(√d) operation
+        if let (Some(x), Some(y)) = (super::as_quadratic(self), super::as_quadratic(other)) {
+            if let (Some(qx), Some(qy)) = (super::rational_entries(x), super::rational_entries(y)) {
+                let product = super::rational::mul(&qx, &qy)
+                    .map(|r| crate::algebra::Quadratic::rational(r.clone()));
+                if let Some(r) = crate::algebra::from_concrete(product) {
+                    return Ok(r);
+                }
+            }
+        }
         let mut out = Matrix::<T>::zeros(self.rows, other.cols);
         for i in 0..self.rows {
             for k in 0..self.cols {

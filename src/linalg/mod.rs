@@ -39,6 +39,14 @@ pub(crate) fn as_rational<F: crate::algebra::Ring>(
     (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Rational>>()
 }
 
+/// `Some(&Matrix<Quadratic>)` when `F` is Q(√d): the dispatch of its all-rational matrices to
+/// the rational path.
+pub(crate) fn as_quadratic<F: crate::algebra::Ring>(
+    a: &Matrix<F>,
+) -> Option<&Matrix<crate::algebra::Quadratic>> {
+    (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Quadratic>>()
+}
+
 /// The rational matrix a Q(√d) matrix is, when every entry is rational: the way onto the
 /// rational (fraction-free, multimodular) path, which takes no gcd per Q(√d) operation.
 pub fn rational_entries(

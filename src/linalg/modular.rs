@@ -126,12 +126,22 @@ fn inv_mod(a: u64, p: u64) -> Option<u64> {
     (a % p != 0).then(|| pow_mod(a, p - 2, p))
 }
 
+/// `x mod p` in `0..p` for a prime of [`primes`] (below 2³¹): Horner over the magnitude's
+/// 32-bit halves from the most significant, each step `(r · 2³² + half) mod p` in one `u64`
+/// division (no allocation: num-bigint's `BigInt % u64` goes through its general long
+/// division, and a `u128` remainder through a software routine; either dominated the
+/// multimodular paths on large entries).
 pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
-    let r = (x % p).to_i64().unwrap_or(0);
-    if r < 0 {
-        (r + p as i64) as u64
+    debug_assert!(p < 1 << 32);
+    let r = x
+        .magnitude()
+        .iter_u32_digits()
+        .rev()
+        .fold(0u64, |r, d| ((r << 32) | u64::from(d)) % p);
+    if r != 0 && x.sign() == num_bigint::Sign::Minus {
+        p - r
     } else {
-        r as u64
+        r
     }
 }
 
@@ -669,6 +679,24 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn int_mod_agrees_with_bigint_remainder() {
+        use num_bigint::BigInt;
+        let values = [
+            BigInt::from(0),
+            BigInt::from(-1),
+            BigInt::from(7) << 300u32,
+            -(BigInt::from(123_456_789_i64) << 97u32) - 5,
+            BigInt::from(u64::MAX) * BigInt::from(u64::MAX) + 17,
+        ];
+        for p in super::primes().take(3).chain([2, 3, 65_537]) {
+            for x in &values {
+                let expected = ((x % BigInt::from(p)) + BigInt::from(p)) % BigInt::from(p);
+                assert_eq!(BigInt::from(super::int_mod(x, p)), expected, "{x} mod {p}");
+            }
+        }
+    }
+
     use super::*;
     use crate::algebra::Ring;
 

@@ -115,10 +115,12 @@ pub fn detectable_design(
     let k = t.map(|x| Quadratic::rational(x.clone())).mul(&padded)?;
     let shown = convention.from_a_minus_kc(&k);
     d.push("K", "T [K_o; 0]", &k);
-    let aq = a.map(|x| Quadratic::rational(x.clone()));
-    let cq = c.map(|x| Quadratic::rational(x.clone()));
-    let closed = aq.sub(&k.mul(&cq)?)?;
-    let observer_polynomial = linalg::characteristic_polynomial(&closed, "s")?;
+    // det(sI − (A − KC)) recomputed from K by the rank-one update det(sI − A) +
+    // C adj(sI − A) K (only O_n K and det(sI − A) enter, whatever the size of K's numbers):
+    // the check `gain` makes, here on the whole plant, so it tests the decomposition too
+    let lift = |x: &Rational| Quadratic::rational(x.clone());
+    let open_loop = linalg::characteristic_polynomial(&a.map(lift), "s")?;
+    let observer_polynomial = super::observer_polynomial(&report.matrix.map(lift), &open_loop, &k)?;
     d.push(
         "det(sI − (A − KC))",
         "P(s) · det(sI − A_uu)",
