@@ -76,7 +76,7 @@ pub fn worked_example(data: &[u8]) {
 /// every flag that writes (`--out`, `--svg`, `--csv`, `--errata`, `--feedback`) with its value,
 /// so a campaign reads only the working folder's files and writes none. Last `grade`, which
 /// always writes its CSV report: its flags are explored as given, but the folder it grades and
-/// the files it writes are moved into a private temporary folder ([`grading_folder`]).
+/// the files it writes are moved into a private temporary folder.
 #[cfg(feature = "cli")]
 pub const CLI_SUBCOMMANDS: [&str; 18] = {
     // the in-memory commands first (the corpora's first bytes name them), then the readers

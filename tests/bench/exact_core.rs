@@ -158,6 +158,14 @@ fn bench_commands(c: &mut Criterion) {
             .map(|k| format!("1/{}", k + 1))
             .collect::<Vec<_>>()
             .join(", ");
+        // the observer gain of the random plant (all poles at −4) for control; a plant scaled
+        // by 1/(2n) (spectral radius below 1 for most seeds) for the float commands
+        let l = exact_gain(&dense_random(n, 11), &first_state_output(n)).to_input();
+        let feedback_poly = format!("(s + 2)^{n}");
+        let scaled = dense_random(n, 11)
+            .map(|x| x.clone() / Rational::from_i64(2 * n as i64))
+            .to_input();
+        let identity = Matrix::<Rational>::identity(n).to_input();
         let requests = [
             ("observe", serde_json::json!({"a": a, "c": cm})),
             ("canonical", serde_json::json!({"a": a, "c": cm})),
@@ -185,6 +193,28 @@ fn bench_commands(c: &mut Criterion) {
                 "kalman",
                 serde_json::json!({"a": a, "b": b, "c": cm, "input-noise": "1", "output-noise": "1/10"}),
             ),
+            (
+                "discrete",
+                serde_json::json!({"a": a, "c": cm, "deadbeat": true}),
+            ),
+            (
+                "detectable",
+                serde_json::json!({"a": a, "c": cm, "poles": poles}),
+            ),
+            (
+                "control",
+                serde_json::json!({"a": a, "b": b, "c": cm, "l": l, "convention": "a-kc",
+                                   "feedback-poly": feedback_poly}),
+            ),
+            ("perfect", serde_json::json!({"a": a, "b": b, "c": cm})),
+            (
+                "zoh",
+                serde_json::json!({"a": scaled, "b": b, "period": "1/10"}),
+            ),
+            (
+                "dlqe",
+                serde_json::json!({"a": scaled, "c": cm, "qn": identity, "rn": "[1]"}),
+            ),
         ];
         for (k, (name, fields)) in requests.into_iter().enumerate() {
             let mut request = fields;
@@ -201,6 +231,89 @@ fn bench_commands(c: &mut Criterion) {
         }
     }
     g.finish();
+}
+
+/// The commands that do not scale with an order: `optimal` (two outputs of a 5-state plant,
+/// 4 seeded starts), `verify` (one worked example), `check` (an answer file), `exercise new`,
+/// `grade` (a class of 30 submissions, the report written to a temporary folder) — each as
+/// the command line reads it, run by `api::run`.
+fn bench_fixed_commands(c: &mut Criterion) {
+    use observer_workbench::api::{run, Command};
+    let root = env!("CARGO_MANIFEST_DIR");
+    let dir = std::env::temp_dir().join(format!("owb-bench-{}", std::process::id()));
+    let submissions = dir.join("submissions");
+    std::fs::create_dir_all(&submissions).expect("a temporary folder");
+    let answers = dir.join("answers.toml");
+    std::fs::write(&answers, "[answers]\nL = \"[6; 12]\"\n").expect("written");
+    for k in 0..30 {
+        let answer = if k % 3 == 0 { "[-6; -12]" } else { "[6; 12]" };
+        std::fs::write(
+            submissions.join(format!("s{k}.toml")),
+            format!("student = \"s{k}\"\n[answers]\nL = \"{answer}\"\n"),
+        )
+        .expect("written");
+    }
+    let (examples, answers_s, subs, csv) = (
+        format!("{root}/worked_examples"),
+        answers.display().to_string(),
+        submissions.display().to_string(),
+        dir.join("report.csv").display().to_string(),
+    );
+    let lines: [(&str, Vec<&str>); 5] = [
+        (
+            "optimal j1, n = 5, 4 starts",
+            vec![
+                "optimal",
+                "--a",
+                "[0 1 0 0 0; 0 0 1 0 0; 0 0 0 1 0; 0 0 0 0 1; -1 -2 -3 -4 -5]",
+                "--c",
+                "[1 0 0 0 0; 0 0 1 0 0]",
+                "--poles",
+                "-1, -2, -3, -4, -5",
+                "--starts",
+                "4",
+            ],
+        ),
+        (
+            "verify stoustrup-pole-assignment",
+            vec!["verify", "stoustrup-pole-assignment", "--dir", &examples],
+        ),
+        (
+            "check stoustrup-pole-assignment",
+            vec!["check", "stoustrup-pole-assignment", &answers_s],
+        ),
+        (
+            "exercise new, order 3",
+            vec![
+                "exercise",
+                "new",
+                "--kind",
+                "pole-placement",
+                "--order",
+                "3",
+                "--seed",
+                "7",
+                "--key",
+            ],
+        ),
+        (
+            "grade, 30 submissions",
+            vec!["grade", "stoustrup-pole-assignment", &subs, "--csv", &csv],
+        ),
+    ];
+    let mut g = c.benchmark_group("commands-fixed");
+    g.sample_size(10).warm_up_time(Duration::from_millis(200));
+    for (name, words) in lines {
+        let command = Command::from_words(&words).expect("a valid command line");
+        if let Err(e) = run(command.clone()) {
+            panic!("{name}: {}", e.error);
+        }
+        g.bench_function(name, |bch| {
+            bch.iter(|| run(command.clone()).map(|r| r.text.len()).unwrap_or(0))
+        });
+    }
+    g.finish();
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// A 10 s run at h = 0.01 (RK4) of Baranowski's 3-state ladder with a two-output observer and
@@ -248,6 +361,7 @@ criterion_group!(
     bench,
     bench_user_path,
     bench_commands,
+    bench_fixed_commands,
     bench_simulation
 );
 criterion_main!(benches);
