@@ -326,6 +326,47 @@ impl DesiredRequest<'_> {
     }
 }
 
+/// A desired polynomial written in another variable (`z^2 - a*z + 1/4` in discrete time),
+/// monic of degree `n`, as a polynomial in `s` over the rational functions of the parameters
+/// (the variable the designs speak of); the parameters it mentions beside the variable.
+///
+/// # Errors
+/// A text that cannot be read, the variable in a denominator, a polynomial that is not monic
+/// of degree `n` (in words; the caller names the flag).
+pub fn polynomial_in(text: &str, var: &str, n: usize) -> Result<Poly<Fraction>, String> {
+    let coeffs = coefficients_in(text, var, &crate::syntax::Environment::new())?;
+    let poly = Poly::new(coeffs, "s");
+    if poly.degree() != Some(n) || !poly.is_monic() {
+        return Err(format!(
+            "the desired polynomial must be monic of degree {n} (the order of A), it is {}",
+            poly.clone().with_var(var)
+        ));
+    }
+    Ok(poly)
+}
+
+/// The coefficients (ascending) of a polynomial in `var`, values of `env` substituted.
+///
+/// # Errors
+/// A text that cannot be read, the variable in a denominator.
+pub fn coefficients_in(
+    text: &str,
+    var: &str,
+    env: &crate::syntax::Environment,
+) -> Result<Vec<Fraction>, String> {
+    formula(text, env)?
+        .coefficients_in(var)
+        .ok_or_else(|| format!("{var} appears in a denominator; give a polynomial in {var}"))
+}
+
+/// The parameters a polynomial in `var` mentions (none when it cannot be read: the reader
+/// that designs with it says why).
+pub fn polynomial_parameters(text: &str, var: &str) -> Vec<String> {
+    coefficients_in(text, var, &crate::syntax::Environment::new())
+        .map(|c| parameters(&c))
+        .unwrap_or_default()
+}
+
 /// A polynomial in `s` as one rational function of `s` and the parameters.
 pub fn as_fraction(p: &Poly<Fraction>) -> Fraction {
     let s = Fraction::symbol(p.var());

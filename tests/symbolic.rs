@@ -534,3 +534,172 @@ fn numeric_commands_take_values_for_letters() {
         assert_eq!(json(&valued), json(numbers), "{letters:?}");
     }
 }
+
+/// Discrete time with parameters (a double integrator sampled with period T): the dead-beat
+/// gain and the pole-placing gains as formulas, their error polynomial an identity, dead-beat
+/// proved by the powers of the error matrix, the current estimator A⁻¹K — and every formula,
+/// evaluated at values, the gain the numeric command computes there with `--at`.
+#[test]
+fn discrete_time_designs_with_parameters() {
+    let desired: [&[&str]; 3] = [
+        &["--deadbeat"],
+        &["--poles", "p, p/2"],
+        &["--poly", "z^2 - a*z + a^2/4"],
+    ];
+    let points = ["T=1/2,p=1/3,a=1/5", "T=3,p=-1/4,a=2/3"];
+    for estimator in ["prediction", "current"] {
+        for d in desired {
+            let mut base = vec!["discrete", "--a", "[1 T; 0 1]", "--c", "[1 0]"];
+            base.extend_from_slice(d);
+            base.extend(["--estimator", estimator, "--json"]);
+            let formula = json(&base);
+            assert_eq!(formula["places_exactly"], true, "{base:?}");
+            assert!(formula["parameters"]
+                .as_array()
+                .is_some_and(|p| p.contains(&"T".into())));
+            for point in points {
+                let mut with_at = base.clone();
+                with_at.extend(["--at", point]);
+                let numeric = json(&with_at);
+                let evaluate = |v: &serde_json::Value, key: &str| -> Vec<String> {
+                    v[key]
+                        .as_array()
+                        .map(|rows| {
+                            rows.iter()
+                                .flat_map(|r| r.as_array().cloned().unwrap_or_default())
+                                .map(|x| at(x.as_str().expect("text"), point))
+                                .collect()
+                        })
+                        .unwrap_or_default()
+                };
+                for key in ["gain", "current_gain", "error_matrix"] {
+                    let numbers: Vec<String> = numeric[key]
+                        .as_array()
+                        .map(|rows| {
+                            rows.iter()
+                                .flat_map(|r| r.as_array().cloned().unwrap_or_default())
+                                .map(|x| at(x.as_str().expect("text"), point))
+                                .collect()
+                        })
+                        .unwrap_or_default();
+                    assert_eq!(
+                        evaluate(&formula, key),
+                        numbers,
+                        "{key} of {base:?} at {point}"
+                    );
+                }
+                assert_eq!(
+                    formula["deadbeat_steps"], numeric["deadbeat_steps"],
+                    "{base:?}"
+                );
+            }
+        }
+    }
+    let (code, out, _) = owb(&[
+        "discrete",
+        "--a",
+        "[1 T; 0 1]",
+        "--c",
+        "[1 0]",
+        "--deadbeat",
+    ]);
+    assert_eq!(code, 0);
+    assert!(out.contains("K = [2; 1/T]"), "{out}");
+    assert!(out.contains("(error matrix)^2 = 0 identically"), "{out}");
+    assert!(out.contains("valid for T ≠ 0"), "{out}");
+    insta::assert_snapshot!(out);
+    // the transcendental map needs numbers
+    let (code, _, err) = owb(&[
+        "discrete",
+        "--a",
+        "[1 T; 0 1]",
+        "--c",
+        "[1 0]",
+        "--continuous-poles",
+        "-1, -2",
+        "--period",
+        "1",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--at"), "{err}");
+}
+
+/// A reduced-order observer with parameters (the mass–spring–damper measured at its position,
+/// and a third-order companion plant measured at x₁): the gain, F, G, H and D_y as formulas,
+/// the error polynomial an identity — and each formula at values equal to the numeric
+/// command's matrices there (`--at`), in both conventions.
+#[test]
+fn reduced_order_designs_with_parameters() {
+    let cases: [(&[&str], &str); 2] = [
+        (
+            &[
+                "--a", MSD_A, "--c", "[1 0]", "--b", "[0; 1/m]", "--poles", "-w",
+            ],
+            "k=2,m=1/2,c=3,w=4",
+        ),
+        (
+            &[
+                "--a",
+                "[0 1 0; 0 0 1; -a0 -a1 -a2]",
+                "--c",
+                "[1 0 0]",
+                "--poles",
+                "-p, -2*p",
+            ],
+            "a0=1,a1=-2,a2=3/4,p=5",
+        ),
+    ];
+    for (plant, point) in cases {
+        for convention in ["a-kc", "a+lc"] {
+            let mut base = vec!["reduced"];
+            base.extend_from_slice(plant);
+            base.extend(["--convention", convention, "--json"]);
+            let formula = json(&base);
+            assert_eq!(formula["places_exactly"], true, "{base:?}");
+            let mut with_at = base.clone();
+            with_at.extend(["--at", point]);
+            let numeric = json(&with_at);
+            for key in ["gain", "f", "g", "h", "direct", "from_w"] {
+                let entries = |v: &serde_json::Value, evaluate: bool| -> Vec<String> {
+                    v[key]
+                        .as_array()
+                        .map(|rows| {
+                            rows.iter()
+                                .flat_map(|r| r.as_array().cloned().unwrap_or_default())
+                                .map(|x| {
+                                    let t = x.as_str().expect("text");
+                                    if evaluate {
+                                        at(t, point)
+                                    } else {
+                                        t.to_string()
+                                    }
+                                })
+                                .collect()
+                        })
+                        .unwrap_or_default()
+                };
+                assert_eq!(
+                    entries(&formula, true),
+                    entries(&numeric, false),
+                    "{key} of {base:?} at {point}"
+                );
+            }
+            assert_eq!(
+                at(formula["noise_gain"].as_str().expect("text"), point),
+                numeric["noise_gain"].as_str().expect("text"),
+                "{base:?}"
+            );
+        }
+    }
+    let (code, out, _) = owb(&[
+        "reduced", "--a", MSD_A, "--c", "[1 0]", "--b", "[0; 1/m]", "--poles", "-w",
+    ]);
+    assert_eq!(code, 0);
+    assert!(out.contains("L (A₂₂ − L A₁₂) = [(m*w - c)/m]"), "{out}");
+    assert!(out.contains("valid for m ≠ 0"), "{out}");
+    insta::assert_snapshot!(out);
+    // C fixes the coordinates: with a parameter in C the way out is named
+    let (code, _, err) = owb(&["reduced", "--a", MSD_A, "--c", "[1 q]", "--poles", "-w"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--c") && err.contains("--at"), "{err}");
+}

@@ -2,18 +2,23 @@
 //! from a continuous specification) and `owb zoh` (a continuous plant sampled with a
 //! zero-order hold).
 
-use super::args::{json_matrix, SystemPair};
+use super::args::{json_matrix, Plant, SystemPair};
+use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
-use crate::algebra::{Quadratic, Rational};
+use crate::algebra::{Fraction, Quadratic, Rational};
+use crate::linalg::Matrix;
 use crate::observer::discrete::{
-    deadbeat_polynomial, discrete_observer, from_continuous_poles, map_pole, zero_order_hold,
-    Estimator, Sampled,
+    deadbeat_polynomial, discrete_observer, from_continuous_poles, map_pole, speak_of_z,
+    zero_order_hold, Estimator, Sampled,
 };
 use crate::observer::discrete_kalman::READ_BACK_BITS;
 use crate::observer::float_check::float_check;
 use crate::observer::{Convention, DesiredPolynomial, Detail};
+use crate::poly::Poly;
+use crate::symbolic::DesiredRequest;
 use crate::syntax::{parse_list, parse_polynomial};
 use anyhow::{anyhow, bail, Result};
+use num_traits::{One, Zero};
 use serde_json::json;
 
 /// Arguments of `owb discrete`.
@@ -84,37 +89,100 @@ pub struct Args {
     pub json: bool,
 }
 
-fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
+/// Numbers from values read with `--at` substituted; a value still holding a parameter is
+/// named, with the flag.
+fn numbers(flag: &str, read: Vec<Fraction>) -> Result<Vec<Quadratic>> {
+    read.iter()
+        .map(|x| {
+            x.as_quadratic().ok_or_else(|| {
+                anyhow!(
+                    "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
+                    x.symbols().join(", ")
+                )
+            })
+        })
+        .collect()
+}
+
+fn desired(
+    args: &Args,
+    n: usize,
+    values: &crate::syntax::Environment,
+) -> Result<DesiredPolynomial> {
     if args.period.is_some() && args.continuous_poles.is_none() {
         bail!("in --period: the period maps --continuous-poles; give them too");
     }
-    Ok(if let Some(p) = &args.poles {
-        super::args::poles_flag("--poles", p, n)?
-    } else if let Some(p) = &args.poly {
-        let poly = parse_polynomial::<Quadratic>(p, "z")
-            .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?
-            .with_var("s");
-        DesiredPolynomial::from_polynomial(poly, n)?
-    } else if args.deadbeat {
-        deadbeat_polynomial(n)
-    } else if let Some(p) = &args.continuous_poles {
-        let poles = parse_list::<Quadratic>(p)
-            .map_err(|e| anyhow!("in --continuous-poles: {}", e.show_in(p)))?;
-        if poles.len() != n {
-            bail!(
-                "in --continuous-poles: {} poles given, the system has order {n}",
-                poles.len()
-            );
-        }
-        let t = args
-            .period
-            .as_deref()
-            .ok_or_else(|| anyhow!("in --continuous-poles: give the sampling period --period T"))?;
-        let t = super::args::rational("--period", t)?;
-        from_continuous_poles(&poles, &t).map_err(|e| anyhow!("in --period: {e}"))?
-    } else {
-        bail!("give the desired polynomial in z: --poles, --poly, --deadbeat or --continuous-poles with --period")
+    let none = crate::syntax::Environment::new();
+    Ok(
+        if let Some(p) = args.poles.as_ref().filter(|p| {
+            !values.is_empty() && !DesiredRequest::Poles(p).parameters(&none).is_empty()
+        }) {
+            // parameters with values from --at
+            let read = DesiredRequest::Poles(p)
+                .values(values)
+                .map_err(|e| anyhow!("in --poles: {e}"))?;
+            if read.len() != n {
+                bail!(
+                    "in --poles: {} poles given, the system has order {n}",
+                    read.len()
+                );
+            }
+            DesiredPolynomial::from_poles(&numbers("--poles", read)?)?
+        } else if let Some(p) = args.poly.as_ref().filter(|p| {
+            !values.is_empty() && !crate::symbolic::polynomial_parameters(p, "z").is_empty()
+        }) {
+            let read = crate::symbolic::coefficients_in(p, "z", values)
+                .map_err(|e| anyhow!("in --poly: {e}"))?;
+            DesiredPolynomial::from_polynomial(Poly::new(numbers("--poly", read)?, "s"), n)?
+        } else if let Some(p) = &args.poles {
+            super::args::poles_flag("--poles", p, n)?
+        } else if let Some(p) = &args.poly {
+            let poly = parse_polynomial::<Quadratic>(p, "z")
+                .map_err(|e| anyhow!("in --poly: {}", e.show_in(p)))?
+                .with_var("s");
+            DesiredPolynomial::from_polynomial(poly, n)?
+        } else if args.deadbeat {
+            deadbeat_polynomial(n)
+        } else if let Some(p) = &args.continuous_poles {
+            let poles = parse_list::<Quadratic>(p)
+                .map_err(|e| anyhow!("in --continuous-poles: {}", e.show_in(p)))?;
+            if poles.len() != n {
+                bail!(
+                    "in --continuous-poles: {} poles given, the system has order {n}",
+                    poles.len()
+                );
+            }
+            let t = args.period.as_deref().ok_or_else(|| {
+                anyhow!("in --continuous-poles: give the sampling period --period T")
+            })?;
+            let t = super::args::rational("--period", t)?;
+            from_continuous_poles(&poles, &t).map_err(|e| anyhow!("in --period: {e}"))?
+        } else {
+            bail!("give the desired polynomial in z: --poles, --poly, --deadbeat or --continuous-poles with --period")
+        },
+    )
+}
+
+/// `--estimator`.
+fn estimator(args: &Args) -> Result<Estimator> {
+    Estimator::parse(&args.estimator).ok_or_else(|| {
+        anyhow!(
+            "in --estimator: unknown estimator '{}' (prediction or current)",
+            args.estimator
+        )
     })
+}
+
+/// Whether `--poles` or `--poly` mentions a parameter (`z` of the polynomial is its variable).
+fn desired_mentions_parameters(args: &Args) -> bool {
+    let env = crate::syntax::Environment::new();
+    args.poles
+        .as_deref()
+        .is_some_and(|p| !DesiredRequest::Poles(p).parameters(&env).is_empty())
+        || args
+            .poly
+            .as_deref()
+            .is_some_and(|p| !crate::symbolic::polynomial_parameters(p, "z").is_empty())
 }
 
 /// `owb discrete`: a discrete-time observer.
@@ -123,7 +191,13 @@ fn desired(args: &Args, n: usize) -> Result<DesiredPolynomial> {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
-    let (a, c) = args.system.parse()?;
+    let (a, c) = match args.system.plant()? {
+        Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
+        Plant::Numeric(a, c) if args.system.at.is_none() && desired_mentions_parameters(&args) => {
+            return symbolic(&args, &lift(&a), &lift(&c), rep)
+        }
+        Plant::Numeric(a, c) => (a, c),
+    };
     if !a.is_square() || c.cols() != a.rows() {
         bail!(
             "in --a/--c: A must be square and C have as many columns (A {}×{}, C {}×{})",
@@ -135,13 +209,8 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     }
     let method = super::args::gain_method(&args.method)?;
     let convention = super::args::observer_convention(&args.convention)?;
-    let estimator = Estimator::parse(&args.estimator).ok_or_else(|| {
-        anyhow!(
-            "in --estimator: unknown estimator '{}' (prediction or current)",
-            args.estimator
-        )
-    })?;
-    let desired = desired(&args, a.rows())?;
+    let estimator = estimator(&args)?;
+    let desired = desired(&args, a.rows(), &args.system.values()?)?;
     if desired.exact.is_none() {
         return float_only(rep, &args, &a, &c, &desired, convention);
     }
@@ -206,6 +275,187 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     if let Some(k) = d.nilpotent_index {
         outln!(rep, "  dead-beat: the error matrix is nilpotent, (error matrix)^{k} = 0 exactly, so e({k}) = 0 for every initial error");
     }
+    Ok(Outcome::Ok)
+}
+
+/// The desired polynomial in z of a design with parameters, as a polynomial in `s` over the
+/// rational functions of them (the variable the design speaks of; the steps are renamed).
+fn symbolic_desired(args: &Args, n: usize) -> Result<Poly<Fraction>> {
+    let env = crate::syntax::Environment::new();
+    if args.continuous_poles.is_some() {
+        bail!("in --continuous-poles: z = e^(sT) is not a rational function of the parameters; give them values with --at NAME=VALUE");
+    }
+    if let Some(p) = &args.poles {
+        DesiredRequest::Poles(p)
+            .polynomial(&env, n)
+            .map_err(|e| anyhow!("in --poles: {e}"))
+    } else if let Some(p) = &args.poly {
+        crate::symbolic::polynomial_in(p, "z", n).map_err(|e| anyhow!("in --poly: {e}"))
+    } else if args.deadbeat {
+        let mut coeffs = vec![Fraction::zero(); n];
+        coeffs.push(Fraction::one());
+        Ok(Poly::new(coeffs, "s"))
+    } else {
+        bail!("give the desired polynomial in z: --poles, --poly or --deadbeat")
+    }
+}
+
+/// The smallest k ≤ n with Mᵏ = 0, by exact powers over the rational functions (a plant with
+/// parameters is of order at most 8), or `None`.
+fn symbolic_nilpotent_index(m: &Matrix<Fraction>) -> Result<Option<usize>> {
+    let mut power = m.clone();
+    for k in 1..=m.rows() {
+        if power.entries().iter().all(Fraction::is_zero) {
+            return Ok(Some(k));
+        }
+        power = power.mul(m)?;
+    }
+    Ok(None)
+}
+
+/// `owb discrete` with parameters: the gain's steps in symbols (renamed to z), the error
+/// polynomial checked as an identity, the current estimator's A⁻¹K where det A ≠ 0, dead-beat
+/// proved by the powers of the error matrix, and where the result breaks.
+fn symbolic(
+    args: &Args,
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    rep: &mut Report,
+) -> Result<Outcome> {
+    let method = super::args::gain_method(&args.method)?;
+    let convention = super::args::observer_convention(&args.convention)?;
+    let estimator = estimator(args)?;
+    if c.rows() != 1 {
+        bail!(
+            "in --c: C has {} outputs; a design with parameters uses one output",
+            c.rows()
+        );
+    }
+    let n = a.rows();
+    let desired = symbolic_desired(args, n)?;
+    let mut work = Parametric::new(a)?
+        .with(c.entries(), "C")?
+        .with(desired.coeffs(), "the desired polynomial")?;
+    let design = work.run(|| {
+        crate::observer::design_symbolic(a, c, &desired, method, convention, Detail::Full)
+    })??;
+    work.observability(a, c)?;
+    work.exceptions
+        .add_denominators(design.gain.matrix.entries(), "a denominator of the gain");
+    let mut derivation = design.derivation.clone();
+    speak_of_z(&mut derivation);
+    let k = design.gain.to_convention(Convention::AMinusKC).matrix;
+    let (error_matrix, current_gain, nilpotent) = work.run(|| -> Result<_> {
+        let prediction = a.sub(&k.mul(c)?)?;
+        let (m, l_c) = match estimator {
+            Estimator::Prediction => (prediction, None),
+            Estimator::Current => {
+                let a_inv = crate::linalg::inverse(a).map_err(|_| {
+                    anyhow!("the current estimator needs A invertible: det A is zero for every value of the parameters")
+                })?;
+                let l_c = a_inv.mul(&k)?;
+                let m = a.sub(&l_c.mul(&c.mul(a)?)?)?;
+                (m, Some(l_c))
+            }
+        };
+        let nilpotent = symbolic_nilpotent_index(&m)?;
+        Ok((m, l_c, nilpotent))
+    })??;
+    if let Some(l_c) = &current_gain {
+        let det = work.run(|| crate::linalg::determinant(a))??;
+        work.exceptions.add(
+            det.numerator(),
+            "det A: the current estimator needs A invertible",
+        );
+        work.exceptions
+            .add_denominators(l_c.entries(), "a denominator of L_c");
+        derivation.push("L_c", "A⁻¹ K (current estimator)", l_c);
+        derivation.push("A − L_c C A", "error matrix of x̂", &error_matrix);
+    }
+    let error_polynomial = design.achieved.clone().with_var("z");
+    if let Some(k) = nilpotent {
+        derivation.push(
+            &format!("power {k} of the error matrix"),
+            "zero identically: the error vanishes after this many steps",
+            &Matrix::<Fraction>::zeros(n, n),
+        );
+    }
+    // stability is decided when the polynomial's coefficients are numbers
+    let constant: Option<Vec<Rational>> = error_polynomial
+        .coeffs()
+        .iter()
+        .map(Fraction::as_rational)
+        .collect();
+    let stable = constant.map(|c| crate::poly::is_schur(&Poly::new(c, "z")));
+    let shown_current = current_gain.map(|l| convention.from_a_minus_kc(&l));
+    let json = args
+        .json
+        .then(|| -> Result<serde_json::Value> {
+            let mut out = json!({
+                "estimator": estimator.flag(),
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "gain": json_matrix(&design.gain.matrix),
+                "error_polynomial": error_polynomial.to_input(),
+                "places_exactly": design.identity,
+                "schur_stable": stable,
+                "deadbeat_steps": nilpotent,
+                "error_matrix": json_matrix(&error_matrix),
+                "steps": serde_json::to_value(&derivation.steps)?,
+            });
+            if let Some(l) = &shown_current {
+                out["current_gain"] = json_matrix(l);
+            }
+            Ok(out)
+        })
+        .transpose()?;
+    work.answer(rep, json, |rep| {
+        rep.derivation(&derivation);
+        let letter = convention.letter();
+        outln!(
+            rep,
+            "Result (discrete time, {} estimator, {convention} convention, {method} method):",
+            estimator.flag()
+        );
+        outln!(
+            rep,
+            "  {letter} = {} (prediction gain)",
+            design.gain.matrix.to_input()
+        );
+        if let Some(l) = &shown_current {
+            outln!(rep, "  {letter}_c = {} (current estimator, in the A − KC sign of x̂(k) = x̄(k) + {letter}_c (y(k) − C x̄(k)))", l.to_input());
+        }
+        outln!(
+            rep,
+            "  error polynomial det(zI − {}) = {}",
+            if estimator == Estimator::Current {
+                "(A − L_c C A)"
+            } else {
+                "(A − KC)"
+            },
+            error_polynomial
+        );
+        outln!(
+            rep,
+            "  {}",
+            if design.identity {
+                format!(
+                    "the error polynomial equals the desired polynomial identically in z and {}",
+                    work.names()
+                )
+            } else {
+                "the error polynomial differs from the desired polynomial".to_string()
+            }
+        );
+        match stable {
+            Some(true) => outln!(rep, "  every root strictly inside the unit circle (exact test): the estimation error decays"),
+            Some(false) => outln!(rep, "  NOT every root inside the unit circle (exact test): the estimation error does not decay"),
+            None => outln!(rep, "  stability depends on the parameters (the polynomial's coefficients are not numbers)"),
+        }
+        if let Some(k) = nilpotent {
+            outln!(rep, "  dead-beat: (error matrix)^{k} = 0 identically in the parameters, so e({k}) = 0 for every initial error");
+        }
+    });
     Ok(Outcome::Ok)
 }
 

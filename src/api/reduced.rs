@@ -1,12 +1,15 @@
 //! `owb reduced` (a reduced-order observer, Gopinath's construction) and `owb detectable` (an
 //! observer for the observable part of an unobservable pair, with the fixed modes named).
 
-use super::args::{json_matrix, SystemPair};
+use super::args::{json_matrix, Plant, SystemPair};
+use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
+use crate::algebra::{Fraction, Rational};
+use crate::linalg::Matrix;
 use crate::observer::detectability::detectable_design;
-use crate::observer::reduced_order::reduced_order_observer;
+use crate::observer::reduced_order::{reduced_order_observer, reduced_order_symbolic};
 use crate::observer::Convention;
-use anyhow::{anyhow, Result};
+use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 
 /// Arguments of `owb reduced`.
@@ -52,7 +55,20 @@ pub struct Args {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
-    let (a, c) = args.system.parse()?;
+    let b_has_parameters = args
+        .b
+        .as_deref()
+        .is_some_and(super::args::mentions_parameters);
+    let (a, c) = match args.system.plant()? {
+        Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
+        Plant::Numeric(a, c)
+            if args.system.at.is_none()
+                && (args.desired.mentions_parameters() || b_has_parameters) =>
+        {
+            return symbolic(&args, &lift(&a), &lift(&c), rep)
+        }
+        Plant::Numeric(a, c) => (a, c),
+    };
     let b = args.system.input(args.b.as_deref())?;
     super::args::check_plant(&a, b.as_ref(), &c, None)?;
     let (method, convention) = (
@@ -112,6 +128,128 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         "  measurement noise: y reaches x̂ directly through D_y, Σ D_y² = {} (the full-order observer filters y: no direct term)",
         r.noise_gain
     );
+    Ok(Outcome::Ok)
+}
+
+/// `owb reduced` with parameters in A, B or the desired polynomial (C in numbers: the measured
+/// combinations fix Q): the same construction in symbols, the error polynomial an identity,
+/// and where the design breaks.
+fn symbolic(
+    args: &Args,
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    rep: &mut Report,
+) -> Result<Outcome> {
+    let (method, convention) = (
+        super::args::gain_method(&args.method)?,
+        super::args::observer_convention(&args.convention)?,
+    );
+    let c_numbers: Matrix<Rational> = match c
+        .entries()
+        .iter()
+        .map(Fraction::as_rational)
+        .collect::<Option<Vec<_>>>()
+    {
+        Some(entries) => Matrix::from_fn(c.rows(), c.cols(), |i, j| {
+            entries[i * c.cols() + j].clone()
+        }),
+        None => bail!("in --c: a reduced-order design with parameters needs C in numbers (C fixes the coordinates z = Q x); give the parameters in C values with --at NAME=VALUE"),
+    };
+    let b = args
+        .b
+        .as_deref()
+        .map(|t| super::args::matrix::<Fraction>("--b", t))
+        .transpose()?;
+    let zeros = |m: &Matrix<Fraction>| m.map(|_| Rational::from_integer(0.into()));
+    super::args::check_plant(&zeros(a), b.as_ref().map(zeros).as_ref(), &c_numbers, None)?;
+    let order = a.rows().saturating_sub(c.rows());
+    let desired = args.desired.symbolic(order)?;
+    let mut work = Parametric::new(a)?
+        .with(b.as_ref().map_or(&[][..], Matrix::entries), "B")?
+        .with(desired.coeffs(), "the desired polynomial")?;
+    let r = work.run(|| reduced_order_symbolic(a, b.as_ref(), &c_numbers, &desired, method))??;
+    let (a22, row) = &r.reduced_pair;
+    if let Some(det) = work.run(|| super::parametric::observability_determinant(a22, row))? {
+        work.exceptions.add(
+            det.numerator(),
+            "det O of the reduced pair (A₂₂, A₁₂): unobservable there",
+        );
+    }
+    work.exceptions
+        .add_denominators(r.l.entries(), "a denominator of the gain");
+    let gain = convention.from_a_minus_kc(&r.l);
+    let json = args
+        .json
+        .then(|| -> Result<serde_json::Value> {
+            let mut out = json!({
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "q": json_matrix(&r.q),
+                "gain": json_matrix(&gain),
+                "f": json_matrix(&r.f),
+                "g": json_matrix(&r.g),
+                "direct": json_matrix(&r.direct),
+                "from_w": json_matrix(&r.from_w),
+                "error_polynomial": r.error_polynomial.to_input(),
+                "places_exactly": r.identity,
+                "noise_gain": crate::algebra::Ring::to_input(&r.noise_gain),
+                "output": r.output.map(|k| k + 1),
+                "steps": serde_json::to_value(&r.derivation.steps)?,
+            });
+            if let Some(h) = &r.h {
+                out["h"] = json_matrix(h);
+            }
+            Ok(out)
+        })
+        .transpose()?;
+    work.answer(rep, json, |rep| {
+        rep.derivation(&r.derivation);
+        let letter = if convention == Convention::AMinusKC {
+            "L (A₂₂ − L A₁₂)"
+        } else {
+            "L (A₂₂ + L A₁₂)"
+        };
+        outln!(
+            rep,
+            "Result (reduced-order observer of order {order}, {method} method):"
+        );
+        outln!(rep, "  {letter} = {}", gain.to_input());
+        if let Some(k) = r.output {
+            outln!(rep, "  designed with output {} (the row of A₁₂ that observes the unmeasured states); the other columns of L are zero", k + 1);
+        }
+        outln!(
+            rep,
+            "  ẇ = F w + G y{}, x̂ = D_y y + M w, w = z₂ {} L y",
+            if r.h.is_some() { " + H u" } else { "" },
+            if convention == Convention::AMinusKC {
+                "−"
+            } else {
+                "+"
+            }
+        );
+        outln!(
+            rep,
+            "  error polynomial det(sI − F) = {} (degree {order})",
+            r.error_polynomial
+        );
+        outln!(
+            rep,
+            "  {}",
+            if r.identity {
+                format!(
+                    "the error polynomial equals the desired polynomial identically in s and {}",
+                    work.names()
+                )
+            } else {
+                "the error polynomial differs from the desired polynomial".to_string()
+            }
+        );
+        outln!(
+            rep,
+            "  measurement noise: y reaches x̂ directly through D_y, Σ D_y² = {}",
+            crate::algebra::Ring::to_input(&r.noise_gain)
+        );
+    });
     Ok(Outcome::Ok)
 }
 

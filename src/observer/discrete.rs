@@ -104,6 +104,44 @@ fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
     m.map(|x| Quadratic::rational(x.clone()))
 }
 
+/// The gain's steps speak of s; in discrete time the variable is z: the polynomial steps'
+/// labels and values renamed. Only the variable is renamed — an `s` standing alone as a name
+/// (`9s`, `s^2`, `(s + 1)`), not one inside a word (`sqrt`, `\\cdots`, a parameter `sigma` or
+/// `ws`) — and only in the steps whose label is a polynomial in s.
+pub(crate) fn speak_of_z(derivation: &mut crate::derivation::Derivation) {
+    for step in &mut derivation.steps {
+        if step.label.starts_with("det(sI") || step.label.starts_with("P(s)") {
+            step.label = step.label.replace("sI", "zI").replace("P(s)", "P(z)");
+            for v in [&mut step.text, &mut step.latex, &mut step.input] {
+                *v = variable_renamed(v, 's', 'z');
+            }
+        }
+    }
+}
+
+/// `text` with every `from` that stands alone as a name replaced by `to`: not preceded by a
+/// letter, `_` or `\\`, not followed by a letter, digit or `_` (a coefficient before it, `9s`,
+/// is no part of its name).
+fn variable_renamed(text: &str, from: char, to: char) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    let word = |c: char| c.is_alphanumeric() || c == '_';
+    chars
+        .iter()
+        .enumerate()
+        .map(|(i, &ch)| {
+            let before = i.checked_sub(1).map(|j| chars[j]);
+            let after = chars.get(i + 1).copied();
+            let alone = before.is_none_or(|b| !(b.is_alphabetic() || b == '_' || b == '\\'))
+                && after.is_none_or(|a| !word(a));
+            if ch == from && alone {
+                to
+            } else {
+                ch
+            }
+        })
+        .collect()
+}
+
 /// Designs a discrete-time observer for (A, C) with the desired polynomial in z.
 ///
 /// # Errors
@@ -122,19 +160,7 @@ pub fn discrete_observer(
     in_z.exact = desired.exact.clone().map(|p| p.with_var("z"));
     let design = design_with(a, c, &in_z, method, convention, detail)?;
     let mut derivation = design.derivation.clone();
-    // the gain's steps speak of s; in discrete time the variable is z
-    for step in &mut derivation.steps {
-        if step.label.starts_with("det(sI") || step.label.starts_with("P(s)") {
-            step.label = step.label.replace("sI", "zI").replace("P(s)", "P(z)");
-            for v in [&mut step.text, &mut step.latex, &mut step.input] {
-                // the variable only: `sqrt` keeps its s
-                *v = v
-                    .replace("sqrt", "\u{1}")
-                    .replace('s', "z")
-                    .replace('\u{1}', "sqrt");
-            }
-        }
-    }
+    speak_of_z(&mut derivation);
     // the prediction gain in the A − KC sign
     let k = design.gain.to_convention(Convention::AMinusKC).matrix;
     let (aq, cq) = (lift(a), lift(c));

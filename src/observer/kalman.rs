@@ -46,6 +46,9 @@ pub enum KalmanError {
     /// The Riccati iteration did not converge to a stabilising solution.
     #[error("the Riccati equation solver did not converge: {0}")]
     NoConvergence(String),
+    /// The float solution failed its check: reported as a failure, never as a filter.
+    #[error("the computed Riccati solution failed its check ({0}): no verified stabilising solution; the problem is too ill-conditioned for f64")]
+    Unverified(String),
     /// A Lyapunov solve failed.
     #[error(transparent)]
     Lyapunov(#[from] LyapunovError),
@@ -53,6 +56,10 @@ pub enum KalmanError {
     #[error(transparent)]
     Linalg(#[from] LinalgError),
 }
+
+/// The relative Riccati residual accepted for a verified filter (see
+/// [`KalmanFilter::residual`]).
+pub const RESIDUAL_TOLERANCE: f64 = 1e-8;
 
 /// White-noise intensities: on the measured input (`C_U`, m×m) and the outputs (`C_Y`, p×p).
 #[derive(Clone, Debug)]
@@ -133,11 +140,19 @@ impl Plant {
     }
 }
 
+/// The largest real part of `f`'s eigenvalues, NaN when any is NaN (a NaN never passes for
+/// stable: `fold(…, f64::max)` would skip it).
 fn largest_real_part(f: &DMatrix<f64>) -> f64 {
     eigenvalues(f)
         .iter()
         .map(|z| z.re)
-        .fold(f64::NEG_INFINITY, f64::max)
+        .fold(f64::NEG_INFINITY, |acc, x| {
+            if acc.is_nan() || x.is_nan() {
+                f64::NAN
+            } else {
+                acc.max(x)
+            }
+        })
 }
 
 /// The steady-state covariance of the estimation error of the observer with gain `L`
@@ -162,7 +177,7 @@ pub fn error_covariance(
     }
     let f = &plant.a - l * &plant.c;
     let worst = largest_real_part(&f);
-    if worst >= 0.0 {
+    if worst.is_nan() || worst >= 0.0 {
         return Err(KalmanError::Unstable(worst));
     }
     let g = &plant.b - l * &plant.d;
@@ -327,7 +342,8 @@ fn kalman_filter_with(
     for _ in 0..50 {
         let l = gain_of(&p);
         let f = &plant.a - &l * c;
-        if largest_real_part(&f) >= 0.0 {
+        let worst = largest_real_part(&f);
+        if worst.is_nan() || worst >= 0.0 {
             return Err(KalmanError::NoConvergence(
                 "the sign-function solution is not stabilising".into(),
             ));
@@ -351,6 +367,19 @@ fn kalman_filter_with(
     let poles = eigenvalues(&f).iter().map(|z| (z.re, z.im)).collect();
     if !residual.is_finite() {
         return Err(KalmanError::NoConvergence("non-finite residual".into()));
+    }
+    // verified, or refused: the residual and the stability of the filter the gain gives (a
+    // NaN fails both)
+    if residual.is_nan() || residual > RESIDUAL_TOLERANCE {
+        return Err(KalmanError::Unverified(format!(
+            "relative Riccati residual {residual:.3e} above {RESIDUAL_TOLERANCE:.0e}"
+        )));
+    }
+    let largest = largest_real_part(&f);
+    if largest.is_nan() || largest >= 0.0 {
+        return Err(KalmanError::Unverified(format!(
+            "A − LC has an eigenvalue with real part {largest:.4e}, not below 0"
+        )));
     }
     Ok(KalmanFilter {
         gain: rows(&l),

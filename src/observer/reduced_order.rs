@@ -17,7 +17,7 @@
 
 use super::DesiredPolynomial;
 use super::{design_with, Convention, DesignError, Detail, GainMethod, ObserverDesign};
-use crate::algebra::{Quadratic, Rational, Ring, Zero};
+use crate::algebra::{Fraction, Quadratic, Rational, Ring, Zero};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
 use crate::poly::Poly;
@@ -120,25 +120,16 @@ pub(crate) fn complete_with_unit_rows(rows: &Matrix<Rational>) -> Matrix<Rationa
 }
 
 /// The gain for (A₂₂, one row of A₁₂): the first output whose row observes A₂₂, with its
-/// design. With one output, the design's own refusal says why (the reduced pair is
-/// unobservable exactly when (A, C) is).
-fn design_for_one_row(
-    a22: &Matrix<Rational>,
-    a12: &Matrix<Rational>,
-    desired: &DesiredPolynomial,
-    method: GainMethod,
-) -> Result<(usize, ObserverDesign), ReducedOrderError> {
+/// design (`design` designs for one row). With one output, the design's own refusal says why
+/// (the reduced pair is unobservable exactly when (A, C) is).
+fn design_for_one_row<F: crate::algebra::Field, D>(
+    a12: &Matrix<F>,
+    mut design: impl FnMut(&Matrix<F>) -> Result<D, DesignError>,
+) -> Result<(usize, D), ReducedOrderError> {
     let (p, m) = (a12.rows(), a12.cols());
     for k in 0..p {
         let row = a12.block(k, k + 1, 0, m);
-        match design_with(
-            a22,
-            &row,
-            desired,
-            method,
-            Convention::AMinusKC,
-            Detail::Full,
-        ) {
+        match design(&row) {
             Ok(design) => return Ok((k, design)),
             // one output: the design's own refusal is the reason, told of the reduced pair
             Err(DesignError::Observability(o)) if p == 1 => {
@@ -155,6 +146,109 @@ fn design_for_one_row(
     Err(ReducedOrderError::NoObservingRow(a12.to_input()))
 }
 
+/// The observer's matrices from the blocks of Q A Q⁻¹ (and Q B), Q⁻¹ and the gain L, over any
+/// field (Q(√d) for numbers, the rational functions of the parameters with parameters): the
+/// formulas of the module doc, each a named step.
+struct Assembled<F> {
+    f: Matrix<F>,
+    g: Matrix<F>,
+    h: Option<Matrix<F>>,
+    direct: Matrix<F>,
+    from_w: Matrix<F>,
+    noise_gain: F,
+}
+
+/// The blocks [A₁₁ A₁₂; A₂₁ A₂₂] of Q A Q⁻¹ and [B₁; B₂] of Q B, with p measured rows.
+struct Blocks<F> {
+    a11: Matrix<F>,
+    a12: Matrix<F>,
+    a21: Matrix<F>,
+    a22: Matrix<F>,
+    b: Option<(Matrix<F>, Matrix<F>)>,
+}
+
+impl<F: crate::algebra::Field> Blocks<F> {
+    fn of(a_bar: &Matrix<F>, b_bar: Option<&Matrix<F>>, p: usize) -> Self {
+        let n = a_bar.rows();
+        Blocks {
+            a11: a_bar.block(0, p, 0, p),
+            a12: a_bar.block(0, p, p, n),
+            a21: a_bar.block(p, n, 0, p),
+            a22: a_bar.block(p, n, p, n),
+            b: b_bar.map(|b| (b.block(0, p, 0, b.cols()), b.block(p, n, 0, b.cols()))),
+        }
+    }
+}
+
+/// L with `column` as its column `k` and zeros elsewhere ((n − p) × p).
+fn gain_matrix<F: crate::algebra::Field>(column: &Matrix<F>, k: usize, p: usize) -> Matrix<F> {
+    Matrix::from_fn(column.rows(), p, |i, j| {
+        if j == k {
+            column.get(i, 0).clone()
+        } else {
+            F::zero()
+        }
+    })
+}
+
+fn assemble<F: crate::algebra::Field>(
+    blocks: &Blocks<F>,
+    q_inv: &Matrix<F>,
+    l: &Matrix<F>,
+    d: &mut Derivation,
+) -> Result<Assembled<F>, LinalgError>
+where
+    Matrix<F>: crate::derivation::Show,
+{
+    let (p, m) = (l.cols(), l.rows());
+    let f = blocks.a22.sub(&l.mul(&blocks.a12)?)?;
+    let g = f.mul(l)?.add(&blocks.a21)?.sub(&l.mul(&blocks.a11)?)?;
+    d.push("L", "gain for the pair (A₂₂, A₁₂)", l);
+    d.push("F", "A₂₂ − L A₁₂", &f);
+    d.push("G", "F L + A₂₁ − L A₁₁", &g);
+    let h = match &blocks.b {
+        Some((b1, b2)) => {
+            let h = b2.sub(&l.mul(b1)?)?;
+            d.push("H", "B₂ − L B₁", &h);
+            Some(h)
+        }
+        None => None,
+    };
+    let direct = q_inv.mul(&Matrix::identity(p).vstack(l)?)?;
+    let from_w = q_inv.mul(&Matrix::zeros(p, m).vstack(&Matrix::identity(m))?)?;
+    d.push("D_y", "Q⁻¹ [I; L]: y straight into x̂", &direct);
+    d.push("M", "Q⁻¹ [0; I]: w into x̂", &from_w);
+    let noise_gain = direct
+        .entries()
+        .iter()
+        .fold(F::zero(), |acc, x| acc + x.clone() * x.clone());
+    Ok(Assembled {
+        f,
+        g,
+        h,
+        direct,
+        from_w,
+        noise_gain,
+    })
+}
+
+/// C's checks: full row rank, fewer rows than states.
+fn check_c(c: &Matrix<Rational>, n: usize) -> Result<usize, ReducedOrderError> {
+    let p = c.rows();
+    let rank = linalg::rank(c);
+    if rank != p || c.cols() != n {
+        return Err(ReducedOrderError::RankDeficientC {
+            rows: p,
+            cols: c.cols(),
+            rank,
+        });
+    }
+    if p == n {
+        return Err(ReducedOrderError::NothingToObserve(n));
+    }
+    Ok(p)
+}
+
 /// Designs a reduced-order observer for (A, C) (and B, when given) whose error polynomial is
 /// `desired`, of degree n − p, in the convention asked for (the gain printed as L of
 /// A₂₂ − L A₁₂, or its negative for a+lc).
@@ -169,61 +263,36 @@ pub fn reduced_order_observer(
     desired: &DesiredPolynomial,
     method: GainMethod,
 ) -> Result<ReducedOrderObserver, ReducedOrderError> {
-    let (n, p) = (a.rows(), c.rows());
-    let rank = linalg::rank(c);
-    if rank != p || c.cols() != n {
-        return Err(ReducedOrderError::RankDeficientC {
-            rows: p,
-            cols: c.cols(),
-            rank,
-        });
-    }
-    if p == n {
-        return Err(ReducedOrderError::NothingToObserve(n));
-    }
+    let p = check_c(c, a.rows())?;
     let mut d = Derivation::new("Reduced-order observer (Gopinath), A₂₂ − L A₁₂ convention");
     let q = complete_with_unit_rows(c);
     let q_inv = linalg::inverse(&q)?;
     d.push("Q", "[C; R], R unit rows completing C", &q);
     let a_bar = q.mul(a)?.mul(&q_inv)?;
     d.push("Q A Q⁻¹", "[A₁₁ A₁₂; A₂₁ A₂₂]", &a_bar);
-    let a11 = a_bar.block(0, p, 0, p);
-    let a12 = a_bar.block(0, p, p, n);
-    let a21 = a_bar.block(p, n, 0, p);
-    let a22 = a_bar.block(p, n, p, n);
-    let (k, design) = design_for_one_row(&a22, &a12, desired, method)?;
+    let blocks = Blocks::of(&a_bar, None, p);
+    let (k, design) = design_for_one_row(&blocks.a12, |row| {
+        design_with(
+            &blocks.a22,
+            row,
+            desired,
+            method,
+            Convention::AMinusKC,
+            Detail::Full,
+        )
+    })?;
     d.extend(design.derivation.clone());
-    let column = design.gain.matrix.clone();
-    let l = Matrix::from_fn(n - p, p, |i, j| {
-        if j == k {
-            column.get(i, 0).clone()
-        } else {
-            Quadratic::zero()
-        }
-    });
-    let f = lift(&a22).sub(&l.mul(&lift(&a12))?)?;
-    let g = f.mul(&l)?.add(&lift(&a21))?.sub(&l.mul(&lift(&a11))?)?;
-    d.push("L", "gain for the pair (A₂₂, A₁₂)", &l);
-    d.push("F", "A₂₂ − L A₁₂", &f);
-    d.push("G", "F L + A₂₁ − L A₁₁", &g);
-    let h = match b {
-        Some(b) => {
-            let b_bar = q.mul(b)?;
-            let (b1, b2) = (
-                b_bar.block(0, p, 0, b.cols()),
-                b_bar.block(p, n, 0, b.cols()),
-            );
-            let h = lift(&b2).sub(&l.mul(&lift(&b1))?)?;
-            d.push("H", "B₂ − L B₁", &h);
-            Some(h)
-        }
-        None => None,
-    };
-    let stacked_direct = Matrix::identity(p).vstack(&l)?;
-    let direct = lift(&q_inv).mul(&stacked_direct)?;
-    let from_w = lift(&q_inv).mul(&Matrix::zeros(p, n - p).vstack(&Matrix::identity(n - p))?)?;
-    d.push("D_y", "Q⁻¹ [I; L]: y straight into x̂", &direct);
-    d.push("M", "Q⁻¹ [0; I]: w into x̂", &from_w);
+    let l = gain_matrix(&design.gain.matrix, k, p);
+    let b_bar = b.map(|b| q.mul(b)).transpose()?;
+    let lifted = Blocks::of(&lift(&a_bar), b_bar.map(|b| lift(&b)).as_ref(), p);
+    let Assembled {
+        f,
+        g,
+        h,
+        direct,
+        from_w,
+        noise_gain,
+    } = assemble(&lifted, &lift(&q_inv), &l, &mut d)?;
     // F = A₂₂ − l a₁₂ₖ with l the one nonzero column k of L: a rank-one update of A₂₂, so
     // det(sI − F) is the polynomial the design recomputed from its gain for the pair
     // (A₂₂, a₁₂ₖ) by the rank-one update (det(sI − A₂₂) + a₁₂ₖ adj(sI − A₂₂) l), whatever the
@@ -234,10 +303,6 @@ pub fn reduced_order_observer(
         "check: the error polynomial, degree n − p",
         &error_polynomial,
     );
-    let noise_gain = direct
-        .entries()
-        .iter()
-        .fold(Quadratic::zero(), |acc, x| acc + x.clone() * x.clone());
     Ok(ReducedOrderObserver {
         q,
         a_bar,
@@ -251,6 +316,111 @@ pub fn reduced_order_observer(
         error_polynomial,
         noise_gain,
         design,
+        derivation: d,
+    })
+}
+
+/// A reduced-order observer designed with parameters ([`reduced_order_symbolic`]).
+#[derive(Debug, Clone)]
+pub struct SymbolicReduced {
+    /// Q = [C; R] (C in numbers).
+    pub q: Matrix<Rational>,
+    /// Q A Q⁻¹.
+    pub a_bar: Matrix<Fraction>,
+    /// The gain L in the A₂₂ − L A₁₂ sign.
+    pub l: Matrix<Fraction>,
+    /// Which output's row of A₁₂ the gain was designed with (0-based), when p > 1.
+    pub output: Option<usize>,
+    /// F = A₂₂ − L A₁₂.
+    pub f: Matrix<Fraction>,
+    /// G = F L + A₂₁ − L A₁₁.
+    pub g: Matrix<Fraction>,
+    /// H = B₂ − L B₁ (when B is given).
+    pub h: Option<Matrix<Fraction>>,
+    /// D_y = Q⁻¹ [I; L].
+    pub direct: Matrix<Fraction>,
+    /// M = Q⁻¹ [0; I].
+    pub from_w: Matrix<Fraction>,
+    /// det(sI − F), recomputed from the gain by the rank-one update.
+    pub error_polynomial: Poly<Fraction>,
+    /// Whether it equals the desired polynomial identically in s and the parameters.
+    pub identity: bool,
+    /// Σ D_y².
+    pub noise_gain: Fraction,
+    /// The reduced pair designed for: A₂₂ and the row of A₁₂ (where it is unobservable, the
+    /// design breaks).
+    pub reduced_pair: (Matrix<Fraction>, Matrix<Fraction>),
+    /// The steps, in symbols.
+    pub derivation: Derivation,
+}
+
+/// [`reduced_order_observer`] for a plant with parameters in A (and B) and C in numbers (the
+/// measured combinations): Q = [C; R] in numbers, the blocks of Q A Q⁻¹ and the gain for
+/// (A₂₂, a row of A₁₂) as rational functions of the parameters, the error polynomial checked as
+/// an identity.
+///
+/// # Errors
+/// As [`reduced_order_observer`]; an unobservable reduced pair means unobservable for every
+/// value of the parameters.
+pub fn reduced_order_symbolic(
+    a: &Matrix<Fraction>,
+    b: Option<&Matrix<Fraction>>,
+    c: &Matrix<Rational>,
+    desired: &Poly<Fraction>,
+    method: GainMethod,
+) -> Result<SymbolicReduced, ReducedOrderError> {
+    let p = check_c(c, a.rows())?;
+    let lift = |m: &Matrix<Rational>| m.map(|x| Fraction::constant(x.clone()));
+    let mut d = Derivation::new("Reduced-order observer (Gopinath), A₂₂ − L A₁₂ convention");
+    let q = complete_with_unit_rows(c);
+    let q_inv = linalg::inverse(&q)?;
+    d.push("Q", "[C; R], R unit rows completing C", &q);
+    let a_bar = lift(&q).mul(a)?.mul(&lift(&q_inv))?;
+    d.push("Q A Q⁻¹", "[A₁₁ A₁₂; A₂₁ A₂₂]", &a_bar);
+    let b_bar = b.map(|b| lift(&q).mul(b)).transpose()?;
+    let blocks = Blocks::of(&a_bar, b_bar.as_ref(), p);
+    let (k, design) = design_for_one_row(&blocks.a12, |row| {
+        super::design_symbolic(
+            &blocks.a22,
+            row,
+            desired,
+            method,
+            Convention::AMinusKC,
+            Detail::Full,
+        )
+    })?;
+    d.extend(design.derivation.clone());
+    let l = gain_matrix(&design.gain.matrix, k, p);
+    let Assembled {
+        f,
+        g,
+        h,
+        direct,
+        from_w,
+        noise_gain,
+    } = assemble(&blocks, &lift(&q_inv), &l, &mut d)?;
+    // as in the numeric design: F is the rank-one update of A₂₂ the design checked
+    let error_polynomial = design.achieved.clone();
+    d.push(
+        "det(sI − F)",
+        "check: the error polynomial, degree n − p",
+        &error_polynomial,
+    );
+    let m = blocks.a12.cols();
+    Ok(SymbolicReduced {
+        q,
+        a_bar,
+        l,
+        output: (p > 1).then_some(k),
+        f,
+        g,
+        h,
+        direct,
+        from_w,
+        error_polynomial,
+        identity: design.identity,
+        noise_gain,
+        reduced_pair: (blocks.a22.clone(), blocks.a12.block(k, k + 1, 0, m)),
         derivation: d,
     })
 }
