@@ -233,8 +233,8 @@ fn bench_commands(c: &mut Criterion) {
     g.finish();
 }
 
-/// The commands that do not scale with an order: `optimal` (two outputs of a 5-state plant,
-/// 4 seeded starts), `verify` (one worked example), `check` (an answer file), `exercise new`,
+/// The commands that do not scale with an order: `optimal` (two outputs of a 3-state plant,
+/// 8 seeded starts), `verify` (one worked example), `check` (an answer file), `exercise new`,
 /// `grade` (a class of 30 submissions, the report written to a temporary folder) — each as
 /// the command line reads it, run by `api::run`.
 fn bench_fixed_commands(c: &mut Criterion) {
@@ -261,17 +261,17 @@ fn bench_fixed_commands(c: &mut Criterion) {
     );
     let lines: [(&str, Vec<&str>); 5] = [
         (
-            "optimal j1, n = 5, 4 starts",
+            "optimal j1, n = 3, 8 starts",
             vec![
                 "optimal",
                 "--a",
-                "[0 1 0 0 0; 0 0 1 0 0; 0 0 0 1 0; 0 0 0 0 1; -1 -2 -3 -4 -5]",
+                "[0 1 0; 0 0 1; 1 2 3]",
                 "--c",
-                "[1 0 0 0 0; 0 0 1 0 0]",
+                "[1 0 0; 0 1 0]",
                 "--poles",
-                "-1, -2, -3, -4, -5",
+                "-1+2i, -1-2i, -3",
                 "--starts",
-                "4",
+                "8",
             ],
         ),
         (
