@@ -220,10 +220,12 @@ pub fn observer_based_control<F: Field>(
     d.push("A + BF + LC", "controller state matrix", &a_k);
     let controller = siso_transfer_function(&a_k, l, &f.neg(), &zero)?;
     d.push("K(s)", "−F (sI − A − BF − LC)⁻¹ L", &controller);
-    let one = RationalFunction::from_poly(Poly::constant(F::one(), "s"));
-    let loop_tf = one - controller.clone() * plant.clone();
-    let closed_loop = plant
-        .checked_div(&loop_tf)
+    // G (1 − K G)⁻¹ = n_G d_K / (d_G d_K − n_K n_G), reduced once at the end (the same lowest
+    // terms as reducing after each operation, with one polynomial gcd instead of three)
+    let (n_g, d_g) = (plant.numerator(), plant.denominator());
+    let (n_k, d_k) = (controller.numerator(), controller.denominator());
+    let loop_denominator = d_g.clone() * d_k.clone() - n_k.clone() * n_g.clone();
+    let closed_loop = RationalFunction::new(n_g.clone() * d_k.clone(), loop_denominator)
         .ok_or(ControlError::DegenerateLoop)?;
     d.push("G (1 − K G)⁻¹", "closed loop", &closed_loop);
     d.push(
