@@ -703,3 +703,24 @@ fn reduced_order_designs_with_parameters() {
     assert_eq!(code, 2);
     assert!(err.contains("--c") && err.contains("--at"), "{err}");
 }
+
+/// Every operation of the rational functions is charged to the work meter before it multiplies
+/// (a cli fuzz finding: a gain with seven parameters, i and √2 ran 1.3 s after the meter had run
+/// out, in divisions that were never charged); the budget now stops it at once.
+#[test]
+fn the_work_budget_stops_divisions_too() {
+    let start = std::time::Instant::now();
+    let (code, _, err) = owb(&[
+        "gain",
+        "--a",
+        "[0 1 0; 0 0 1; h-1 -2 -pylo3eeeeee---a-geeeeeeeeeeeeeeeeeeeee-c-eeonventio--periodmethode]",
+        "--c",
+        "[--i--indexndex5 0 -ncoe-vntion0]",
+        "--butterworth",
+        "1-2",
+    ]);
+    let took = start.elapsed();
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("units of work"), "{err}");
+    assert!(took < std::time::Duration::from_secs(1), "took {took:?}");
+}

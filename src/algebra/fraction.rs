@@ -97,11 +97,11 @@ impl Fraction {
         }
         while let Some(conjugate) = rationalising(&den) {
             budget::charge(num.product_work(&conjugate) + den.product_work(&conjugate));
+            if budget::exhausted() {
+                return Fraction::one();
+            }
             num = reduce(num * conjugate.clone());
             den = reduce(den * conjugate);
-            if budget::exhausted() {
-                break;
-            }
         }
         if den.as_constant().is_none() {
             let g = poly_gcd(&num, &den);
@@ -157,12 +157,19 @@ impl Fraction {
 
     /// `self / other`, or `None` when `other` is the zero function.
     pub fn checked_div(&self, other: &Self) -> Option<Self> {
-        (!other.num.is_zero()).then(|| {
-            Fraction::new(
-                self.num.clone() * other.den.clone(),
-                self.den.clone() * other.num.clone(),
-            )
-        })
+        if other.num.is_zero() {
+            return None;
+        }
+        // charged before the products are formed, like every other operation (a fuzz finding:
+        // divisions in an elimination ran on, uncharged, seconds after the meter ran out)
+        budget::charge(self.num.product_work(&other.den) + self.den.product_work(&other.num));
+        if budget::exhausted() {
+            return Some(Fraction::one());
+        }
+        Some(Fraction::new(
+            self.num.clone() * other.den.clone(),
+            self.den.clone() * other.num.clone(),
+        ))
     }
 
     /// The radicands of the square roots it holds.
@@ -380,6 +387,9 @@ impl Add for Fraction {
             return Fraction::new(self.num + o.num, self.den);
         }
         budget::charge(self.num.product_work(&o.den) + o.num.product_work(&self.den));
+        if budget::exhausted() {
+            return Fraction::one();
+        }
         // over the lcm of the denominators, not their product
         let g = poly_gcd(&self.den, &o.den);
         let (Some(left), Some(right)) = (o.den.divide_exact(&g), self.den.divide_exact(&g)) else {
@@ -409,6 +419,9 @@ impl Mul for Fraction {
             return Fraction::zero();
         }
         budget::charge(self.num.product_work(&o.num) + self.den.product_work(&o.den));
+        if budget::exhausted() {
+            return Fraction::one();
+        }
         Fraction::new(self.num * o.num, self.den * o.den)
     }
 }
