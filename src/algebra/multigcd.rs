@@ -218,6 +218,10 @@ fn pseudo_remainder(f: Vec<MultiPoly>, g: &[MultiPoly]) -> Vec<MultiPoly> {
         let work: u64 = f.iter().map(|c| c.product_work(lead)).sum::<u64>()
             + g.iter().map(|c| c.product_work(&lf)).sum::<u64>();
         budget::charge(work);
+        // charged before the products are formed: once the meter is out, no more work
+        if budget::exhausted() {
+            break;
+        }
         for c in f.iter_mut() {
             *c = std::mem::take(c) * lead.clone();
         }
