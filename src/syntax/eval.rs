@@ -548,7 +548,7 @@ fn bound_rf_power_work<F: Field + FromExpr>(
     exponent: u64,
     ctx: &mut Context,
 ) -> Result<(), SyntaxError> {
-    if !base.denominator().degree().is_some_and(|d| d > 0) {
+    if base.denominator().degree().is_none_or(|d| d == 0) {
         return Ok(());
     }
     let largest = coefficients(base)
