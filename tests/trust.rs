@@ -956,6 +956,24 @@ fn a_huge_answer_is_told_its_shape() {
     );
 }
 
+/// `count` entries −9…9 (each followed by `suffix`, e.g. `/40`) from a fixed linear
+/// congruential sequence seeded with `seed`: reproducible dense plants for the large cases.
+fn lcg_entries(seed: u64, count: usize, suffix: &str) -> Vec<String> {
+    let mut x = seed;
+    (0..count)
+        .map(|_| {
+            x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            format!("{}{suffix}", ((x >> 33) % 19) as i64 - 9)
+        })
+        .collect()
+}
+
+/// `entries` as a matrix of `cols` columns in the workbench's syntax.
+fn matrix_text(entries: &[String], cols: usize) -> String {
+    let rows: Vec<String> = entries.chunks(cols).map(|r| r.join(" ")).collect();
+    format!("[{}]", rows.join("; "))
+}
+
 /// Every computing command runs under a time budget: an order-80 canonical form (a minute of
 /// exact work on the 2-core machine) stops at the budget with an error naming it — as JSON
 /// under `--json` — instead of running for minutes; the budget is checked as a number of
@@ -963,29 +981,9 @@ fn a_huge_answer_is_told_its_shape() {
 #[test]
 fn a_computation_past_its_time_budget_stops_with_the_limit_named() {
     let n = 80;
-    // a dense integer plant, entries −9…9 from a fixed linear congruential sequence
-    let mut x: u64 = 7;
-    let mut entry = || {
-        x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
-        ((x >> 33) % 19) as i64 - 9
-    };
-    let a = format!(
-        "[{}]",
-        (0..n)
-            .map(|_| (0..n)
-                .map(|_| entry().to_string())
-                .collect::<Vec<_>>()
-                .join(" "))
-            .collect::<Vec<_>>()
-            .join("; ")
-    );
-    let c = format!(
-        "[{}]",
-        (0..n)
-            .map(|_| entry().to_string())
-            .collect::<Vec<_>>()
-            .join(" ")
-    );
+    let entries = lcg_entries(7, n * n + n, "");
+    let a = matrix_text(&entries[..n * n], n);
+    let c = matrix_text(&entries[n * n..], n);
     let (code, out, err, took) = owb_within(
         &[
             "canonical",
@@ -1050,18 +1048,7 @@ fn a_computation_past_its_time_budget_stops_with_the_limit_named() {
 #[test]
 fn dlqe_tries_the_exact_read_back_only_within_its_budget() {
     let n = 50;
-    let mut x: u64 = 3;
-    let mut entry = || {
-        x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
-        format!("{}/40", ((x >> 33) % 19) as i64 - 9)
-    };
-    let a = format!(
-        "[{}]",
-        (0..n)
-            .map(|_| (0..n).map(|_| entry()).collect::<Vec<_>>().join(" "))
-            .collect::<Vec<_>>()
-            .join("; ")
-    );
+    let a = matrix_text(&lcg_entries(3, n * n, "/40"), n);
     let c = format!("[1{}]", " 0".repeat(n - 1));
     let qn = format!(
         "[{}]",

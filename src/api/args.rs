@@ -229,6 +229,21 @@ pub fn mentions_parameters(text: &str) -> bool {
     )
 }
 
+/// Numbers from values read with `--at` substituted; a value still holding a parameter is
+/// named, with the flag.
+pub fn numbers(flag: &str, read: Vec<Fraction>) -> Result<Vec<Quadratic>> {
+    read.iter()
+        .map(|x| {
+            x.as_quadratic().ok_or_else(|| {
+                anyhow!(
+                    "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
+                    x.symbols().join(", ")
+                )
+            })
+        })
+        .collect()
+}
+
 /// A polynomial flag in `s` with the values of `--at` substituted.
 pub fn polynomial_at(flag: &str, text: &str, values: &Environment) -> Result<Poly<Rational>> {
     let read = DesiredRequest::Poly(text)
@@ -683,18 +698,7 @@ impl DesiredArgs {
         if values.is_empty() || request.parameters(&Environment::new()).is_empty() {
             return self.parse(n);
         }
-        let numbers = |xs: Vec<Fraction>| -> Result<Vec<Quadratic>> {
-            xs.iter()
-                .map(|x| {
-                    x.as_quadratic().ok_or_else(|| {
-                        anyhow!(
-                            "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
-                            x.symbols().join(", ")
-                        )
-                    })
-                })
-                .collect()
-        };
+        let numbers = |xs: Vec<Fraction>| numbers(&flag, xs);
         let read = request
             .values(values)
             .map_err(|e| anyhow!("in {flag}: {e}"))?;

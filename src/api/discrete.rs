@@ -89,21 +89,6 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Numbers from values read with `--at` substituted; a value still holding a parameter is
-/// named, with the flag.
-fn numbers(flag: &str, read: Vec<Fraction>) -> Result<Vec<Quadratic>> {
-    read.iter()
-        .map(|x| {
-            x.as_quadratic().ok_or_else(|| {
-                anyhow!(
-                    "in {flag}: {x} still has {} without a value (give it in --at NAME=VALUE)",
-                    x.symbols().join(", ")
-                )
-            })
-        })
-        .collect()
-}
-
 fn desired(
     args: &Args,
     n: usize,
@@ -127,13 +112,16 @@ fn desired(
                     read.len()
                 );
             }
-            DesiredPolynomial::from_poles(&numbers("--poles", read)?)?
+            DesiredPolynomial::from_poles(&super::args::numbers("--poles", read)?)?
         } else if let Some(p) = args.poly.as_ref().filter(|p| {
             !values.is_empty() && !crate::symbolic::polynomial_parameters(p, "z").is_empty()
         }) {
             let read = crate::symbolic::coefficients_in(p, "z", values)
                 .map_err(|e| anyhow!("in --poly: {e}"))?;
-            DesiredPolynomial::from_polynomial(Poly::new(numbers("--poly", read)?, "s"), n)?
+            DesiredPolynomial::from_polynomial(
+                Poly::new(super::args::numbers("--poly", read)?, "s"),
+                n,
+            )?
         } else if let Some(p) = &args.poles {
             super::args::poles_flag("--poles", p, n)?
         } else if let Some(p) = &args.poly {
@@ -223,7 +211,6 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         estimator,
         Detail::Full,
     )?;
-    let letter = convention.letter();
     let polynomial = d.error_polynomial.to_input();
     if args.json {
         let mut out = json!({
@@ -244,38 +231,61 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         return Ok(Outcome::Ok);
     }
     rep.derivation(&d.derivation);
+    result_lines(
+        rep,
+        (estimator, convention, method),
+        &d.design.gain.matrix.to_input(),
+        d.current_gain.as_ref().map(|l| l.to_input()),
+        &d.error_polynomial,
+    );
+    stability_line(
+        rep,
+        d.stable,
+        "not decided exactly (irrational coefficients)",
+    );
+    if let Some(k) = d.nilpotent_index {
+        outln!(rep, "  dead-beat: the error matrix is nilpotent, (error matrix)^{k} = 0 exactly, so e({k}) = 0 for every initial error");
+    }
+    Ok(Outcome::Ok)
+}
+
+/// The result's opening lines, numbers or formulas alike: the title, the prediction gain, the
+/// current estimator's gain (when asked) and the error polynomial.
+fn result_lines(
+    rep: &mut Report,
+    (estimator, convention, method): (Estimator, Convention, crate::observer::GainMethod),
+    gain: &str,
+    current_gain: Option<String>,
+    error_polynomial: &dyn std::fmt::Display,
+) {
+    let letter = convention.letter();
     outln!(
         rep,
         "Result (discrete time, {} estimator, {convention} convention, {method} method):",
         estimator.flag()
     );
-    outln!(
-        rep,
-        "  {letter} = {} (prediction gain)",
-        d.design.gain.matrix.to_input()
-    );
-    if let Some(l) = &d.current_gain {
-        outln!(rep, "  {letter}_c = {} (current estimator: x̂(k) = x̄(k) + {letter}_c (y(k) − C x̄(k)) in the A − KC sign)", l.to_input());
+    outln!(rep, "  {letter} = {gain} (prediction gain)");
+    if let Some(l) = current_gain {
+        outln!(rep, "  {letter}_c = {l} (current estimator: x̂(k) = x̄(k) + {letter}_c (y(k) − C x̄(k)) in the A − KC sign)");
     }
     outln!(
         rep,
-        "  error polynomial det(zI − {}) = {}",
+        "  error polynomial det(zI − {}) = {error_polynomial}",
         if estimator == Estimator::Current {
             "(A − L_c C A)"
         } else {
             "(A − KC)"
-        },
-        d.error_polynomial
+        }
     );
-    match d.stable {
+}
+
+/// Whether the error decays, decided exactly; `undecided` says why it was not.
+fn stability_line(rep: &mut Report, stable: Option<bool>, undecided: &str) {
+    match stable {
         Some(true) => outln!(rep, "  every root strictly inside the unit circle (exact test): the estimation error decays"),
         Some(false) => outln!(rep, "  NOT every root inside the unit circle (exact test): the estimation error does not decay"),
-        None => outln!(rep, "  stability not decided exactly (irrational coefficients)"),
+        None => outln!(rep, "  stability {undecided}"),
     }
-    if let Some(k) = d.nilpotent_index {
-        outln!(rep, "  dead-beat: the error matrix is nilpotent, (error matrix)^{k} = 0 exactly, so e({k}) = 0 for every initial error");
-    }
-    Ok(Outcome::Ok)
 }
 
 /// The desired polynomial in z of a design with parameters, as a polynomial in `s` over the
@@ -313,6 +323,31 @@ fn symbolic_nilpotent_index(m: &Matrix<Fraction>) -> Result<Option<usize>> {
     Ok(None)
 }
 
+/// The error matrix of the estimator asked for (A − KC, or A − L_c C A with L_c = A⁻¹K), the
+/// current gain L_c, and the dead-beat index, over the rational functions of the parameters.
+type SymbolicError = (Matrix<Fraction>, Option<Matrix<Fraction>>, Option<usize>);
+
+fn symbolic_error_matrix(
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    k: &Matrix<Fraction>,
+    estimator: Estimator,
+) -> Result<SymbolicError> {
+    let (m, l_c) = match estimator {
+        Estimator::Prediction => (a.sub(&k.mul(c)?)?, None),
+        Estimator::Current => {
+            let a_inv = crate::linalg::inverse(a).map_err(|_| {
+                anyhow!("the current estimator needs A invertible: det A is zero for every value of the parameters")
+            })?;
+            let l_c = a_inv.mul(k)?;
+            let m = a.sub(&l_c.mul(&c.mul(a)?)?)?;
+            (m, Some(l_c))
+        }
+    };
+    let nilpotent = symbolic_nilpotent_index(&m)?;
+    Ok((m, l_c, nilpotent))
+}
+
 /// `owb discrete` with parameters: the gain's steps in symbols (renamed to z), the error
 /// polynomial checked as an identity, the current estimator's A⁻¹K where det A ≠ 0, dead-beat
 /// proved by the powers of the error matrix, and where the result breaks.
@@ -345,22 +380,8 @@ fn symbolic(
     let mut derivation = design.derivation.clone();
     speak_of_z(&mut derivation);
     let k = design.gain.to_convention(Convention::AMinusKC).matrix;
-    let (error_matrix, current_gain, nilpotent) = work.run(|| -> Result<_> {
-        let prediction = a.sub(&k.mul(c)?)?;
-        let (m, l_c) = match estimator {
-            Estimator::Prediction => (prediction, None),
-            Estimator::Current => {
-                let a_inv = crate::linalg::inverse(a).map_err(|_| {
-                    anyhow!("the current estimator needs A invertible: det A is zero for every value of the parameters")
-                })?;
-                let l_c = a_inv.mul(&k)?;
-                let m = a.sub(&l_c.mul(&c.mul(a)?)?)?;
-                (m, Some(l_c))
-            }
-        };
-        let nilpotent = symbolic_nilpotent_index(&m)?;
-        Ok((m, l_c, nilpotent))
-    })??;
+    let (error_matrix, current_gain, nilpotent) =
+        work.run(|| symbolic_error_matrix(a, c, &k, estimator))??;
     if let Some(l_c) = &current_gain {
         let det = work.run(|| crate::linalg::determinant(a))??;
         work.exceptions.add(
@@ -411,29 +432,12 @@ fn symbolic(
         .transpose()?;
     work.answer(rep, json, |rep| {
         rep.derivation(&derivation);
-        let letter = convention.letter();
-        outln!(
+        result_lines(
             rep,
-            "Result (discrete time, {} estimator, {convention} convention, {method} method):",
-            estimator.flag()
-        );
-        outln!(
-            rep,
-            "  {letter} = {} (prediction gain)",
-            design.gain.matrix.to_input()
-        );
-        if let Some(l) = &shown_current {
-            outln!(rep, "  {letter}_c = {} (current estimator, in the A − KC sign of x̂(k) = x̄(k) + {letter}_c (y(k) − C x̄(k)))", l.to_input());
-        }
-        outln!(
-            rep,
-            "  error polynomial det(zI − {}) = {}",
-            if estimator == Estimator::Current {
-                "(A − L_c C A)"
-            } else {
-                "(A − KC)"
-            },
-            error_polynomial
+            (estimator, convention, method),
+            &design.gain.matrix.to_input(),
+            shown_current.as_ref().map(|l| l.to_input()),
+            &error_polynomial,
         );
         outln!(
             rep,
@@ -447,11 +451,11 @@ fn symbolic(
                 "the error polynomial differs from the desired polynomial".to_string()
             }
         );
-        match stable {
-            Some(true) => outln!(rep, "  every root strictly inside the unit circle (exact test): the estimation error decays"),
-            Some(false) => outln!(rep, "  NOT every root inside the unit circle (exact test): the estimation error does not decay"),
-            None => outln!(rep, "  stability depends on the parameters (the polynomial's coefficients are not numbers)"),
-        }
+        stability_line(
+            rep,
+            stable,
+            "depends on the parameters (the polynomial's coefficients are not numbers)",
+        );
         if let Some(k) = nilpotent {
             outln!(rep, "  dead-beat: (error matrix)^{k} = 0 identically in the parameters, so e({k}) = 0 for every initial error");
         }

@@ -140,6 +140,23 @@ impl Plant {
     }
 }
 
+/// A filter is reported only when verified: its relative Riccati residual within
+/// [`RESIDUAL_TOLERANCE`] and its A − LC (`f`) stable; a NaN fails both.
+fn verified(residual: f64, f: &DMatrix<f64>) -> Result<(), KalmanError> {
+    if residual.is_nan() || residual > RESIDUAL_TOLERANCE {
+        return Err(KalmanError::Unverified(format!(
+            "relative Riccati residual {residual:.3e} above {RESIDUAL_TOLERANCE:.0e}"
+        )));
+    }
+    let largest = largest_real_part(f);
+    if largest.is_nan() || largest >= 0.0 {
+        return Err(KalmanError::Unverified(format!(
+            "A − LC has an eigenvalue with real part {largest:.4e}, not below 0"
+        )));
+    }
+    Ok(())
+}
+
 /// The largest real part of `f`'s eigenvalues, NaN when any is NaN (a NaN never passes for
 /// stable: `fold(…, f64::max)` would skip it).
 fn largest_real_part(f: &DMatrix<f64>) -> f64 {
@@ -368,19 +385,7 @@ fn kalman_filter_with(
     if !residual.is_finite() {
         return Err(KalmanError::NoConvergence("non-finite residual".into()));
     }
-    // verified, or refused: the residual and the stability of the filter the gain gives (a
-    // NaN fails both)
-    if residual.is_nan() || residual > RESIDUAL_TOLERANCE {
-        return Err(KalmanError::Unverified(format!(
-            "relative Riccati residual {residual:.3e} above {RESIDUAL_TOLERANCE:.0e}"
-        )));
-    }
-    let largest = largest_real_part(&f);
-    if largest.is_nan() || largest >= 0.0 {
-        return Err(KalmanError::Unverified(format!(
-            "A − LC has an eigenvalue with real part {largest:.4e}, not below 0"
-        )));
-    }
+    verified(residual, &f)?;
     Ok(KalmanFilter {
         gain: rows(&l),
         covariance: rows(&p),
