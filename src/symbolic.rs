@@ -105,15 +105,39 @@ pub fn check_parameters(names: &[String]) -> Result<(), SymbolicError> {
 
 /// Runs a symbolic computation under the work budget: its result, or
 /// [`SymbolicError::TooMuchWork`] when the meter ran out (whatever the computation returned).
+/// Inside a computation already under a budget, `work` shares it (so nested steps cannot each
+/// spend a whole budget).
 ///
 /// # Errors
 /// [`SymbolicError::TooMuchWork`].
 pub fn within_budget<T>(work: impl FnOnce() -> T) -> Result<T, SymbolicError> {
-    let meter = budget::Meter::open(WORK_BUDGET);
+    if budget::is_open() {
+        let out = work();
+        if budget::exhausted() {
+            return Err(SymbolicError::TooMuchWork {
+                budget: WORK_BUDGET,
+            });
+        }
+        return Ok(out);
+    }
+    within_budget_left(&std::cell::Cell::new(WORK_BUDGET), work)
+}
+
+/// Runs `work` under what is `left` of a budget shared by several steps (a command's), and
+/// keeps what it did not spend in `left`: the steps together spend at most [`WORK_BUDGET`].
+///
+/// # Errors
+/// [`SymbolicError::TooMuchWork`] when the budget ran out.
+pub fn within_budget_left<T>(
+    left: &std::cell::Cell<u64>,
+    work: impl FnOnce() -> T,
+) -> Result<T, SymbolicError> {
+    let meter = budget::Meter::open(left.get());
     let out = work();
+    left.set(budget::left().unwrap_or(0));
     if meter.exhausted() {
         return Err(SymbolicError::TooMuchWork {
-            budget: meter.budget(),
+            budget: WORK_BUDGET,
         });
     }
     Ok(out)

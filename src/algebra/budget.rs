@@ -28,6 +28,16 @@ pub fn charge(work: u64) {
     });
 }
 
+/// Whether a meter is open on this thread.
+pub fn is_open() -> bool {
+    LEFT.with(Cell::get).is_some()
+}
+
+/// The work left on the open meter (`None` without one).
+pub fn left() -> Option<u64> {
+    LEFT.with(Cell::get)
+}
+
 /// Whether the open meter has run out.
 pub fn exhausted() -> bool {
     OUT.with(Cell::get)

@@ -203,8 +203,7 @@ fn symbolic(
                 )
             })??;
             work.controllability(a, &b)?;
-            work.exceptions
-                .add_denominators(design.gain.entries(), "a denominator of F");
+            work.note_denominators(design.gain.entries(), "a denominator of F")?;
             design.gain
         }
         (None, None) => bail!("give --f or --feedback-poly"),

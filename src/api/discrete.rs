@@ -384,12 +384,11 @@ fn symbolic(
         work.run(|| symbolic_error_matrix(a, c, &k, estimator))??;
     if let Some(l_c) = &current_gain {
         let det = work.run(|| crate::linalg::determinant(a))??;
-        work.exceptions.add(
+        work.note(
             det.numerator(),
             "det A: the current estimator needs A invertible",
-        );
-        work.exceptions
-            .add_denominators(l_c.entries(), "a denominator of L_c");
+        )?;
+        work.note_denominators(l_c.entries(), "a denominator of L_c")?;
         derivation.push("L_c", "A⁻¹ K (current estimator)", l_c);
         derivation.push("A − L_c C A", "error matrix of x̂", &error_matrix);
     }

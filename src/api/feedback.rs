@@ -159,8 +159,7 @@ fn symbolic(
             e => e.into(),
         })?;
     work.controllability(a, b)?;
-    work.exceptions
-        .add_denominators(d.gain.entries(), "a denominator of the gain");
+    work.note_denominators(d.gain.entries(), "a denominator of the gain")?;
     let json = args
         .json
         .then(|| -> Result<serde_json::Value> {

@@ -191,10 +191,11 @@ impl SymbolicObservability {
             .run(|| Unobservable::of(a, &o))?
             .ok_or_else(|| anyhow::anyhow!("in --a: the unobservable part cannot be computed"))?;
         let det = work.run(|| super::parametric::observability_determinant(a, c))?;
-        let factors = det
-            .as_ref()
-            .map(|d| crate::symbolic::factors(d.numerator()))
-            .unwrap_or_default();
+        let factors = work.run(|| {
+            det.as_ref()
+                .map(|d| crate::symbolic::factors(d.numerator()))
+                .unwrap_or_default()
+        })?;
         let losses = work.run(|| factors.iter().map(|(f, _)| Loss::of(a, c, f)).collect())?;
         Ok(SymbolicObservability {
             o,

@@ -3,11 +3,15 @@
 //! saying so in text and JSON.
 
 use super::Report;
+use crate::algebra::MultiPoly;
 use crate::algebra::{Fraction, Rational};
 use crate::linalg::Matrix;
-use crate::symbolic::{check_parameters, parameters, within_budget, Exceptions, MAX_ORDER};
+use crate::symbolic::{
+    check_parameters, parameters, within_budget_left, Exceptions, MAX_ORDER, WORK_BUDGET,
+};
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
+use std::cell::Cell;
 
 /// A rational matrix as constant rational functions.
 pub fn lift(m: &Matrix<Rational>) -> Matrix<Fraction> {
@@ -21,6 +25,10 @@ pub struct Parametric {
     pub parameters: Vec<String>,
     /// Where the result does not hold.
     pub exceptions: Exceptions,
+    /// What is left of the command's symbolic work budget: every step of the command
+    /// ([`Parametric::run`], [`Parametric::note`]) spends from it, so a command spends at most
+    /// [`WORK_BUDGET`] in all (found by fuzzing: factoring `det O_n` ran outside any budget).
+    left: Cell<u64>,
 }
 
 impl Parametric {
@@ -42,6 +50,7 @@ impl Parametric {
         Parametric {
             parameters: Vec::new(),
             exceptions: Exceptions::default(),
+            left: Cell::new(WORK_BUDGET),
         }
         .with(a.entries(), "A")
     }
@@ -58,9 +67,33 @@ impl Parametric {
         names.dedup();
         check_parameters(&names).map_err(|e| anyhow!("{e}"))?;
         self.parameters = names;
-        self.exceptions
-            .add_denominators(values, &format!("a denominator of {what}"));
+        self.note_denominators(values, &format!("a denominator of {what}"))?;
         Ok(self)
+    }
+
+    /// Records the factors of `p` as where the result breaks, for `reason`, under the
+    /// command's budget.
+    ///
+    /// # Errors
+    /// The budget ran out.
+    pub fn note(&mut self, p: &MultiPoly, reason: &str) -> Result<()> {
+        let exceptions = &mut self.exceptions;
+        within_budget_left(&self.left, || exceptions.add(p, reason)).map_err(|e| anyhow!("{e}"))
+    }
+
+    /// Records the factors of the denominators of `values`, for `reason`, under the command's
+    /// budget.
+    ///
+    /// # Errors
+    /// The budget ran out.
+    pub fn note_denominators<'a>(
+        &mut self,
+        values: impl IntoIterator<Item = &'a Fraction>,
+        reason: &str,
+    ) -> Result<()> {
+        let exceptions = &mut self.exceptions;
+        within_budget_left(&self.left, || exceptions.add_denominators(values, reason))
+            .map_err(|e| anyhow!("{e}"))
     }
 
     /// Answers in JSON (`json` given: the parameters and where the result breaks added) or in
@@ -81,12 +114,12 @@ impl Parametric {
         }
     }
 
-    /// Runs `work` under the symbolic work budget.
+    /// Runs `work` under what is left of the command's symbolic work budget.
     ///
     /// # Errors
     /// The budget ran out (the limit named).
     pub fn run<T>(&self, work: impl FnOnce() -> T) -> Result<T> {
-        within_budget(work).map_err(|e| anyhow!("{e}"))
+        within_budget_left(&self.left, work).map_err(|e| anyhow!("{e}"))
     }
 
     /// Records where `(a, c)` is unobservable: the factors of `det O_n` (one output) or of
@@ -97,8 +130,7 @@ impl Parametric {
     pub fn observability(&mut self, a: &Matrix<Fraction>, c: &Matrix<Fraction>) -> Result<()> {
         let det = self.run(|| observability_determinant(a, c))?;
         if let Some(d) = det {
-            self.exceptions
-                .add(d.numerator(), "det O_n: the pair is unobservable there");
+            self.note(d.numerator(), "det O_n: the pair is unobservable there")?;
         }
         Ok(())
     }
@@ -110,8 +142,7 @@ impl Parametric {
     pub fn controllability(&mut self, a: &Matrix<Fraction>, b: &Matrix<Fraction>) -> Result<()> {
         let det = self.run(|| observability_determinant(&a.transpose(), &b.transpose()))?;
         if let Some(d) = det {
-            self.exceptions
-                .add(d.numerator(), "det C_n: the pair is uncontrollable there");
+            self.note(d.numerator(), "det C_n: the pair is uncontrollable there")?;
         }
         Ok(())
     }

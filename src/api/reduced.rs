@@ -170,13 +170,12 @@ fn symbolic(
     let r = work.run(|| reduced_order_symbolic(a, b.as_ref(), &c_numbers, &desired, method))??;
     let (a22, row) = &r.reduced_pair;
     if let Some(det) = work.run(|| super::parametric::observability_determinant(a22, row))? {
-        work.exceptions.add(
+        work.note(
             det.numerator(),
             "det O of the reduced pair (A₂₂, A₁₂): unobservable there",
-        );
+        )?;
     }
-    work.exceptions
-        .add_denominators(r.l.entries(), "a denominator of the gain");
+    work.note_denominators(r.l.entries(), "a denominator of the gain")?;
     let gain = convention.from_a_minus_kc(&r.l);
     let json = args
         .json

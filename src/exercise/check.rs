@@ -109,7 +109,6 @@ fn trim(x: f64) -> String {
 pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Report {
     let mut parts = Vec::new();
     for part in &key.parts {
-        let points = part.spec.points;
         // a part named with an invisible character pasted into it (`L\u{200b}`): the answer
         // is the student's, the name is not readable as typed — said at the part itself
         let lookalike = answers.answers.keys().find(|k| {
@@ -119,7 +118,41 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                     .filter(|c| !crate::files::is_invisible(*c))
                     .eq(part.spec.id.chars())
         });
-        let result = match answers.answers.get(&part.spec.id) {
+        // each answer is read, compared and diagnosed under one symbolic work budget: a
+        // student's formula cannot make the check run for minutes
+        let checked = crate::symbolic::within_budget(|| check_part(key, answers, part, lookalike));
+        let result =
+            checked.unwrap_or_else(|e| unreadable(part, format!("cannot check the answer: {e}")));
+        parts.push(result);
+    }
+    let unknown_answers = answers
+        .answers
+        .keys()
+        .filter(|k| key.part(k).is_none())
+        .map(|k| crate::files::escape_untrusted(k))
+        .collect();
+    Report {
+        // a student's name is echoed to terminals, feedback files and reports: nothing in it
+        // may act on them
+        student: crate::files::escape_untrusted(student),
+        exercise: key.example.id.clone(),
+        score: parts.iter().map(|p| p.score).sum(),
+        points: parts.iter().map(|p| p.points).sum(),
+        parts,
+        unknown_answers,
+    }
+}
+
+/// One part's result: its answer read, compared with the key, and diagnosed when wrong.
+fn check_part(
+    key: &AnswerKey,
+    answers: &AnswerFile,
+    part: &super::key::KeyPart,
+    lookalike: Option<&String>,
+) -> PartResult {
+    let points = part.spec.points;
+    {
+        match answers.answers.get(&part.spec.id) {
             None if lookalike.is_some() => unreadable(
                 part,
                 format!(
@@ -202,24 +235,7 @@ pub fn check_answers(key: &AnswerKey, answers: &AnswerFile, student: &str) -> Re
                     }
                 }
             },
-        };
-        parts.push(result);
-    }
-    let unknown_answers = answers
-        .answers
-        .keys()
-        .filter(|k| key.part(k).is_none())
-        .map(|k| crate::files::escape_untrusted(k))
-        .collect();
-    Report {
-        // a student's name is echoed to terminals, feedback files and reports: nothing in it
-        // may act on them
-        student: crate::files::escape_untrusted(student),
-        exercise: key.example.id.clone(),
-        score: parts.iter().map(|p| p.score).sum(),
-        points: parts.iter().map(|p| p.points).sum(),
-        parts,
-        unknown_answers,
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 
 use super::parser::{Expr, ExprKind};
 use super::{SyntaxError, MAX_VALUE_BITS};
-use crate::algebra::{Field, MultiPoly, Quadratic, Rational, Ring, Zero};
+use crate::algebra::{Field, MultiPoly, One, Quadratic, Rational, Ring, Zero};
 use crate::poly::{Poly, RationalFunction};
 
 /// Why a division could not be carried out.
@@ -60,6 +60,20 @@ pub trait FromExpr: Ring {
     fn term_count(&self) -> u64 {
         1
     }
+    /// `self^k` (`k ≥ 0`), by squaring unless the type knows better: exact numbers raise the
+    /// numerator and the denominator apart, which stay coprime, instead of reducing a fraction
+    /// at every squaring (found by fuzzing: a gcd with 1 costs num-bigint's binary gcd
+    /// `bits²/64` word operations, and `11110131761244566941^231` spent 5 ms in them).
+    fn power_of(self, k: u64) -> Self {
+        power(Self::one(), self, k)
+    }
+    /// What an addition, subtraction, product or quotient of `a` and `b` costs in reduction:
+    /// about `(bits of a + bits of b)² / 64` word operations for the exact numbers (their gcds),
+    /// 0 for types bounded otherwise (symbolic values count their term products; floats cost
+    /// nothing).
+    fn reduction_work(_a: &Self, _b: &Self) -> u64 {
+        0
+    }
     /// Evaluates a whole expression.
     ///
     /// # Errors
@@ -95,9 +109,29 @@ struct Context<'a> {
     /// The work of the operations on rational functions (with a denominator that is not a
     /// number) done so far, measured as in [`bound_rf_work`].
     rf_work: u64,
+    /// The reduction work of the operations on exact numbers done so far
+    /// ([`FromExpr::reduction_work`]), bounded by [`MAX_REDUCTION_WORK`].
+    reduction_work: u64,
 }
 
 impl Context<'_> {
+    /// Charges an operation on `a` and `b` to the expression's reduction work, refusing it
+    /// once the total passes [`MAX_REDUCTION_WORK`].
+    fn charge<T: FromExpr>(&mut self, a: &T, b: &T, column: usize) -> Result<(), SyntaxError> {
+        self.reduction_work = self.reduction_work.saturating_add(T::reduction_work(a, b));
+        if self.reduction_work > MAX_REDUCTION_WORK {
+            return Err(SyntaxError::TooLarge {
+                column,
+                what: format!(
+                    "arithmetic on large numbers of about {} word operations up to here",
+                    self.reduction_work
+                ),
+                limit: MAX_REDUCTION_WORK as usize,
+            });
+        }
+        Ok(())
+    }
+
     fn note_field(&mut self, tag: i64, column: usize) -> Result<(), SyntaxError> {
         if tag == 0 {
             return Ok(());
@@ -198,10 +232,19 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
             T::sqrt_of(&r).map_err(|what| not_allowed(c, what.to_string(), T::TARGET))?
         }
         ExprKind::Neg(x) => -scalar::<T>(x, ctx)?,
-        ExprKind::Add(x, y) => scalar::<T>(x, ctx)? + scalar::<T>(y, ctx)?,
-        ExprKind::Sub(x, y) => scalar::<T>(x, ctx)? - scalar::<T>(y, ctx)?,
+        ExprKind::Add(x, y) => {
+            let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
+            ctx.charge(&a, &b, c)?;
+            a + b
+        }
+        ExprKind::Sub(x, y) => {
+            let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
+            ctx.charge(&a, &b, c)?;
+            a - b
+        }
         ExprKind::Mul(x, y) => {
             let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
+            ctx.charge(&a, &b, c)?;
             let terms = a.term_count().saturating_mul(b.term_count());
             if terms > MAX_TERMS {
                 return Err(too_many_terms(c, terms));
@@ -219,6 +262,7 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
         }
         ExprKind::Div(x, y) => {
             let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
+            ctx.charge(&a, &b, c)?;
             divide(&a, &b, c, T::TARGET)?
         }
         ExprKind::Pow(x, k) => {
@@ -235,8 +279,9 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
             if work > MAX_PRODUCT_WORK {
                 return Err(too_much_work(c, work));
             }
-            let p = power(T::one(), b, k.unsigned_abs());
+            let p = b.power_of(k.unsigned_abs());
             if *k < 0 {
+                ctx.charge(&T::one(), &p, c)?;
                 divide(&T::one(), &p, c, T::TARGET)?
             } else {
                 p
@@ -249,6 +294,13 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
     }
     Ok(v)
 }
+
+/// The most reduction work ([`FromExpr::reduction_work`]) one expression's arithmetic on exact
+/// numbers may cost: four operations on two numbers of [`MAX_VALUE_BITS`] each (a reduction's
+/// binary gcd with num-bigint, some milliseconds each), or thousands on numbers of a few
+/// hundred bits. Every value is bounded in size, but a chain of operations was not (found by
+/// fuzzing: `0/a^231/b^231/…` kept its value 0 through divisions by 15 000-bit numbers).
+const MAX_REDUCTION_WORK: u64 = 4 * (2 * MAX_VALUE_BITS) * (2 * MAX_VALUE_BITS) / 64;
 
 /// The most terms a symbolic value read from input may have.
 const MAX_TERMS: u64 = 20_000;
@@ -704,6 +756,25 @@ impl FromExpr for Rational {
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
         self.checked_div(divisor).ok_or(DivisionRefused::ByZero)
     }
+    fn power_of(self, k: u64) -> Self {
+        rational_power(self, k)
+    }
+    fn reduction_work(a: &Self, b: &Self) -> u64 {
+        let bits = a.size_bits().saturating_add(b.size_bits());
+        bits.saturating_mul(bits) / 64
+    }
+}
+
+/// `r^k` with the numerator and the denominator raised apart (coprime powers of coprime
+/// numbers: nothing to reduce).
+fn rational_power(r: Rational, k: u64) -> Rational {
+    match u32::try_from(k) {
+        Ok(k) => {
+            let (n, d) = r.into_raw();
+            Rational::new_raw(n.pow(k), d.pow(k))
+        }
+        Err(_) => power(<Rational as One>::one(), r, k),
+    }
 }
 
 impl FromExpr for Quadratic {
@@ -727,6 +798,17 @@ impl FromExpr for Quadratic {
     fn field_tag(&self) -> i64 {
         self.radicand()
     }
+    fn power_of(self, k: u64) -> Self {
+        match self.as_rational() {
+            Some(r) => Quadratic::rational(rational_power(r.clone(), k)),
+            None => power(<Quadratic as One>::one(), self, k),
+        }
+    }
+    fn reduction_work(a: &Self, b: &Self) -> u64 {
+        // a product in Q(√d) is four rational products and two sums
+        let bits = a.size_bits().saturating_add(b.size_bits());
+        bits.saturating_mul(bits) / 16
+    }
 }
 
 impl FromExpr for MultiPoly {
@@ -739,6 +821,19 @@ impl FromExpr for MultiPoly {
             .sum()
     }
     const TARGET: &'static str = "a polynomial with rational coefficients";
+    fn power_of(self, k: u64) -> Self {
+        match self.as_constant() {
+            Some(c) => MultiPoly::constant(rational_power(c, k)),
+            None => power(<MultiPoly as One>::one(), self, k),
+        }
+    }
+    fn reduction_work(a: &Self, b: &Self) -> u64 {
+        // numbers only: products of sums count their term products instead
+        match (a.as_constant(), b.as_constant()) {
+            (Some(x), Some(y)) => Rational::reduction_work(&x, &y),
+            _ => 0,
+        }
+    }
     fn from_rational(r: Rational) -> Self {
         MultiPoly::constant(r)
     }
@@ -791,6 +886,19 @@ impl FromExpr for f64 {
 
 impl FromExpr for crate::algebra::Fraction {
     const TARGET: &'static str = "a rational function of the symbols";
+    fn power_of(self, k: u64) -> Self {
+        match fraction_constant(&self) {
+            Some(c) => crate::algebra::Fraction::constant(rational_power(c, k)),
+            None => power(<Self as One>::one(), self, k),
+        }
+    }
+    fn reduction_work(a: &Self, b: &Self) -> u64 {
+        // numbers only: rational functions are bounded by the symbolic meter
+        match (fraction_constant(a), fraction_constant(b)) {
+            (Some(x), Some(y)) => Rational::reduction_work(&x, &y),
+            _ => 0,
+        }
+    }
     fn from_rational(r: Rational) -> Self {
         crate::algebra::Fraction::of(MultiPoly::constant(r))
     }
@@ -816,6 +924,12 @@ impl FromExpr for crate::algebra::Fraction {
     fn term_count(&self) -> u64 {
         self.num.term_count().max(self.den.term_count())
     }
+}
+
+/// The number a rational function is, if it is one.
+fn fraction_constant(f: &crate::algebra::Fraction) -> Option<Rational> {
+    let (n, d) = (f.numerator().as_constant()?, f.denominator().as_constant()?);
+    n.checked_div(&d)
 }
 
 #[cfg(test)]
@@ -855,6 +969,32 @@ mod tests {
     fn division_by_zero_names_the_column() {
         let e = parse_scalar::<Rational>("1/(2 - 2)").unwrap_err();
         assert_eq!(e, SyntaxError::DivisionByZero { column: 2 });
+    }
+
+    #[test]
+    fn powers_of_numbers_are_exact_and_cheap() {
+        let r = |s: &str| parse_scalar::<Rational>(s).unwrap().to_string();
+        assert_eq!(r("(-3/4)^7"), "-2187/16384");
+        assert_eq!(r("(6/4)^-3"), "8/27");
+        assert_eq!(r("0^0"), "1");
+        let q = |s: &str| parse_scalar::<Quadratic>(s).unwrap().to_string();
+        assert_eq!(q("(2/3)^3 + sqrt(2)"), q("8/27 + sqrt(2)"));
+        let p = |s: &str| parse_scalar::<MultiPoly>(s).unwrap().to_string();
+        assert_eq!(p("(1/2)^10 * k"), p("k/1024"));
+    }
+
+    #[test]
+    fn arithmetic_on_large_numbers_is_bounded_as_a_whole() {
+        // each quotient keeps the value 0 and within the size bound; together they are refused
+        let big = "11110131761244566941^231";
+        let chain = format!("0{}", format!("/{big}").repeat(40));
+        let e = parse_scalar::<Rational>(&chain).unwrap_err().to_string();
+        assert!(e.contains("arithmetic on large numbers"), "{e}");
+        assert!(parse_scalar::<Rational>(&format!("0/{big}/{big}")).is_ok());
+        // a person's numbers are far below it: a thousand operations on 30-digit decimals
+        let decimal = format!("1.{}", "3".repeat(30));
+        let sum = vec![decimal; 1000].join(" + ");
+        assert!(parse_scalar::<Rational>(&sum).is_ok());
     }
 
     #[test]
