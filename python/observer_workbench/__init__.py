@@ -455,7 +455,19 @@ class CheckResult:
 
 
 def _toml_string(s: str) -> str:
-    return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    """A TOML basic string holding exactly ``s``: control characters escaped, so that the
+    checker sees them and says so at the part (a TOML error would hide which part)."""
+    out = []
+    for ch in s:
+        if ch == "\\":
+            out.append("\\\\")
+        elif ch == '"':
+            out.append('\\"')
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04X}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
 
 
 def check(exercise: str, answers: Mapping[str, Any]) -> CheckResult:

@@ -147,6 +147,40 @@ def test_the_autograding_notebook_runs_and_names_the_mistake():
     assert "sign" in printed and "✘" in printed, printed
 
 
+def _otter_cases(student_globals):
+    """Runs the Otter-Grader test file's doctest cases as Otter does: in the notebook's
+    namespace, each case passing or failing with doctest's report."""
+    import doctest
+
+    path = REPO / "python" / "examples" / "otter" / "tests" / "q_gain.py"
+    spec = {}
+    exec(path.read_text(encoding="utf-8"), spec)
+    results = []
+    for case in spec["test"]["suites"][0]["cases"]:
+        parser = doctest.DocTestParser()
+        test = parser.get_doctest(case["code"], dict(student_globals), "q_gain", str(path), 0)
+        runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+        out = []
+        runner.run(test, out=out.append)
+        results.append((runner.failures == 0, "".join(out)))
+    return results
+
+
+def test_the_otter_grader_test_passes_a_right_gain_and_names_a_wrong_one():
+    right = _otter_cases({"L": np.array([[-6], [-12]])})
+    assert all(ok for ok, _ in right), right
+    wrong = _otter_cases({"L": np.array([[6], [12]])})
+    assert not any(ok for ok, _ in wrong)
+    # what Otter shows the student for the hidden case: the mistake named
+    assert "sign" in wrong[1][1], wrong[1][1]
+
+
+def test_an_answer_with_control_characters_is_refused_at_its_part():
+    r = owb.check("stoustrup-pole-assignment", {"L": "[-6;\x07 -12]"})
+    part = r.part("L")
+    assert part["verdict"] == "unreadable" and "control character" in part["feedback"], part
+
+
 # ---- the float commands against python-control (the cross-checks, run every time) ------------
 
 
