@@ -724,3 +724,60 @@ fn the_work_budget_stops_divisions_too() {
     assert!(err.contains("units of work"), "{err}");
     assert!(took < std::time::Duration::from_secs(1), "took {took:?}");
 }
+
+/// `owb detectable` with parameters: the decomposition for generic values, the observable
+/// part's gain as a formula that is the numeric command's gain at values, and detectability as
+/// a condition on the parameters that the numeric command confirms on either side.
+#[test]
+fn detectability_as_a_condition_on_the_parameters() {
+    let plant = [
+        "detectable",
+        "--a",
+        "[0 1 0; -k/m -c/m 0; 0 0 -d]",
+        "--c",
+        "[1 0 0]",
+        "--poles",
+        "-w, -w",
+    ];
+    let mut with_json = plant.to_vec();
+    with_json.push("--json");
+    let formula = json(&with_json);
+    assert_eq!(formula["rank"], 2);
+    assert_eq!(formula["polynomial_checks"], true);
+    assert_eq!(formula["detectable"], serde_json::Value::Null);
+    assert_eq!(formula["detectable_when"], serde_json::json!(["d > 0"]));
+    for (point, detectable) in [
+        ("k=2,m=1/2,c=3,w=4,d=5", true),
+        ("k=1,m=2,c=1,w=1,d=-1", false),
+    ] {
+        let mut numeric_args = with_json.clone();
+        numeric_args.extend(["--at", point]);
+        let numeric = json(&numeric_args);
+        assert_eq!(numeric["detectable"], detectable, "{point}");
+        let evaluated: Vec<String> = gain_entries(&formula)
+            .iter()
+            .map(|x| at(x, point))
+            .collect();
+        assert_eq!(evaluated, gain_entries(&numeric), "{point}");
+    }
+    // a fixed mode that is a number decides for every value, either way
+    for (a, decided) in [("[-a 0; 1 -2]", true), ("[-a 0; 1 3]", false)] {
+        let v = json(&[
+            "detectable",
+            "--a",
+            a,
+            "--c",
+            "[1 0]",
+            "--poles",
+            "-w",
+            "--json",
+        ]);
+        assert_eq!(v["detectable"], decided, "{a}");
+        assert_eq!(v["detectable_when"], serde_json::json!([]), "{a}");
+    }
+    let (code, out, _) = owb(&plant);
+    assert_eq!(code, 0);
+    assert!(out.contains("detectable exactly when d > 0"), "{out}");
+    assert!(out.contains("valid for m ≠ 0"), "{out}");
+    insta::assert_snapshot!(out);
+}

@@ -4,12 +4,13 @@
 use super::args::{json_matrix, Plant, SystemPair};
 use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
-use crate::algebra::{Fraction, Rational};
+use crate::algebra::{Fraction, Rational, Ring};
 use crate::linalg::Matrix;
 use crate::observer::detectability::detectable_design;
 use crate::observer::reduced_order::{reduced_order_observer, reduced_order_symbolic};
 use crate::observer::Convention;
 use anyhow::{anyhow, bail, Result};
+use num_traits::Signed;
 use serde_json::json;
 
 /// Arguments of `owb reduced`.
@@ -291,7 +292,13 @@ pub struct DetectableArgs {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
-    let (a, c) = args.system.parse()?;
+    let (a, c) = match args.system.plant()? {
+        Plant::Symbolic(a, c) => return detectable_with_parameters(&args, &a, &c, rep),
+        Plant::Numeric(a, c) if args.system.at.is_none() && args.desired.mentions_parameters() => {
+            return detectable_with_parameters(&args, &lift(&a), &lift(&c), rep)
+        }
+        Plant::Numeric(a, c) => (a, c),
+    };
     super::args::check_plant(&a, None, &c, None)?;
     let (method, convention) = (
         super::args::gain_method(&args.method)?,
@@ -307,7 +314,7 @@ pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
     }
     let desired = args
         .desired
-        .parse(rank)
+        .parse_at(rank, &args.system.values()?)
         .map_err(|e| anyhow!("{e} (here: the observable part, rank O_n = {rank})"))?;
     let d = detectable_design(&a, &c, &desired, method, convention)?;
     let fixed = d.report.unobservable_eigenvalues.render();
@@ -361,5 +368,134 @@ pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
             "  NOT detectable: an unobservable mode is not stable; no gain makes the error decay"
         );
     }
+    Ok(Outcome::Ok)
+}
+
+/// `owb detectable` with parameters in A, C or the desired polynomial: the decomposition for
+/// generic values of the parameters, the observable part's gain in symbols, the observer
+/// polynomial an identity, and detectability as conditions on the parameters (the Hurwitz
+/// determinants of the unobservable polynomial); where the design breaks, as for the others.
+fn detectable_with_parameters(
+    args: &DetectableArgs,
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    rep: &mut Report,
+) -> Result<Outcome> {
+    let (method, convention) = (
+        super::args::gain_method(&args.method)?,
+        super::args::observer_convention(&args.convention)?,
+    );
+    let zeros = |m: &Matrix<Fraction>| m.map(|_| Rational::from_integer(0.into()));
+    super::args::check_plant(&zeros(a), None, &zeros(c), None)?;
+    let work = Parametric::new(a)?.with(c.entries(), "C")?;
+    let o = work.run(|| crate::observability::observability_matrix(a, c))??;
+    let rank = work.run(|| crate::linalg::rank(&o))?;
+    let desired = args
+        .desired
+        .symbolic(rank)
+        .map_err(|e| anyhow!("{e} (here: the observable part, rank O_n = {rank} for generic values of the parameters)"))?;
+    let mut work = work.with(desired.coeffs(), "the desired polynomial")?;
+    let d = work.run(|| {
+        crate::observer::detectability::detectable_symbolic(a, c, &desired, method, convention)
+    })??;
+    let (a_oo, c_o) = &d.observable_pair;
+    if let Some(det) = work.run(|| super::parametric::observability_determinant(a_oo, c_o))? {
+        work.note(
+            det.numerator(),
+            "det O of the observable part (A_oo, C_o): fewer modes observable there",
+        )?;
+    }
+    work.note_denominators(d.t.entries(), "a denominator of T")?;
+    work.note_denominators(d.gain.entries(), "a denominator of the gain")?;
+    let conditions: Vec<&Fraction> = d
+        .conditions
+        .iter()
+        .filter(|x| x.as_rational().is_none())
+        .collect();
+    let never = d
+        .conditions
+        .iter()
+        .any(|x| x.as_rational().is_some_and(|q| !q.is_positive()));
+    let detectable = if never {
+        Some(false)
+    } else if conditions.is_empty() {
+        Some(true)
+    } else {
+        None
+    };
+    let json = args
+        .json
+        .then(|| -> Result<serde_json::Value> {
+            Ok(json!({
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "rank": d.rank,
+                "order": a.rows(),
+                "detectable": detectable,
+                "detectable_when": conditions.iter().map(|x| format!("{} > 0", x.to_input())).collect::<Vec<_>>(),
+                "unobservable_polynomial": d.unobservable_polynomial.to_input(),
+                "t": json_matrix(&d.t),
+                "decomposed_a": json_matrix(&d.a_decomposed),
+                "gain": json_matrix(&d.gain),
+                "observer_polynomial": d.observer_polynomial.to_input(),
+                "polynomial_checks": d.identity,
+                "steps": serde_json::to_value(&d.derivation.steps)?,
+            }))
+        })
+        .transpose()?;
+    work.answer(rep, json, |rep| {
+        rep.derivation(&d.derivation);
+        let n = a.rows();
+        outln!(rep, "Result ({convention} convention, {method} method):");
+        outln!(
+            rep,
+            "  rank O_n = {} of {n} for generic values of the parameters: {} observable mode(s) placed, {} fixed",
+            d.rank,
+            d.rank,
+            n - d.rank
+        );
+        if d.rank == n {
+            outln!(
+                rep,
+                "  fixed (unobservable) modes: none (observable for generic values of the parameters)"
+            );
+        } else {
+            outln!(
+                rep,
+                "  fixed (unobservable) modes: the roots of det(sI − A_uu) = {}",
+                d.unobservable_polynomial
+            );
+        }
+        outln!(rep, "  {} = {}", convention.letter(), d.gain.to_input());
+        outln!(
+            rep,
+            "  observer polynomial = {} = desired × det(sI − A_uu): {}",
+            d.observer_polynomial,
+            if d.identity {
+                format!("an identity in s and {}", work.names())
+            } else {
+                "NOT equal".to_string()
+            }
+        );
+        match detectable {
+            Some(true) => outln!(
+                rep,
+                "  detectable for every value: every unobservable mode is stable, so this observer's error decays"
+            ),
+            Some(false) => outln!(
+                rep,
+                "  NOT detectable for any value: an unobservable mode is not stable; no gain makes the error decay"
+            ),
+            None => outln!(
+                rep,
+                "  detectable exactly when {} (Routh–Hurwitz on det(sI − A_uu)): then this observer's error decays; otherwise no gain makes it decay",
+                conditions
+                    .iter()
+                    .map(|x| format!("{x} > 0"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
+    });
     Ok(Outcome::Ok)
 }

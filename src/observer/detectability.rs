@@ -14,7 +14,7 @@
 
 use super::DesiredPolynomial;
 use super::{design_with, Convention, DesignError, Detail, GainMethod, ObserverDesign};
-use crate::algebra::{Quadratic, Rational};
+use crate::algebra::{Fraction, Quadratic, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
 use crate::observability::{observability_report, ObservabilityError, ObservabilityReport};
@@ -151,5 +151,177 @@ impl DetectableDesign {
             .map(|x| Quadratic::rational(x.clone()))
             .with_var("s");
         (p.with_var("s") * u) == self.observer_polynomial
+    }
+}
+
+/// [`detectable_design`] with parameters: the same Kalman decomposition over the rational
+/// functions of the plant's parameters (for their generic values: the rank of `O_n` over that
+/// field), the gain of the observable part in symbols, the observer polynomial checked as an
+/// identity, and detectability as conditions on the parameters — the Hurwitz determinants of
+/// the unobservable polynomial (`Δ₁ > 0, …, Δ_(m−1) > 0` and the constant coefficient `> 0`).
+#[derive(Debug, Clone)]
+pub struct SymbolicDetectable {
+    /// rank O_n for generic values of the parameters.
+    pub rank: usize,
+    /// O_n.
+    pub o: Matrix<Fraction>,
+    /// T = [V_o V_u].
+    pub t: Matrix<Fraction>,
+    /// T⁻¹ A T.
+    pub a_decomposed: Matrix<Fraction>,
+    /// The design for (A_oo, C_o).
+    pub observable_part: super::gain::SymbolicDesign,
+    /// (A_oo, C_o), for where their observability breaks.
+    pub observable_pair: (Matrix<Fraction>, Matrix<Fraction>),
+    /// K = T [K_o; 0], in the convention asked for.
+    pub gain: Matrix<Fraction>,
+    /// det(sI − A_uu), monic (1 when every mode is observable).
+    pub unobservable_polynomial: Poly<Fraction>,
+    /// det(sI − (A − KC)), recomputed from K.
+    pub observer_polynomial: Poly<Fraction>,
+    /// Whether the observer polynomial is the desired one times the unobservable one, as an
+    /// identity in s and the parameters.
+    pub identity: bool,
+    /// What must be positive for every unobservable mode to be stable (constants included:
+    /// a nonpositive one means not detectable for any value).
+    pub conditions: Vec<Fraction>,
+    /// The steps.
+    pub derivation: Derivation,
+}
+
+/// Designs the observer of [`detectable_design`] with parameters in A, C or the desired
+/// polynomial (degree r = rank O_n for generic values).
+///
+/// # Errors
+/// [`DetectabilityError`]: shapes, nothing observable, a desired polynomial of another degree.
+pub fn detectable_symbolic(
+    a: &Matrix<Fraction>,
+    c: &Matrix<Fraction>,
+    desired: &Poly<Fraction>,
+    method: GainMethod,
+    convention: Convention,
+) -> Result<SymbolicDetectable, DetectabilityError> {
+    let n = a.rows();
+    let o = crate::observability::observability_matrix(a, c)?;
+    let r = linalg::rank(&o);
+    let (basis, unobservable_polynomial) = crate::observability::unobservable_part(a, &o, r)?;
+    if r == 0 {
+        return Err(DetectabilityError::NothingObservable(
+            unobservable_polynomial.to_string(),
+        ));
+    }
+    let mut d = Derivation::new("Observer for the observable part (Kalman decomposition)");
+    d.push("O_n", "[C; CA; …; CA^(n−1)]", &o);
+    let v_u = basis
+        .iter()
+        .try_fold(Matrix::zeros(n, 0), |acc: Matrix<Fraction>, v| {
+            acc.hstack(v)
+        })?;
+    let completed = super::reduced_order::complete_with_unit_rows(&v_u.transpose()).transpose();
+    let v_o = completed.block(0, n, n - r, n);
+    let t = v_o.hstack(&v_u)?;
+    let t_inv = linalg::inverse(&t)?;
+    d.push("T", "[V_o V_u], V_u a basis of ker O_n", &t);
+    let a_dec = t_inv.mul(a)?.mul(&t)?;
+    let c_dec = c.mul(&t)?;
+    d.push("T⁻¹ A T", "[A_oo 0; A_uo A_uu]", &a_dec);
+    d.push("C T", "[C_o 0]", &c_dec);
+    let a_oo = a_dec.block(0, r, 0, r);
+    let c_o = c_dec.block(0, c.rows(), 0, r);
+    let observable_part = super::gain::design_symbolic(
+        &a_oo,
+        &c_o,
+        desired,
+        method,
+        Convention::AMinusKC,
+        Detail::Full,
+    )?;
+    d.extend(observable_part.derivation.clone());
+    let padded = observable_part
+        .gain
+        .matrix
+        .vstack(&Matrix::zeros(n - r, 1))?;
+    let k = t.mul(&padded)?;
+    d.push("K", "T [K_o; 0]", &k);
+    let closed = a.sub(&k.mul(c)?)?;
+    let observer_polynomial = linalg::characteristic_polynomial(&closed, "s")?;
+    d.push(
+        "det(sI − (A − KC))",
+        "P(s) · det(sI − A_uu)",
+        &observer_polynomial,
+    );
+    let identity = desired.clone().with_var("s") * unobservable_polynomial.clone().with_var("s")
+        == observer_polynomial;
+    let conditions = hurwitz_conditions(&unobservable_polynomial)?;
+    Ok(SymbolicDetectable {
+        rank: r,
+        o,
+        t,
+        a_decomposed: a_dec,
+        observable_pair: (a_oo, c_o),
+        observable_part,
+        gain: convention.from_a_minus_kc(&k),
+        unobservable_polynomial,
+        observer_polynomial,
+        identity,
+        conditions,
+        derivation: d,
+    })
+}
+
+/// The conditions for a monic `p(s) = s^m + c₁ s^(m−1) + … + c_m` to be Hurwitz: the leading
+/// Hurwitz determinants `Δ₁, …, Δ_(m−1)` and `c_m` positive (Δ_m = c_m Δ_(m−1)). Empty for
+/// `p = 1`.
+///
+/// # Errors
+/// [`LinalgError`] (not expected: the matrices are square).
+pub fn hurwitz_conditions<F: crate::algebra::Field>(p: &Poly<F>) -> Result<Vec<F>, LinalgError> {
+    let m = p.degree().unwrap_or(0);
+    if m == 0 {
+        return Ok(Vec::new());
+    }
+    // c_k, the coefficient of s^(m−k), 0 outside 0..=m
+    let coeff = |k: i64| -> F {
+        if (0..=m as i64).contains(&k) {
+            p.coeff(m - k as usize)
+        } else {
+            F::zero()
+        }
+    };
+    let hurwitz = Matrix::from_fn(m, m, |i, j| coeff(2 * (j as i64 + 1) - (i as i64 + 1)));
+    let mut out = Vec::with_capacity(m);
+    for k in 1..m {
+        out.push(linalg::determinant(&hurwitz.block(0, k, 0, k))?);
+    }
+    out.push(coeff(m as i64));
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::{MultiPoly, Ring};
+
+    #[test]
+    fn hurwitz_conditions_of_a_cubic() {
+        // s³ + a s² + b s + c is stable exactly when a > 0, a b − c > 0 and c > 0
+        let f = |name: &str| Fraction::of(MultiPoly::var(name));
+        let p = Poly::new(
+            vec![
+                f("c"),
+                f("b"),
+                f("a"),
+                Fraction::constant(Rational::from_i64(1)),
+            ],
+            "s",
+        );
+        let shown: Vec<String> = hurwitz_conditions(&p)
+            .unwrap()
+            .iter()
+            .map(Ring::to_input)
+            .collect();
+        assert_eq!(shown, ["a", "a*b - c", "c"]);
+        let one = Poly::new(vec![Fraction::constant(Rational::from_i64(1))], "s");
+        assert!(hurwitz_conditions(&one).unwrap().is_empty());
     }
 }

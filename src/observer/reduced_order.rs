@@ -17,7 +17,7 @@
 
 use super::DesiredPolynomial;
 use super::{design_with, Convention, DesignError, Detail, GainMethod, ObserverDesign};
-use crate::algebra::{Fraction, Quadratic, Rational, Ring, Zero};
+use crate::algebra::{Fraction, Quadratic, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
 use crate::poly::Poly;
@@ -96,20 +96,14 @@ fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
 }
 
 /// `rows` completed with unit rows eₖᵀ (in order) to an invertible n × n matrix.
-pub(crate) fn complete_with_unit_rows(rows: &Matrix<Rational>) -> Matrix<Rational> {
+pub(crate) fn complete_with_unit_rows<F: crate::algebra::Field>(rows: &Matrix<F>) -> Matrix<F> {
     let n = rows.cols();
     let mut q = rows.clone();
     for k in 0..n {
         if q.rows() == n {
             break;
         }
-        let unit = Matrix::from_fn(1, n, |_, j| {
-            if j == k {
-                Rational::from_i64(1)
-            } else {
-                Rational::zero()
-            }
-        });
+        let unit = Matrix::from_fn(1, n, |_, j| if j == k { F::one() } else { F::zero() });
         if let Ok(candidate) = q.vstack(&unit) {
             if linalg::rank(&candidate) == candidate.rows() {
                 q = candidate;
