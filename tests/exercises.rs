@@ -261,6 +261,70 @@ fn generated_exercises_are_reproducible_and_small() {
     assert!(out.contains("# K = "));
 }
 
+/// `owb exercise new --kind formula`: one entry of A is a parameter and the poles multiples of
+/// w; the key is a formula, the pair observable for generic a, a right formula is right and
+/// the key with the other sign is named.
+#[test]
+fn generated_formula_exercises_check_formulas() {
+    use observer_workbench::exercise::generate::Kind;
+    for seed in 0..12 {
+        for convention in ["a-kc", "a+lc"] {
+            let s = Settings {
+                kind: Kind::Formula,
+                min_order: 2,
+                max_order: 3,
+                seed,
+                convention: convention.into(),
+            };
+            let text = pole_placement(&s).unwrap();
+            assert_eq!(text, pole_placement(&s).unwrap(), "reproducible");
+            let ex: observer_workbench::exercise::ExerciseFile = toml::from_str(&text).unwrap();
+            let k = answer_key("generated", &ex).unwrap();
+            let det = k.part("det_O").unwrap().value.input();
+            assert!(
+                det.contains('a') && det != "0",
+                "seed {seed}: det O_n = {det}"
+            );
+            let letter = if convention == "a-kc" { "K" } else { "L" };
+            let gain = k.part(letter).unwrap().value.input();
+            assert!(gain.contains('w'), "seed {seed}: {gain}");
+            let right = AnswerFile {
+                answers: [(letter.to_string(), gain.clone())].into(),
+                ..AnswerFile::default()
+            };
+            let r = check_answers(&k, &right, "t");
+            let part = r.parts.iter().find(|p| p.id == letter).unwrap();
+            assert_eq!(
+                part.verdict,
+                PartVerdict::Correct,
+                "seed {seed}: {}",
+                part.feedback
+            );
+            // the key with every entry negated (entries are formulas without brackets)
+            let entries = gain.trim_start_matches('[').trim_end_matches(']');
+            let negated: Vec<String> = entries.split("; ").map(|e| format!("-({e})")).collect();
+            let wrong = AnswerFile {
+                answers: [(letter.to_string(), format!("[{}]", negated.join("; ")))].into(),
+                ..AnswerFile::default()
+            };
+            let r = check_answers(&k, &wrong, "t");
+            let part = r.parts.iter().find(|p| p.id == letter).unwrap();
+            assert_eq!(part.verdict, PartVerdict::Wrong, "seed {seed}");
+            assert_eq!(
+                part.mistake.as_deref(),
+                Some("sign_convention"),
+                "seed {seed}: {}",
+                part.feedback
+            );
+        }
+    }
+    let (code, out, _) = owb(&[
+        "exercise", "new", "--kind", "formula", "--seed", "5", "--order", "2", "--key",
+    ]);
+    assert_eq!(code, 0);
+    assert!(out.contains("# K = ") && out.contains("w"), "{out}");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
 

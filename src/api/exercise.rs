@@ -104,7 +104,7 @@ pub enum ExerciseCommand {
 #[cfg_attr(feature = "commands", derive(clap::Args))]
 /// Arguments of `owb exercise new`.
 pub struct NewArgs {
-    /// The kind of exercise: pole-placement, dead-beat or reduced-order.
+    /// The kind of exercise: pole-placement, dead-beat, reduced-order or formula.
     #[cfg_attr(
         feature = "commands",
         arg(allow_hyphen_values = true, long, default_value_t = super::args::defaults::exercise_kind())
