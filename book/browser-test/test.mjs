@@ -10,7 +10,7 @@
 import { chromium } from "playwright-core";
 import { execFileSync } from "node:child_process";
 import { createServer } from "node:http";
-import { readFileSync, mkdirSync, writeFileSync, mkdtempSync, existsSync, statSync } from "node:fs";
+import { readFileSync, readdirSync, mkdirSync, writeFileSync, mkdtempSync, existsSync, statSync } from "node:fs";
 import { join, extname, resolve, dirname } from "node:path";
 import { tmpdir } from "node:os";
 import { fileURLToPath, pathToFileURL } from "node:url";
@@ -378,6 +378,91 @@ await test("playground: a missing module is said in the page, not silently ignor
   await box.locator('button[data-run="gain"]').click();
   await page.waitForFunction(() => /could not run/.test(document.querySelector(".owb-playground .owb-output").textContent), null, { timeout: 30000 });
   assert.match(await box.locator(".owb-output").getAttribute("class"), /owb-error/);
+  await page.close();
+});
+
+// ---- accessibility (axe-core, pinned) and phones ----------------------------------------------
+
+const axeSource = readFileSync(join(here, "node_modules/axe-core/axe.min.js"), "utf8");
+const bookPages = readdirSync(bookDir).filter((f) => f.endsWith(".html") && f !== "print.html");
+
+await test("accessible: axe-core finds no critical or serious violation on any page, desktop and 390 px", async () => {
+  const found = [];
+  for (const width of [1280, 390]) {
+    for (const file of bookPages) {
+      const page = await browser.newPage({ viewport: { width, height: 900 } });
+      await page.goto(base + file);
+      await page.waitForLoadState("load");
+      await page.addScriptTag({ content: axeSource });
+      const violations = await page.evaluate(async () =>
+        (await window.axe.run(document, { resultTypes: ["violations"] })).violations
+          .filter((v) => v.impact === "critical" || v.impact === "serious")
+          .map((v) => `${v.impact} ${v.id}: ${v.nodes.map((n) => n.target.join(" ")).slice(0, 3).join(", ")}`));
+      violations.forEach((v) => found.push(`${file} at ${width} px: ${v}`));
+      await page.close();
+    }
+  }
+  assert.deepEqual(found, [], found.join("\n"));
+});
+
+await test("accessible: a skip link is the first Tab stop and leads to the exercise", async () => {
+  const page = await open(base + "gains.html");
+  await page.keyboard.press("Tab");
+  assert.equal(await page.evaluate(() => document.activeElement.className), "owb-skip");
+  await page.keyboard.press("Enter");
+  const inside = await page.evaluate(() => {
+    const target = document.querySelector(".owb-exercise");
+    return document.activeElement === target || target.contains(document.activeElement);
+  });
+  assert.ok(inside, "Enter on the skip link moves the focus to the first exercise");
+  await page.keyboard.press("Tab");
+  assert.equal(await page.evaluate(() => document.activeElement.className), "owb-answer",
+    "the next Tab reaches the first answer field");
+  await page.close();
+});
+
+await test("phones: figure labels at least 11 px on screen and every verdict column on screen at 390 px", async () => {
+  const small = [];
+  for (const chapter of ["control", "multi-output", "perfect", "kalman"]) {
+    const page = await open(base + chapter + ".html", 390);
+    const sizes = await page.evaluate(() => [...document.querySelectorAll("figure.owb-figure svg")].map((svg) => {
+      const scale = svg.getBoundingClientRect().width / svg.viewBox.baseVal.width;
+      return Math.min(...[...svg.querySelectorAll("text")].map((t) => Number(t.getAttribute("font-size")) * scale));
+    }));
+    sizes.forEach((px, i) => { if (!(px >= 11)) small.push(`${chapter}: figure ${i + 1}: ${px.toFixed(1)} px`); });
+    if (chapter === "control" && sizes.length > 0) {
+      await page.locator("figure.owb-figure").first().screenshot({ path: join(shots, "figure-390px.png") });
+    }
+    await page.close();
+  }
+  assert.deepEqual(small, [], small.join("; "));
+  const hidden = [];
+  for (const file of bookPages) {
+    const page = await browser.newPage({ viewport: { width: 390, height: 900 } });
+    await page.goto(base + file);
+    hidden.push(...await page.evaluate(() => {
+      const out = [];
+      for (const table of document.querySelectorAll("main table")) {
+        const heads = [...table.querySelectorAll("th")].map((th) => th.textContent.trim().toLowerCase());
+        const col = heads.findIndex((h) => h.includes("verdict"));
+        if (col < 0) continue;
+        const cell = table.querySelector(`tbody tr td:nth-child(${col + 1})`);
+        if (cell && cell.getBoundingClientRect().right > window.innerWidth + 1) out.push(`${location.pathname}: ${heads.join(" | ")}`);
+      }
+      return out;
+    }));
+    await page.close();
+  }
+  assert.deepEqual(hidden, [], hidden.join("; "));
+});
+
+await test("exercise: a pasted control character is named at its part, the other parts still checked", async () => {
+  const page = await open(base + "gains.html");
+  const selector = `.owb-exercise[data-exercise-id="${stoustrup}"]`;
+  const { shown, file } = await answer(page, selector, { L: rightL.replace(";", ";\u0007"), desired: desiredInLambda });
+  assert.match(shown.L.feedback, /control character/, JSON.stringify(shown.L));
+  assert.ok(shown.desired.correct, JSON.stringify(shown.desired));
+  sameAsCli(shown, owbCheck(stoustrup, file));
   await page.close();
 });
 

@@ -79,8 +79,14 @@
     }
   }
 
+  // A TOML basic string holding exactly s: every control character escaped, so that the
+  // checker sees a pasted U+0007 and says so at its part (a TOML error would hide the part).
   function tomlString(s) {
-    return '"' + s.replace(/\\/g, "\\\\").replace(/"/g, '\\"').replace(/\n/g, "\\n") + '"';
+    return '"' + s.replace(/[\\"\u0000-\u001f\u007f]/g, function (c) {
+      if (c === "\\") return "\\\\";
+      if (c === '"') return '\\"';
+      return "\\u" + ("000" + c.charCodeAt(0).toString(16).toUpperCase()).slice(-4);
+    }) + '"';
   }
 
   function shellWord(s) {
@@ -240,7 +246,9 @@
       part.appendChild(label);
       part.appendChild(input);
       part.appendChild(el("div", "owb-read"));
-      part.appendChild(el("div", "owb-feedback"));
+      var feedback = el("div", "owb-feedback");
+      feedback.setAttribute("aria-live", "polite");
+      part.appendChild(feedback);
       form.appendChild(part);
     });
     var actions = el("div", "owb-actions");
@@ -418,7 +426,50 @@
     });
   }
 
+  // ---- for keyboards and screen readers ------------------------------------------------------
+
+  // What the book's template leaves to fix (axe-core runs over every page in the browser
+  // test): the sidebar toggle is a label that acts as a button; the "on this page" outline
+  // nests lists without list items; code boxes that scroll must take the focus, or a keyboard
+  // cannot scroll them; and a skip link leads past the sidebar to the exercise or the text.
+  function accessible() {
+    var toggle = document.getElementById("mdbook-sidebar-toggle");
+    if (toggle && !toggle.hasAttribute("role")) {
+      toggle.setAttribute("role", "button");
+      toggle.setAttribute("tabindex", "0");
+      toggle.addEventListener("keydown", function (ev) {
+        if (ev.key === "Enter" || ev.key === " ") {
+          ev.preventDefault();
+          toggle.click();
+        }
+      });
+    }
+    document.querySelectorAll(".on-this-page ol > ol, .on-this-page ul > ol").forEach(function (list) {
+      var item = document.createElement("li");
+      list.parentNode.insertBefore(item, list);
+      item.appendChild(list);
+    });
+    document.querySelectorAll("pre > code, pre.owb-output, pre.owb-verify-output, pre.owb-any-output, figure.owb-figure, .table-wrapper, .katex-display, .owb-math, .owb-any-math").forEach(function (box) {
+      var scrolls = box.scrollWidth > box.clientWidth + 1 || box.scrollHeight > box.clientHeight + 1;
+      if (scrolls && !box.hasAttribute("tabindex")) box.setAttribute("tabindex", "0");
+    });
+    if (!document.querySelector(".owb-skip")) {
+      var target = document.querySelector(".owb-exercise, .owb-variant, .owb-playground") || document.querySelector("main");
+      if (target) {
+        if (!target.id) target.id = "owb-skip-target";
+        if (!target.hasAttribute("tabindex")) target.setAttribute("tabindex", "-1");
+        var skip = el("a", "owb-skip", target.tagName === "MAIN" ? "Skip to the text" : "Skip to the exercise");
+        skip.href = "#" + target.id;
+        document.body.insertBefore(skip, document.body.firstChild);
+      }
+    }
+  }
+
   function start() {
+    accessible();
+    // the outline and the code boxes' widths are final once the page has loaded
+    window.addEventListener("load", accessible);
+    window.addEventListener("resize", accessible);
     var forms = document.querySelectorAll(".owb-exercise[data-exercise]");
     var variants = document.querySelectorAll(".owb-variant");
     var playgrounds = document.querySelectorAll(".owb-playground");

@@ -139,7 +139,7 @@ pub fn exercise_form(id: &str, toml: &str, key: &AnswerKey) -> String {
 /// The per-student form: a student id in, the student's own generated exercise out, with answer
 /// fields, checked in the page, and the answers to hand in as a file.
 pub fn variant_form() -> String {
-    "<div class=\"owb-variant\"><div class=\"owb-row\"><label>Your student id <input type=\"text\" class=\"owb-student\" spellcheck=\"false\" autocomplete=\"off\" placeholder=\"e.g. s123456\"></label> <label>Order <select class=\"owb-order\"><option value=\"2\">2</option><option value=\"3\" selected>3</option><option value=\"2..3\">2 or 3</option></select></label> <label>Exercise <select class=\"owb-kind\"><option value=\"pole-placement\">pole placement</option><option value=\"dead-beat\">dead-beat (discrete time)</option><option value=\"reduced-order\">reduced-order observer</option></select></label> <label>Convention <select class=\"owb-convention\"><option value=\"a-kc\">A − KC</option><option value=\"a+lc\">A + LC</option></select></label> <button type=\"button\" class=\"owb-new-variant\">My exercise</button></div><div class=\"owb-variant-body\"></div><noscript>The variants need JavaScript; without it, <code>owb exercise new --student ID</code> generates the same exercise.</noscript></div>".to_string()
+    "<div class=\"owb-variant\"><div class=\"owb-row\"><label>Your student id <input type=\"text\" class=\"owb-student\" spellcheck=\"false\" autocomplete=\"off\" placeholder=\"e.g. s123456\"></label> <label>Order <select class=\"owb-order\"><option value=\"2\">2</option><option value=\"3\" selected>3</option><option value=\"2..3\">2 or 3</option></select></label> <label>Exercise <select class=\"owb-kind\"><option value=\"pole-placement\">pole placement</option><option value=\"dead-beat\">dead-beat (discrete time)</option><option value=\"reduced-order\">reduced-order observer</option><option value=\"formula\">a gain as a formula (parameters a, w)</option></select></label> <label>Convention <select class=\"owb-convention\"><option value=\"a-kc\">A − KC</option><option value=\"a+lc\">A + LC</option></select></label> <button type=\"button\" class=\"owb-new-variant\">My exercise</button></div><div class=\"owb-variant-body\"></div><noscript>The variants need JavaScript; without it, <code>owb exercise new --student ID</code> generates the same exercise.</noscript></div>".to_string()
 }
 
 /// The playground: A and C in, a design chosen, the workbench's output and derivation out; and
@@ -147,13 +147,13 @@ pub fn variant_form() -> String {
 pub fn playground(examples: &[(String, String)]) -> String {
     let mut out = String::from("<div class=\"owb-playground\">");
     out.push_str("<div class=\"owb-grid\"><label>A <textarea class=\"owb-a\" rows=\"3\" spellcheck=\"false\">[2 -3; 4 -5]</textarea></label><label>C <textarea class=\"owb-c\" rows=\"3\" spellcheck=\"false\">[-3 2]</textarea></label></div>");
-    out.push_str("<div class=\"owb-row\"><label>Desired <select class=\"owb-family\"><option value=\"poles\">poles</option><option value=\"poly\">polynomial</option><option value=\"repeated\">repeated root, time constant T</option><option value=\"butterworth\">Butterworth, time constant T</option><option value=\"bessel\">Bessel, delay T</option><option value=\"itae\">ITAE, time constant T</option></select></label> <input type=\"text\" class=\"owb-desired\" value=\"-4, -5\" spellcheck=\"false\"></div>");
+    out.push_str("<div class=\"owb-row\"><label>Desired <select class=\"owb-family\"><option value=\"poles\">poles</option><option value=\"poly\">polynomial</option><option value=\"repeated\">repeated root, time constant T</option><option value=\"butterworth\">Butterworth, time constant T</option><option value=\"bessel\">Bessel, delay T</option><option value=\"itae\">ITAE, time constant T</option></select></label> <input type=\"text\" class=\"owb-desired\" value=\"-4, -5\" spellcheck=\"false\" aria-label=\"the desired poles, polynomial or time constant\"></div>");
     out.push_str("<div class=\"owb-row\"><label>Method <select class=\"owb-method\"><option>ackermann</option><option>bass-gura</option><option>canonical</option></select></label> <label>Convention <select class=\"owb-pconvention\"><option value=\"a-kc\">A − KC</option><option value=\"a+lc\">A + LC</option></select></label> <label><input type=\"checkbox\" class=\"owb-float\" checked> float check</label></div>");
     out.push_str("<div class=\"owb-actions\"><button type=\"button\" data-run=\"gain\">Observer gain</button> <button type=\"button\" data-run=\"observe\">Observability</button> <button type=\"button\" data-run=\"canonical\">Canonical form</button></div>");
-    out.push_str("<div class=\"owb-command\"></div><div class=\"owb-math\"></div><pre class=\"owb-output\"></pre>");
+    out.push_str("<div class=\"owb-command\"></div><div class=\"owb-math\"></div><pre class=\"owb-output\" aria-live=\"polite\"></pre>");
     any_command(&mut out);
     out.push_str(
-        "<h3>Verify a worked example</h3><div class=\"owb-row\"><select class=\"owb-example\">",
+        "<h3>Verify a worked example</h3><div class=\"owb-row\"><select class=\"owb-example\" aria-label=\"a worked example\">",
     );
     for (id, toml) in examples {
         let _ = write!(
@@ -164,7 +164,7 @@ pub fn playground(examples: &[(String, String)]) -> String {
             escape(id)
         );
     }
-    out.push_str("</select> <button type=\"button\" class=\"owb-verify\">Verify</button></div><textarea class=\"owb-example-toml\" rows=\"12\" spellcheck=\"false\"></textarea><pre class=\"owb-verify-output\"></pre>");
+    out.push_str("</select> <button type=\"button\" class=\"owb-verify\">Verify</button></div><textarea class=\"owb-example-toml\" rows=\"12\" spellcheck=\"false\" aria-label=\"the worked example as TOML, editable\"></textarea><pre class=\"owb-verify-output\" aria-live=\"polite\"></pre>");
     out.push_str("<noscript>The playground needs JavaScript; the same commands run as <code>owb gain</code>, <code>owb observe</code>, <code>owb canonical</code> and <code>owb verify</code>.</noscript></div>");
     out
 }
@@ -226,7 +226,7 @@ fn any_command(out: &mut String) {
         "</select></label> <button type=\"button\" class=\"owb-any-run\">Run</button></div>",
     );
     out.push_str("<label class=\"owb-any-label\">Request, one <code>key = value</code> per line (the keys are the command line's flags) <textarea class=\"owb-any-fields\" rows=\"6\" spellcheck=\"false\"></textarea></label>");
-    out.push_str("<div class=\"owb-any-command-line\"></div><div class=\"owb-any-math\"></div><pre class=\"owb-any-output\"></pre>");
+    out.push_str("<div class=\"owb-any-command-line\"></div><div class=\"owb-any-math\"></div><pre class=\"owb-any-output\" aria-live=\"polite\"></pre>");
 }
 
 #[cfg(test)]
