@@ -38,6 +38,14 @@ impl<F: Field> RationalFunction<F> {
                 den: Poly::constant(F::one(), &var),
             });
         }
+        if den.degree() == Some(0) {
+            // a polynomial over a number: no gcd to take, one scaling (none by 1)
+            let lead = den.leading().inverse()?;
+            return Some(RationalFunction {
+                num: num.scale(&lead).with_var(&var),
+                den: Poly::constant(F::one(), &var),
+            });
+        }
         let g = num.gcd(&den);
         let num = num.divide_exact(&g)?;
         let den = den.divide_exact(&g)?;

@@ -155,6 +155,11 @@ impl<R: Ring> Poly<R> {
     }
     /// `c · self`.
     pub fn scale(&self, c: &R) -> Self {
+        if c.is_one() {
+            // multiplying a big rational by 1 still runs num-rational's gcds (quadratic in the
+            // bits for num-bigint): found by fuzzing, an answer with a 12 000-bit coefficient
+            return self.clone();
+        }
         Poly::new(
             self.coeffs.iter().map(|x| x.clone() * c.clone()).collect(),
             &self.var,
