@@ -6,7 +6,9 @@
 #   book/src/owb-web/owb_web_wasm.js  the module itself, base64 in a classic script, so the book
 #                                     works from any static host and opened as a local file
 #                                     (browsers refuse to fetch a .wasm from file://)
-#   book/src/owb-web/owb_web.wasm     the module as a file, for hosts that serve it
+#   book/src/owb-web/owb_web.wasm     the module as a file, fetched and compiled while it streams
+#                                     in where the book is served
+#   book/src/owb-web/owb_web_worker.js the Web Worker's source (loader + web/worker.js), a string
 # Prints the sizes (the budget is 1 MB gzipped).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,6 +33,10 @@ cp "$tmp/owb_web_bg.wasm" "$out/owb_web.wasm"
   base64 -w0 "$out/owb_web.wasm"
   printf '";\n'
 } > "$out/owb_web_wasm.js"
+# the Web Worker's source (the loader and web/worker.js's message loop) as a string in a classic
+# script: the page makes the worker from a Blob, which needs no fetch, so file:// works too
+cat "$out/owb_web.js" web/worker.js > "$tmp/worker.js"
+node -e 'const fs = require("fs"); process.stdout.write("// The Web Worker of the workbench (web/build.sh): its source as a string.\nwindow.OWB_WORKER_SOURCE = " + JSON.stringify(fs.readFileSync(process.argv[1], "utf8")) + ";\n");' "$tmp/worker.js" > "$out/owb_web_worker.js"
 raw=$(stat -c %s "$out/owb_web.wasm")
 gz=$(gzip -9c "$out/owb_web.wasm" | wc -c)
 echo "owb_web.wasm: $raw bytes, $gz bytes gzipped (budget 1 MB gzipped)"

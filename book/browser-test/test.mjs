@@ -372,12 +372,90 @@ await test("exercise: typed answers are kept after a reload", async () => {
 await test("playground: a missing module is said in the page, not silently ignored", async () => {
   // a page of its own (not open(): the failures here are the point, not problems)
   const page = await browser.newPage();
-  await page.route("**/owb_web_wasm.js", (route) => route.fulfill({ status: 404, body: "not found" }));
+  for (const file of ["owb_web_wasm.js", "owb_web_worker.js", "owb_web.wasm"]) {
+    await page.route(`**/${file}`, (route) => route.fulfill({ status: 404, body: "not found" }));
+  }
   await page.goto(base + "workbench.html");
   const box = page.locator(".owb-playground");
   await box.locator('button[data-run="gain"]').click();
   await page.waitForFunction(() => /could not run/.test(document.querySelector(".owb-playground .owb-output").textContent), null, { timeout: 30000 });
   assert.match(await box.locator(".owb-output").getAttribute("class"), /owb-error/);
+  await page.close();
+});
+
+// ---- off the main thread, stoppable, light ----------------------------------------------------
+
+function randomPlant(n, seed) {
+  let x = seed;
+  const next = () => { x = (x * 1103515245 + 12345) % 2147483648; return (x % 19) - 9; };
+  const a = Array.from({ length: n }, () => Array.from({ length: n }, next).join(" ")).join("; ");
+  const c = Array.from({ length: n }, next).join(" ");
+  return { a: `[${a}]`, c: `[${c}]`, poles: Array.from({ length: n }, (_, i) => -(i + 1)).join(", ") };
+}
+
+async function runAny(page, fields) {
+  const box = page.locator(".owb-playground");
+  await box.locator(".owb-any-command").selectOption("gain");
+  await box.locator(".owb-any-fields").fill(fields);
+  const ran = await box.getAttribute("data-any-ran");
+  await box.locator(".owb-any-run").click();
+  return ran;
+}
+
+await test("worker: a 30-state gain runs off the main thread (longest task under 100 ms) and prints what owb prints", async () => {
+  for (const url of [base + "workbench.html", pathToFileURL(join(bookDir, "workbench.html")).href]) {
+    const page = await open(url);
+    assert.equal(await page.evaluate(() => document.documentElement.getAttribute("data-owb-worker")), "yes", url);
+    const { a, c, poles } = randomPlant(30, 7);
+    await page.evaluate(() => {
+      window.owbLongest = 0;
+      new PerformanceObserver((list) => {
+        for (const e of list.getEntries()) window.owbLongest = Math.max(window.owbLongest, e.duration);
+      }).observe({ type: "longtask" });
+    });
+    const ran = await runAny(page, `a = ${a}\nc = ${c}\npoles = ${poles}\nsummary = true`);
+    await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 120000 });
+    const shown = await page.locator(".owb-any-output").textContent();
+    assert.equal(shown, owb(["gain", "--a", a, "--c", c, "--poles", poles, "--summary"]), url);
+    const inPage = Number(await page.locator(".owb-playground").getAttribute("data-any-ms"));
+    const longest = await page.evaluate(() => window.owbLongest);
+    (timings["30-state gain in the page, ms"] ||= []).push(Number(inPage.toFixed(1)));
+    (timings["longest main-thread task during it, ms"] ||= []).push(Number(longest.toFixed(1)));
+    assert.ok(longest < 100, `${url}: a main-thread task of ${longest} ms`);
+    await page.close();
+  }
+});
+
+await test("worker: a running computation can be stopped, and the next one runs", async () => {
+  const page = await open(base + "workbench.html");
+  const { a, c, poles } = randomPlant(80, 11);
+  const box = page.locator(".owb-playground");
+  await runAny(page, `a = ${a}\nc = ${c}\npoles = ${poles}`);
+  await box.locator(".owb-any-output .owb-stop").click({ timeout: 20000 });
+  await page.waitForFunction(() => document.querySelector(".owb-any-output").textContent === "Stopped.", null, { timeout: 20000 });
+  const ran = await runAny(page, "a = [0 1; -2 -3]\nc = [1 0]\npoles = -4, -5");
+  await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 60000 });
+  assert.equal(await box.locator(".owb-any-output").textContent(),
+    owb(["gain", "--a", "[0 1; -2 -3]", "--c", "[1 0]", "--poles", "-4, -5"]));
+  await page.close();
+});
+
+await test("light: served, an exercise page fetches the .wasm file, not the inlined module (first visit within 1.5 MB gzipped)", async () => {
+  const { gzipSync } = await import("node:zlib");
+  const page = await browser.newPage();
+  const fetched = [];
+  page.on("response", (r) => { if (r.url().startsWith(base)) fetched.push(decodeURIComponent(new URL(r.url()).pathname)); });
+  await page.goto(base + "gains.html");
+  await page.waitForFunction(() => document.documentElement.hasAttribute("data-owb-ready"), null, { timeout: 30000 });
+  assert.ok(fetched.some((p) => p.endsWith("owb_web.wasm")), fetched.join(", "));
+  assert.ok(!fetched.some((p) => p.endsWith("owb_web_wasm.js")), "the base64 module is for file:// only");
+  const gz = (p) => gzipSync(readFileSync(join(bookDir, p))).length;
+  const total = fetched.reduce((sum, p) => sum + gz(p), 0);
+  const module = fetched.filter((p) => p.includes("owb_web")).reduce((sum, p) => sum + gz(p), 0);
+  timings["first visit of an exercise page, KB gzipped"] = [Math.round(total / 1000)];
+  timings["module and its glue, KB gzipped"] = [Math.round(module / 1000)];
+  assert.ok(module <= 1000000, `the module and its glue: ${module} bytes gzipped`);
+  assert.ok(total <= 1500000, `the page's first visit: ${total} bytes gzipped`);
   await page.close();
 });
 

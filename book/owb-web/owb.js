@@ -29,36 +29,143 @@
     return bytes;
   }
 
-  // The workbench, loaded once per page (a promise of wasm_bindgen's exports).
+  // ---- the workbench, in a Web Worker ---------------------------------------------------------
+
+  // The module runs in a Web Worker, so a long computation never freezes the page: the worker is
+  // made from a Blob (its source, wasm-bindgen's loader and a message loop, comes in a classic
+  // script), which works from a static host and from file:// alike. The module itself is fetched
+  // as a .wasm file and compiled while it streams in where the page is served; opened as a local
+  // file, where browsers refuse to fetch, it comes inlined (base64) in a script instead. Where a
+  // worker cannot be made, the module runs in the page as before.
+  var worker = null;
+  var moduleSource = null;
+  var calls = {};
+  var nextCall = 0;
+  var api = null;
+
+  function inlineModule() {
+    return script("owb-web/owb_web_wasm.js").then(function () {
+      return decode(window.OWB_WASM_BASE64);
+    });
+  }
+
+  function fetchModule() {
+    if (location.protocol !== "file:" && typeof WebAssembly.compileStreaming === "function") {
+      return WebAssembly.compileStreaming(fetch(root + "owb-web/owb_web.wasm")).catch(inlineModule);
+    }
+    return inlineModule();
+  }
+
+  function settle(id, answer) {
+    var call = calls[id];
+    if (!call) return;
+    delete calls[id];
+    if ("error" in answer) call.reject(new Error(answer.error));
+    else call.resolve(answer.ok);
+  }
+
+  function startWorker() {
+    var url = URL.createObjectURL(new Blob([window.OWB_WORKER_SOURCE], { type: "text/javascript" }));
+    var w = new Worker(url);
+    w.onmessage = function (e) { settle(e.data.id, e.data); };
+    w.onerror = function (e) {
+      e.preventDefault();
+      Object.keys(calls).forEach(function (id) { settle(id, { error: e.message || "the worker failed" }); });
+    };
+    return w;
+  }
+
+  function post(message) {
+    return new Promise(function (resolve, reject) {
+      nextCall += 1;
+      calls[nextCall] = { resolve: resolve, reject: reject };
+      message.id = nextCall;
+      worker.postMessage(message);
+    });
+  }
+
+  // Stops the running computation: the worker is dropped and a fresh one loads the module.
+  function restart() {
+    worker.terminate();
+    Object.keys(calls).forEach(function (id) { settle(id, { error: "stopped" }); });
+    worker = startWorker();
+    loading = post({ init: moduleSource }).then(function () { return api; });
+  }
+
+  // Calls the module's function `fn`; past 0.2 s the status element says it is computing and
+  // offers to stop.
+  function callWorker(fn, args, status) {
+    var result = post({ fn: fn, args: args });
+    if (!status) return result;
+    var timer = setTimeout(function () {
+      status.textContent = "Computing… ";
+      status.classList.remove("owb-error");
+      var stop = el("button", "owb-stop", "Stop");
+      stop.type = "button";
+      stop.addEventListener("click", restart);
+      status.appendChild(stop);
+    }, 200);
+    var done = function () { clearTimeout(timer); };
+    return result.then(function (x) { done(); return x; }, function (e) { done(); throw e; });
+  }
+
+  // The workbench, loaded once per page: a promise of `{ call(fn, args, status) }`, whose calls
+  // answer with the module's JSON text.
   function workbench() {
     if (!loading) {
       loading = Promise.all([
-        script("owb-web/owb_web.js"),
-        script("owb-web/owb_web_wasm.js"),
+        script("owb-web/owb_web_worker.js"),
         script("katex/katex.min.js"),
+        fetchModule(),
       ])
-        .then(function () {
-          var bytes = decode(window.OWB_WASM_BASE64);
-          return wasm_bindgen({ module_or_path: bytes });
+        .then(function (loaded) {
+          moduleSource = loaded[2];
+          try {
+            worker = startWorker();
+          } catch (e) {
+            return inPage();
+          }
+          api = { call: callWorker };
+          return post({ init: moduleSource }).then(function (version) {
+            document.documentElement.setAttribute("data-owb-worker", "yes");
+            return version;
+          });
         })
-        .then(function () {
-          document.documentElement.setAttribute("data-owb-ready", wasm_bindgen.version());
-          return wasm_bindgen;
+        .then(function (version) {
+          document.documentElement.setAttribute("data-owb-ready", version);
+          return api;
         });
     }
     return loading;
   }
 
+  // Without a worker: the module in the page (a compiled module or bytes, either loads).
+  function inPage() {
+    return script("owb-web/owb_web.js")
+      .then(function () { return wasm_bindgen({ module_or_path: moduleSource }); })
+      .then(function () {
+        api = {
+          call: function (fn, args) {
+            return new Promise(function (resolve) { resolve(wasm_bindgen[fn].apply(null, args)); });
+          },
+        };
+        return wasm_bindgen.version();
+      });
+  }
+
   // Runs f with the workbench once it is loaded. Before the module is there (a slow link, the
   // first use) the page says it is loading; if it cannot load or fails, the page says so
-  // instead of doing nothing.
+  // instead of doing nothing; a computation stopped by the reader says so.
   function withWorkbench(status, f) {
     if (status && !document.documentElement.hasAttribute("data-owb-ready")) {
       status.textContent = "Loading the workbench (the first time only)…";
     }
     return workbench().then(f).catch(function (e) {
       if (status) {
-        status.textContent = "The workbench could not run here: " + String((e && e.message) || e);
+        var message = String((e && e.message) || e);
+        status.textContent = message === "stopped"
+          ? "Stopped."
+          : "The workbench could not run here: " + message;
         status.classList.add("owb-error");
       }
     });
@@ -142,9 +249,12 @@
     if (!document.documentElement.hasAttribute("data-owb-ready")) {
       score.textContent = "Loading the workbench (the first time only)…";
     }
+    var started = performance.now();
     return workbench().then(function (owb) {
-      var started = performance.now();
-      var out = JSON.parse(owb.check(exerciseToml, file));
+      started = performance.now();
+      return owb.call("check", [exerciseToml, file], score);
+    }).then(function (text) {
+      var out = JSON.parse(text);
       form.querySelectorAll(".owb-part").forEach(function (part) {
         var id = part.getAttribute("data-part");
         var answered = part.querySelector(".owb-answer").value.trim() !== "";
@@ -166,7 +276,8 @@
       form.setAttribute("data-checked", String(Number(form.getAttribute("data-checked") || 0) + 1));
       return out;
     }).catch(function (e) {
-      score.textContent = String(e.message || e);
+      var message = String(e.message || e);
+      score.textContent = message === "stopped" ? "Stopped." : message;
       score.className = "owb-score owb-error";
     });
   }
@@ -289,7 +400,10 @@
       var convention = box.querySelector(".owb-convention").value;
       var kind = box.querySelector(".owb-kind").value;
       withWorkbench(body, function (owb) {
-        var v = JSON.parse(owb.variant(student, order, convention, kind));
+        return owb.call("variant", [student, order, convention, kind], body);
+      }).then(function (text) {
+        if (text === undefined) return;
+        var v = JSON.parse(text);
         body.textContent = "";
         if (v.error) {
           body.appendChild(el("p", "owb-error", v.error));
@@ -341,9 +455,23 @@
     return words;
   }
 
+  // Derivations longer than this are typeset on request: KaTeX runs on the page's thread, and a
+  // 30-state derivation took it a quarter of a second (measured in the browser test).
+  var TYPESET_AT_ONCE = 20000;
+
   function showRun(out, parts) {
     parts.math.textContent = "";
-    if (out.latex) math(parts.math, out.latex, true);
+    if (out.latex && out.latex.length <= TYPESET_AT_ONCE) {
+      math(parts.math, out.latex, true);
+    } else if (out.latex) {
+      var typeset = el("button", "owb-typeset", "Typeset the derivation (" + Math.round(out.latex.length / 1000) + " thousand characters of LaTeX)");
+      typeset.type = "button";
+      typeset.addEventListener("click", function () {
+        parts.math.textContent = "";
+        math(parts.math, out.latex, true);
+      });
+      parts.math.appendChild(typeset);
+    }
     parts.output.className = parts.outputClass + (out.status === 2 || out.error ? " owb-error" : "");
     var text = out.output || "";
     if (out.error) {
@@ -365,9 +493,13 @@
     fill();
     box.querySelector(".owb-any-run").addEventListener("click", function () {
       var request = requestOf(select.value, fields.value);
+      var started = performance.now();
       withWorkbench(box.querySelector(".owb-any-output"), function (owb) {
-        var started = performance.now();
-        var out = JSON.parse(owb.run(JSON.stringify(request)));
+        started = performance.now();
+        return owb.call("run", [JSON.stringify(request)], box.querySelector(".owb-any-output"));
+      }).then(function (text) {
+        if (text === undefined) return;
+        var out = JSON.parse(text);
         box.querySelector(".owb-any-command-line").textContent = "owb " + wordsOf(request).map(shellWord).join(" ");
         showRun(out, {
           math: box.querySelector(".owb-any-math"),
@@ -396,9 +528,13 @@
           request.convention = value(".owb-pconvention");
           if (box.querySelector(".owb-float").checked) request.float = true;
         }
+        var started = performance.now();
         withWorkbench(output, function (owb) {
-          var started = performance.now();
-          var out = JSON.parse(owb.run(JSON.stringify(request)));
+          started = performance.now();
+          return owb.call("run", [JSON.stringify(request)], output);
+        }).then(function (text) {
+          if (text === undefined) return;
+          var out = JSON.parse(text);
           command.textContent = "owb " + wordsOf(request).map(shellWord).join(" ");
           showRun(out, { math: mathBox, output: output, outputClass: "owb-output" });
           box.setAttribute("data-run-ms", (performance.now() - started).toFixed(1));
@@ -418,7 +554,10 @@
     box.querySelector(".owb-verify").addEventListener("click", function () {
       var result = box.querySelector(".owb-verify-output");
       withWorkbench(result, function (owb) {
-        var out = JSON.parse(owb.verify(select.value, source.value));
+        return owb.call("verify", [select.value, source.value], result);
+      }).then(function (text) {
+        if (text === undefined) return;
+        var out = JSON.parse(text);
         result.className = "owb-verify-output" + (out.error ? " owb-error" : "");
         result.textContent = out.error ? "error: " + out.error : out.text;
         box.setAttribute("data-verified", String(Number(box.getAttribute("data-verified") || 0) + 1));
