@@ -23,7 +23,7 @@ out=book/src/owb-web
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 wasm-bindgen --target no-modules --no-typescript --remove-name-section --remove-producers-section --out-dir "$tmp" \
-  target/wasm32-unknown-unknown/wasm/owb_web.wasm
+  "${CARGO_TARGET_DIR:-target}/wasm32-unknown-unknown/wasm/owb_web.wasm"
 mkdir -p "$out"
 cp "$tmp/owb_web.js" "$out/owb_web.js"
 cp "$tmp/owb_web_bg.wasm" "$out/owb_web.wasm"

@@ -20,7 +20,7 @@ const here = dirname(fileURLToPath(import.meta.url));
 const repo = resolve(here, "../..");
 const bookDir = join(repo, "book/book");
 const shots = join(repo, "book/screenshots");
-const owbBinary = join(repo, "target/release/owb");
+const owbBinary = join(resolve(repo, process.env.CARGO_TARGET_DIR || "target"), "release/owb");
 mkdirSync(shots, { recursive: true });
 const scratch = mkdtempSync(join(tmpdir(), "owb-browser-"));
 
