@@ -58,6 +58,52 @@ pub struct DetectableDesign {
     pub derivation: Derivation,
 }
 
+/// The Kalman observability decomposition, over any field.
+struct Decomposition<F> {
+    /// T = [V_o V_u].
+    t: Matrix<F>,
+    /// T⁻¹ A T = [A_oo 0; A_uo A_uu].
+    a_decomposed: Matrix<F>,
+    /// The observable part's A_oo (r × r).
+    a_oo: Matrix<F>,
+    /// The observable part's C_o.
+    c_o: Matrix<F>,
+}
+
+/// V_u, a basis of ker O_n (its `n − r` columns), completed with unit columns to
+/// T = [V_o V_u]; T⁻¹ A T and C T, and the observable part's blocks; the steps pushed to `d`
+/// (`o` is O_n).
+fn decompose<F: crate::algebra::Field>(
+    a: &Matrix<F>,
+    c: &Matrix<F>,
+    o: &Matrix<F>,
+    basis: &[Matrix<F>],
+    r: usize,
+    d: &mut Derivation,
+) -> Result<Decomposition<F>, LinalgError> {
+    let n = a.rows();
+    d.push("O_n", "[C; CA; …; CA^(n−1)]", o);
+    let v_u = basis
+        .iter()
+        .try_fold(Matrix::zeros(n, 0), |acc: Matrix<F>, v| acc.hstack(v))?;
+    // completed = [V_u V_o]; reorder to [V_o V_u]
+    let completed = super::reduced_order::complete_with_unit_rows(&v_u.transpose()).transpose();
+    let v_o = completed.block(0, n, n - r, n);
+    let t = v_o.hstack(&v_u)?;
+    let t_inv = linalg::inverse(&t)?;
+    d.push("T", "[V_o V_u], V_u a basis of ker O_n", &t);
+    let a_decomposed = t_inv.mul(a)?.mul(&t)?;
+    let c_dec = c.mul(&t)?;
+    d.push("T⁻¹ A T", "[A_oo 0; A_uo A_uu]", &a_decomposed);
+    d.push("C T", "[C_o 0]", &c_dec);
+    Ok(Decomposition {
+        a_oo: a_decomposed.block(0, r, 0, r),
+        c_o: c_dec.block(0, c.rows(), 0, r),
+        t,
+        a_decomposed,
+    })
+}
+
 /// Designs an observer placing the r observable poles at `desired` (degree r = rank O_n); the
 /// n − r unobservable poles stay where they are, and the design says whether they are stable.
 ///
@@ -81,26 +127,19 @@ pub fn detectable_design(
     }
     let detectable = is_hurwitz(&report.unobservable_polynomial);
     let mut d = Derivation::new("Observer for the observable part (Kalman decomposition)");
-    d.push("O_n", "[C; CA; …; CA^(n−1)]", &report.matrix);
-    // V_u (columns) completed with unit columns to T = [V_o V_u]
-    let v_u = report
-        .unobservable_subspace
-        .iter()
-        .try_fold(Matrix::zeros(n, 0), |acc: Matrix<Rational>, v| {
-            acc.hstack(v)
-        })?;
-    let completed = super::reduced_order::complete_with_unit_rows(&v_u.transpose()).transpose();
-    // completed = [V_u V_o]; reorder to [V_o V_u]
-    let v_o = completed.block(0, n, n - r, n);
-    let t = v_o.hstack(&v_u)?;
-    let t_inv = linalg::inverse(&t)?;
-    d.push("T", "[V_o V_u], V_u a basis of ker O_n", &t);
-    let a_dec = t_inv.mul(a)?.mul(&t)?;
-    let c_dec = c.mul(&t)?;
-    d.push("T⁻¹ A T", "[A_oo 0; A_uo A_uu]", &a_dec);
-    d.push("C T", "[C_o 0]", &c_dec);
-    let a_oo = a_dec.block(0, r, 0, r);
-    let c_o = c_dec.block(0, c.rows(), 0, r);
+    let Decomposition {
+        t,
+        a_decomposed: a_dec,
+        a_oo,
+        c_o,
+    } = decompose(
+        a,
+        c,
+        &report.matrix,
+        &report.unobservable_subspace,
+        r,
+        &mut d,
+    )?;
     let observable_part = design_with(
         &a_oo,
         &c_o,
@@ -211,23 +250,12 @@ pub fn detectable_symbolic(
         ));
     }
     let mut d = Derivation::new("Observer for the observable part (Kalman decomposition)");
-    d.push("O_n", "[C; CA; …; CA^(n−1)]", &o);
-    let v_u = basis
-        .iter()
-        .try_fold(Matrix::zeros(n, 0), |acc: Matrix<Fraction>, v| {
-            acc.hstack(v)
-        })?;
-    let completed = super::reduced_order::complete_with_unit_rows(&v_u.transpose()).transpose();
-    let v_o = completed.block(0, n, n - r, n);
-    let t = v_o.hstack(&v_u)?;
-    let t_inv = linalg::inverse(&t)?;
-    d.push("T", "[V_o V_u], V_u a basis of ker O_n", &t);
-    let a_dec = t_inv.mul(a)?.mul(&t)?;
-    let c_dec = c.mul(&t)?;
-    d.push("T⁻¹ A T", "[A_oo 0; A_uo A_uu]", &a_dec);
-    d.push("C T", "[C_o 0]", &c_dec);
-    let a_oo = a_dec.block(0, r, 0, r);
-    let c_o = c_dec.block(0, c.rows(), 0, r);
+    let Decomposition {
+        t,
+        a_decomposed: a_dec,
+        a_oo,
+        c_o,
+    } = decompose(a, c, &o, &basis, r, &mut d)?;
     let observable_part = super::gain::design_symbolic(
         &a_oo,
         &c_o,
