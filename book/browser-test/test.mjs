@@ -369,6 +369,56 @@ await test("exercise: typed answers are kept after a reload", async () => {
   await page.close();
 });
 
+await test("exercise: answers and their feedback are back after a link and Back; saved, loaded and cleared", async () => {
+  const page = await open(base + "gains.html");
+  const selector = `.owb-exercise[data-exercise-id="${stoustrup}"]`;
+  const form = page.locator(selector);
+  const wrong = negateMatrix(rightL);
+  await answer(page, selector, { L: wrong });
+  await page.goto(base + "observability.html");
+  await page.goBack();
+  await page.waitForFunction((s) => {
+    const f = document.querySelector(s);
+    return f && Number(f.getAttribute("data-checked") || 0) >= 1;
+  }, selector, { timeout: 30000 });
+  assert.equal(await form.locator('.owb-part[data-part="L"] .owb-answer').inputValue(), wrong);
+  assert.equal(await form.locator('.owb-part[data-part="L"] .owb-feedback').getAttribute("data-mistake"), "sign_convention",
+    "the feedback is back with the answer");
+  await form.screenshot({ path: join(shots, "exercise-restored.png") });
+  // Save my answers: the file owb check reads
+  const [download] = await Promise.all([page.waitForEvent("download"), form.locator(".owb-download").click()]);
+  const saved = join(scratch, "saved.toml");
+  await download.saveAs(saved);
+  const cli = owbCheck(stoustrup, readFileSync(saved, "utf8"));
+  assert.equal(cli.parts.find((p) => p.id === "L").mistake, "sign_convention");
+  // Clear my answers: fields and feedback gone, and still gone after a reload
+  await form.locator(".owb-clear").click();
+  assert.equal(await form.locator('.owb-part[data-part="L"] .owb-answer').inputValue(), "");
+  assert.equal(await form.locator('.owb-part[data-part="L"] .owb-feedback').textContent(), "");
+  await page.reload();
+  await page.waitForFunction(() => document.documentElement.hasAttribute("data-owb-ready"), null, { timeout: 30000 });
+  assert.equal(await form.locator('.owb-part[data-part="L"] .owb-answer').inputValue(), "");
+  // Load answers: the saved file fills the fields and is checked
+  const checked = Number(await form.getAttribute("data-checked") || 0);
+  await form.locator(".owb-load-file").setInputFiles(saved);
+  await page.waitForFunction(([s, n]) => Number(document.querySelector(s).getAttribute("data-checked") || 0) > n,
+    [selector, checked], { timeout: 30000 });
+  assert.equal(await form.locator('.owb-part[data-part="L"] .owb-answer').inputValue(), wrong);
+  assert.equal(await form.locator('.owb-part[data-part="L"] .owb-feedback').getAttribute("data-mistake"), "sign_convention");
+  await page.close();
+});
+
+await test("screenshot: the playground running discrete", async () => {
+  const page = await open(base + "workbench.html");
+  const box = page.locator(".owb-playground");
+  await box.locator(".owb-any-command").selectOption("discrete");
+  const ran = await box.getAttribute("data-any-ran");
+  await box.locator(".owb-any-run").click();
+  await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 60000 });
+  await box.screenshot({ path: join(shots, "playground-discrete.png") });
+  await page.close();
+});
+
 await test("playground: a missing module is said in the page, not silently ignored", async () => {
   // a page of its own (not open(): the failures here are the point, not problems)
   const page = await browser.newPage();

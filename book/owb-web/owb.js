@@ -323,6 +323,91 @@
     form.querySelector(".owb-check").addEventListener("click", function () {
       check(form, exerciseToml, student);
     });
+    fileButtons(form, exerciseToml, student, refresh);
+    // answers kept from an earlier visit come back with their feedback
+    var restored = Array.prototype.some.call(form.querySelectorAll(".owb-answer"), function (input) {
+      return input.value.trim() !== "";
+    });
+    if (restored) workbench().then(function () { check(form, exerciseToml, student); });
+  }
+
+  // The answers of a part from an answer file (`[answers]`, one `part = "text"` per line, TOML
+  // basic strings): part → text.
+  function readAnswerFile(text) {
+    var answers = {};
+    var inAnswers = false;
+    text.split(/\r?\n/).forEach(function (line) {
+      var t = line.trim();
+      if (/^\[.*\]$/.test(t)) {
+        inAnswers = t === "[answers]";
+        return;
+      }
+      var m = /^("[^"]*"|[A-Za-z0-9_-]+)\s*=\s*"((?:[^"\\]|\\.)*)"\s*(#.*)?$/.exec(t);
+      if (!inAnswers || !m) return;
+      try {
+        answers[m[1].replace(/^"|"$/g, "")] = JSON.parse('"' + m[2] + '"');
+      } catch (e) { /* an escape JSON does not know: the part is left as it is */ }
+    });
+    return answers;
+  }
+
+  // "Save my answers" (the file `owb check` reads), "Load answers" (such a file back into the
+  // fields, then checked) and "Clear my answers" (fields, feedback and what the browser kept).
+  function fileButtons(form, exerciseToml, student, refresh) {
+    var actions = form.querySelector(".owb-actions");
+    if (!actions || actions.querySelector(".owb-clear")) return;
+    var button = function (cls, text) {
+      var b = el("button", cls, text);
+      b.type = "button";
+      actions.appendChild(document.createTextNode(" "));
+      actions.appendChild(b);
+      return b;
+    };
+    if (!actions.querySelector(".owb-download")) {
+      button("owb-download", "Save my answers").addEventListener("click", function () {
+        var blob = new Blob([answerFile(form, student)], { type: "text/plain" });
+        var a = document.createElement("a");
+        a.href = URL.createObjectURL(blob);
+        a.download = form.getAttribute("data-exercise-id") + ".toml";
+        document.body.appendChild(a);
+        a.click();
+        a.remove();
+      });
+    }
+    var picker = el("input", "owb-load-file");
+    picker.type = "file";
+    picker.accept = ".toml,text/plain";
+    picker.hidden = true;
+    picker.setAttribute("aria-label", "an answer file to load");
+    actions.appendChild(picker);
+    button("owb-load", "Load answers").addEventListener("click", function () { picker.click(); });
+    picker.addEventListener("change", function () {
+      var file = picker.files && picker.files[0];
+      if (!file) return;
+      file.text().then(function (text) {
+        var answers = readAnswerFile(text);
+        form.querySelectorAll(".owb-part").forEach(function (part) {
+          var id = part.getAttribute("data-part");
+          var input = part.querySelector(".owb-answer");
+          input.value = answers[id] || "";
+          store(storageKey(form, student, id), input.value);
+        });
+        picker.value = "";
+        refresh();
+        check(form, exerciseToml, student);
+      });
+    });
+    button("owb-clear", "Clear my answers").addEventListener("click", function () {
+      form.querySelectorAll(".owb-part").forEach(function (part) {
+        part.querySelector(".owb-answer").value = "";
+        store(storageKey(form, student, part.getAttribute("data-part")), "");
+        showFeedback(part, null, null);
+      });
+      var score = form.querySelector(".owb-score");
+      score.textContent = "";
+      score.className = "owb-score";
+      refresh();
+    });
   }
 
   // ---- each student's own exercise ---------------------------------------------------------
