@@ -584,13 +584,17 @@ await test("phones: figure labels at least 11 px on screen and every verdict col
   assert.deepEqual(hidden, [], hidden.join("; "));
 });
 
-await test("exercise: a pasted control character is named at its part, the other parts still checked", async () => {
+await test("exercise: a pasted control character is named at its part, the other parts still checked; a no-break space is a space", async () => {
   const page = await open(base + "gains.html");
   const selector = `.owb-exercise[data-exercise-id="${stoustrup}"]`;
   const { shown, file } = await answer(page, selector, { L: rightL.replace(";", ";\u0007"), desired: desiredInLambda });
   assert.match(shown.L.feedback, /control character/, JSON.stringify(shown.L));
   assert.ok(shown.desired.correct, JSON.stringify(shown.desired));
   sameAsCli(shown, owbCheck(stoustrup, file));
+  // a no-break space pasted from a PDF is a space
+  const nbsp = await answer(page, selector, { L: rightL.replace(/ /g, "\u00a0") });
+  assert.ok(nbsp.shown.L.correct, JSON.stringify(nbsp.shown.L));
+  sameAsCli(nbsp.shown, owbCheck(stoustrup, nbsp.file));
   await page.close();
 });
 

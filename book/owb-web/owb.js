@@ -208,7 +208,9 @@
     if (student) lines.push("student = " + tomlString(student));
     lines.push("", "[answers]");
     form.querySelectorAll(".owb-part").forEach(function (part) {
-      var value = part.querySelector(".owb-answer").value.trim();
+      // no-break and figure spaces (pasted from a PDF) are spaces; other invisible characters
+      // go to the checker, which names them and their column
+      var value = part.querySelector(".owb-answer").value.replace(/[\u00a0\u2007\u202f]/g, " ").trim();
       if (value) lines.push(part.getAttribute("data-part") + " = " + tomlString(value));
     });
     return lines.join("\n") + "\n";
@@ -285,8 +287,10 @@
   // Answers are kept in the browser (localStorage), per exercise, student and part, so a reload,
   // a chapter link or Back loses nothing; where storage is refused (a private window, file://
   // in some browsers) the page works as before.
+  // keyed by book (its folder: two courses on one host keep apart), exercise, student and part
+  var bookKey = new URL(root || "./", location.href).pathname;
   function storageKey(form, student, part) {
-    return "owb-answer:" + form.getAttribute("data-exercise-id") + ":" + (student || "") + ":" + part;
+    return "owb-answer:" + bookKey + ":" + form.getAttribute("data-exercise-id") + ":" + (student || "") + ":" + part;
   }
   function stored(key) {
     try { return window.localStorage.getItem(key); } catch (e) { return null; }
