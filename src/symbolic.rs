@@ -329,6 +329,16 @@ impl DesiredRequest<'_> {
         env: &crate::syntax::Environment,
         n: usize,
     ) -> Result<Poly<Fraction>, String> {
+        // under the symbolic work budget (found by fuzzing: a Butterworth polynomial whose time
+        // constant was a sum of ten parameters was built before any budget was open, 1.1 s)
+        within_budget(|| self.polynomial_within(env, n)).map_err(|e| e.to_string())?
+    }
+
+    fn polynomial_within(
+        &self,
+        env: &crate::syntax::Environment,
+        n: usize,
+    ) -> Result<Poly<Fraction>, String> {
         let values = self.values(env)?;
         match *self {
             DesiredRequest::Poles(_) if values.len() != n => Err(format!(
@@ -358,7 +368,9 @@ impl DesiredRequest<'_> {
 /// A text that cannot be read, the variable in a denominator, a polynomial that is not monic
 /// of degree `n` (in words; the caller names the flag).
 pub fn polynomial_in(text: &str, var: &str, n: usize) -> Result<Poly<Fraction>, String> {
-    let coeffs = coefficients_in(text, var, &crate::syntax::Environment::new())?;
+    let env = crate::syntax::Environment::new();
+    let coeffs =
+        within_budget(|| coefficients_in(text, var, &env)).map_err(|e| e.to_string())??;
     let poly = Poly::new(coeffs, "s");
     if poly.degree() != Some(n) || !poly.is_monic() {
         return Err(format!(
