@@ -316,7 +316,20 @@ impl DesiredRequest<'_> {
 
     /// The parameters it mentions (`s` of a polynomial is its variable, not a parameter).
     pub fn parameters(&self, env: &crate::syntax::Environment) -> Vec<String> {
-        self.values(env).map(|v| parameters(&v)).unwrap_or_default()
+        within_budget(|| self.values(env).map(|v| parameters(&v)).unwrap_or_default())
+            .unwrap_or_default()
+    }
+
+    /// Whether the request mentions parameters, read under the symbolic work budget: a text too
+    /// costly to read counts as mentioning them, so that the symbolic path reads it again and
+    /// refuses it naming the limit (found by fuzzing: a `--poly` of degree-25 fractions was read
+    /// without a budget to decide which path to take, and ran into the 10 s time budget).
+    pub fn mentions_parameters(&self, env: &crate::syntax::Environment) -> bool {
+        match within_budget(|| self.values(env).map(|v| parameters(&v))) {
+            Ok(Ok(names)) => !names.is_empty(),
+            Ok(Err(_)) => false,
+            Err(_) => true,
+        }
     }
 
     /// The polynomial of degree `n` in `s` over the rational functions of the parameters.
@@ -398,9 +411,13 @@ pub fn coefficients_in(
 /// The parameters a polynomial in `var` mentions (none when it cannot be read: the reader
 /// that designs with it says why).
 pub fn polynomial_parameters(text: &str, var: &str) -> Vec<String> {
-    coefficients_in(text, var, &crate::syntax::Environment::new())
-        .map(|c| parameters(&c))
-        .unwrap_or_default()
+    let env = crate::syntax::Environment::new();
+    within_budget(|| {
+        coefficients_in(text, var, &env)
+            .map(|c| parameters(&c))
+            .unwrap_or_default()
+    })
+    .unwrap_or_default()
 }
 
 /// A polynomial in `s` as one rational function of `s` and the parameters.

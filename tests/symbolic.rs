@@ -781,3 +781,27 @@ fn detectability_as_a_condition_on_the_parameters() {
     assert!(out.contains("valid for m ≠ 0"), "{out}");
     insta::assert_snapshot!(out);
 }
+
+/// Deciding whether a desired polynomial mentions parameters reads it, and that reading is under
+/// the symbolic budget too (a syntax fuzz input given to `--poly` ran into the 10 s time
+/// budget: Euclid's remainder sequence over degree-25 fractions, read before any budget opened).
+#[test]
+fn a_desired_polynomial_too_costly_to_read_is_refused_quickly() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("fuzz/open/syntax-timeout-fa800bd4bf330eca5ba1ae382fe8054e31b295af"),
+    )
+    .expect("the open fuzz input");
+    let start = std::time::Instant::now();
+    let (code, _, err) = owb(&["gain", "--a", "[1]", "--c", "[1]", "--poly", text.trim()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--poly") && err.contains("symbolic computation"),
+        "{err}"
+    );
+    assert!(
+        start.elapsed() < std::time::Duration::from_secs(5),
+        "{:?}",
+        start.elapsed()
+    );
+}

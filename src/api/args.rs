@@ -674,7 +674,7 @@ impl DesiredArgs {
     /// Whether the desired polynomial mentions a parameter (`s` in `--poly` is the variable).
     pub fn mentions_parameters(&self) -> bool {
         self.request()
-            .is_some_and(|(_, r)| !r.parameters(&Environment::new()).is_empty())
+            .is_some_and(|(_, r)| r.mentions_parameters(&Environment::new()))
     }
 
     /// The desired polynomial of degree `n` as a polynomial in `s` over the rational functions
@@ -695,7 +695,7 @@ impl DesiredArgs {
         let Some((flag, request)) = self.request() else {
             return self.parse(n);
         };
-        if values.is_empty() || request.parameters(&Environment::new()).is_empty() {
+        if values.is_empty() || !request.mentions_parameters(&Environment::new()) {
             return self.parse(n);
         }
         let numbers = |xs: Vec<Fraction>| numbers(&flag, xs);

@@ -69,11 +69,10 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let others = [Some(&args.l), args.b.as_ref(), args.f.as_ref()];
     let others_symbolic = values.is_empty()
         && (others.iter().flatten().any(|t| mentions_parameters(t))
-            || args.feedback_poly.as_deref().is_some_and(|p| {
-                !DesiredRequest::Poly(p)
-                    .parameters(&Default::default())
-                    .is_empty()
-            }));
+            || args
+                .feedback_poly
+                .as_deref()
+                .is_some_and(|p| DesiredRequest::Poly(p).mentions_parameters(&Default::default())));
     let (a, c) = match args.system.plant()? {
         Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
         Plant::Numeric(a, c) if others_symbolic => {

@@ -99,9 +99,11 @@ fn desired(
     }
     let none = crate::syntax::Environment::new();
     Ok(
-        if let Some(p) = args.poles.as_ref().filter(|p| {
-            !values.is_empty() && !DesiredRequest::Poles(p).parameters(&none).is_empty()
-        }) {
+        if let Some(p) = args
+            .poles
+            .as_ref()
+            .filter(|p| !values.is_empty() && DesiredRequest::Poles(p).mentions_parameters(&none))
+        {
             // parameters with values from --at
             let read = DesiredRequest::Poles(p)
                 .values(values)
@@ -166,7 +168,7 @@ fn desired_mentions_parameters(args: &Args) -> bool {
     let env = crate::syntax::Environment::new();
     args.poles
         .as_deref()
-        .is_some_and(|p| !DesiredRequest::Poles(p).parameters(&env).is_empty())
+        .is_some_and(|p| DesiredRequest::Poles(p).mentions_parameters(&env))
         || args
             .poly
             .as_deref()
