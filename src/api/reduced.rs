@@ -10,7 +10,6 @@ use crate::observer::detectability::detectable_design;
 use crate::observer::reduced_order::{reduced_order_observer, reduced_order_symbolic};
 use crate::observer::Convention;
 use anyhow::{anyhow, bail, Result};
-use num_traits::Signed;
 use serde_json::json;
 
 /// Arguments of `owb reduced`.
@@ -407,77 +406,94 @@ fn detectable_with_parameters(
     }
     work.note_denominators(d.t.entries(), "a denominator of T")?;
     work.note_denominators(d.gain.entries(), "a denominator of the gain")?;
-    let conditions: Vec<&Fraction> = d
-        .conditions
-        .iter()
-        .filter(|x| x.as_rational().is_none())
-        .collect();
-    let never = d
-        .conditions
-        .iter()
-        .any(|x| x.as_rational().is_some_and(|q| !q.is_positive()));
-    let detectable = if never {
-        Some(false)
-    } else if conditions.is_empty() {
-        Some(true)
-    } else {
-        None
-    };
+    let (detectable, conditions) = d.verdict();
     let json = args
         .json
-        .then(|| -> Result<serde_json::Value> {
-            Ok(json!({
-                "convention": convention.flag(),
-                "method": method.flag(),
-                "rank": d.rank,
-                "order": a.rows(),
-                "detectable": detectable,
-                "detectable_when": conditions.iter().map(|x| format!("{} > 0", x.to_input())).collect::<Vec<_>>(),
-                "unobservable_polynomial": d.unobservable_polynomial.to_input(),
-                "t": json_matrix(&d.t),
-                "decomposed_a": json_matrix(&d.a_decomposed),
-                "gain": json_matrix(&d.gain),
-                "observer_polynomial": d.observer_polynomial.to_input(),
-                "polynomial_checks": d.identity,
-                "steps": serde_json::to_value(&d.derivation.steps)?,
-            }))
-        })
+        .then(|| detectable_json(&d, convention, method, a.rows(), detectable, &conditions))
         .transpose()?;
     work.answer(rep, json, |rep| {
-        rep.derivation(&d.derivation);
-        let n = a.rows();
-        outln!(rep, "Result ({convention} convention, {method} method):");
-        outln!(
+        detectable_text(
+            rep,
+            &d,
+            &work,
+            (convention, method),
+            a.rows(),
+            detectable,
+            &conditions,
+        );
+    });
+    Ok(Outcome::Ok)
+}
+
+/// `owb detectable --json` with parameters.
+fn detectable_json(
+    d: &crate::observer::detectability::SymbolicDetectable,
+    convention: Convention,
+    method: crate::observer::GainMethod,
+    order: usize,
+    detectable: Option<bool>,
+    conditions: &[&Fraction],
+) -> Result<serde_json::Value> {
+    Ok(json!({
+        "convention": convention.flag(),
+        "method": method.flag(),
+        "rank": d.rank,
+        "order": order,
+        "detectable": detectable,
+        "detectable_when": conditions.iter().map(|x| format!("{} > 0", x.to_input())).collect::<Vec<_>>(),
+        "unobservable_polynomial": d.unobservable_polynomial.to_input(),
+        "t": json_matrix(&d.t),
+        "decomposed_a": json_matrix(&d.a_decomposed),
+        "gain": json_matrix(&d.gain),
+        "observer_polynomial": d.observer_polynomial.to_input(),
+        "polynomial_checks": d.identity,
+        "steps": serde_json::to_value(&d.derivation.steps)?,
+    }))
+}
+
+/// The text of `owb detectable` with parameters, after the derivation.
+fn detectable_text(
+    rep: &mut Report,
+    d: &crate::observer::detectability::SymbolicDetectable,
+    work: &Parametric,
+    (convention, method): (Convention, crate::observer::GainMethod),
+    n: usize,
+    detectable: Option<bool>,
+    conditions: &[&Fraction],
+) {
+    rep.derivation(&d.derivation);
+    outln!(rep, "Result ({convention} convention, {method} method):");
+    outln!(
             rep,
             "  rank O_n = {} of {n} for generic values of the parameters: {} observable mode(s) placed, {} fixed",
             d.rank,
             d.rank,
             n - d.rank
         );
-        if d.rank == n {
-            outln!(
-                rep,
-                "  fixed (unobservable) modes: none (observable for generic values of the parameters)"
-            );
-        } else {
-            outln!(
-                rep,
-                "  fixed (unobservable) modes: the roots of det(sI − A_uu) = {}",
-                d.unobservable_polynomial
-            );
-        }
-        outln!(rep, "  {} = {}", convention.letter(), d.gain.to_input());
+    if d.rank == n {
         outln!(
             rep,
-            "  observer polynomial = {} = desired × det(sI − A_uu): {}",
-            d.observer_polynomial,
-            if d.identity {
-                format!("an identity in s and {}", work.names())
-            } else {
-                "NOT equal".to_string()
-            }
+            "  fixed (unobservable) modes: none (observable for generic values of the parameters)"
         );
-        match detectable {
+    } else {
+        outln!(
+            rep,
+            "  fixed (unobservable) modes: the roots of det(sI − A_uu) = {}",
+            d.unobservable_polynomial
+        );
+    }
+    outln!(rep, "  {} = {}", convention.letter(), d.gain.to_input());
+    outln!(
+        rep,
+        "  observer polynomial = {} = desired × det(sI − A_uu): {}",
+        d.observer_polynomial,
+        if d.identity {
+            format!("an identity in s and {}", work.names())
+        } else {
+            "NOT equal".to_string()
+        }
+    );
+    match detectable {
             Some(true) => outln!(
                 rep,
                 "  detectable for every value: every unobservable mode is stable, so this observer's error decays"
@@ -496,6 +512,4 @@ fn detectable_with_parameters(
                     .join(", ")
             ),
         }
-    });
-    Ok(Outcome::Ok)
 }

@@ -297,6 +297,32 @@ pub fn detectable_symbolic(
     })
 }
 
+impl SymbolicDetectable {
+    /// Detectable for every value (`Some(true)`: every condition a positive number), for none
+    /// (`Some(false)`: one a nonpositive number), or exactly when the conditions that are
+    /// formulas are positive (`None`, with them).
+    pub fn verdict(&self) -> (Option<bool>, Vec<&Fraction>) {
+        use num_traits::Signed;
+        let formulas: Vec<&Fraction> = self
+            .conditions
+            .iter()
+            .filter(|x| x.as_rational().is_none())
+            .collect();
+        let never = self
+            .conditions
+            .iter()
+            .any(|x| x.as_rational().is_some_and(|q| !q.is_positive()));
+        let verdict = if never {
+            Some(false)
+        } else if formulas.is_empty() {
+            Some(true)
+        } else {
+            None
+        };
+        (verdict, formulas)
+    }
+}
+
 /// The conditions for a monic `p(s) = s^m + c₁ s^(m−1) + … + c_m` to be Hurwitz: the leading
 /// Hurwitz determinants `Δ₁, …, Δ_(m−1)` and `c_m` positive (Δ_m = c_m Δ_(m−1)). Empty for
 /// `p = 1`.
