@@ -8,6 +8,7 @@
 
 mod factor;
 mod integer_gcd;
+mod quadratic_gcd;
 mod rational_function;
 mod stability;
 mod univariate;

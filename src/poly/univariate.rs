@@ -52,6 +52,27 @@ impl<R: Ring> Poly<R> {
         let quadratic = back.coeffs.into_iter().map(Quadratic::rational).collect();
         crate::algebra::from_concrete(Poly::new(quadratic, &self.var)).map(Some)
     }
+    /// Runs `f` on the coefficients when both polynomials are over `Q(√d)` with some coefficient
+    /// irrational (the fraction-free `Z[√d]` algorithms), and brings the result back; `None`
+    /// when `f` declines (another type, all rational, two fields), `Some(None)` when `f` says
+    /// there is no result.
+    pub(crate) fn through_quadratics(
+        &self,
+        other: &Self,
+        f: impl FnOnce(
+            &[crate::algebra::Quadratic],
+            &[crate::algebra::Quadratic],
+        ) -> Option<Option<Vec<crate::algebra::Quadratic>>>,
+    ) -> Option<Option<Self>> {
+        use crate::algebra::Quadratic;
+        use std::any::Any;
+        let a = (self as &dyn Any).downcast_ref::<Poly<Quadratic>>()?;
+        let b = (other as &dyn Any).downcast_ref::<Poly<Quadratic>>()?;
+        match f(&a.coeffs, &b.coeffs)? {
+            None => Some(None),
+            Some(result) => crate::algebra::from_concrete(Poly::new(result, &self.var)).map(Some),
+        }
+    }
     /// The polynomial with coefficients `coeffs` (ascending powers) in `var`.
     pub fn new(mut coeffs: Vec<R>, var: &str) -> Self {
         while coeffs.last().is_some_and(|c| c.is_zero()) {
@@ -320,6 +341,11 @@ impl<F: Field + 'static> Poly<F> {
         {
             return g;
         }
+        if let Some(Some(g)) = self.through_quadratics(other, |a, b| {
+            super::quadratic_gcd::gcd_quadratic(a, b).map(Some)
+        }) {
+            return g;
+        }
         let (mut a, mut b) = (self.clone(), other.clone());
         while !b.is_zero() {
             let r = match a.div_rem(&b) {
@@ -334,6 +360,11 @@ impl<F: Field + 'static> Poly<F> {
     /// `self / divisor` when the division leaves no remainder.
     pub fn divide_exact(&self, divisor: &Self) -> Option<Self> {
         if let Some(q) = self.through_rationals(divisor, super::integer_gcd::divide_exact_rational)
+        {
+            return q;
+        }
+        if let Some(q) =
+            self.through_quadratics(divisor, super::quadratic_gcd::divide_exact_quadratic)
         {
             return q;
         }
