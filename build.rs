@@ -1,5 +1,7 @@
 //! Builds the exercises shipped in `worked_examples/exercises/` into the program, so that an
-//! installed `owb check ID` needs no checkout of the sources.
+//! installed `owb check ID` needs no checkout of the sources, and the source documents' authors
+//! and titles (the `document` and `title` lines of `worked_examples/coverage/*.toml`), so that
+//! every report — the browser's too — names a document by author and title.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -32,5 +34,45 @@ fn main() {
     out.push_str("];\n");
     let target = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
         .join("builtin_exercises.rs");
+    std::fs::write(target, out).expect("OUT_DIR is writable");
+    document_titles();
+}
+
+/// `BUILTIN_DOCUMENT_TITLES: &[(file, author and title)]` from the coverage lists' top lines.
+fn document_titles() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("worked_examples")
+        .join("coverage");
+    println!("cargo:rerun-if-changed={}", dir.display());
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    let mut out = String::from(
+        "/// The source documents by file name: `(file, author and title)`, from the coverage lists.\npub const BUILTIN_DOCUMENT_TITLES: &[(&str, &str)] = &[\n",
+    );
+    for f in &files {
+        println!("cargo:rerun-if-changed={}", f.display());
+        let text = std::fs::read_to_string(f).unwrap_or_default();
+        // the top-level `key = "value"` lines before the first table
+        let top = |key: &str| {
+            text.lines()
+                .take_while(|l| !l.starts_with('['))
+                .find_map(|l| {
+                    let (k, v) = l.split_once('=')?;
+                    (k.trim() == key).then(|| v.trim().trim_matches('"').to_string())
+                })
+        };
+        if let (Some(document), Some(title)) = (top("document"), top("title")) {
+            let _ = writeln!(out, "    ({document:?}, {title:?}),");
+        }
+    }
+    out.push_str("];\n");
+    let target = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
+        .join("builtin_document_titles.rs");
     std::fs::write(target, out).expect("OUT_DIR is writable");
 }

@@ -112,6 +112,60 @@ fn each_mistake_kind_is_named() {
     );
 }
 
+/// A wrong gain that is the right gain of a neighbouring problem is named as that problem,
+/// before any transformation of the key: the RC ladder's gain for the last node, [14; 14; 6],
+/// is also the first node's gain reversed (the ladder is symmetric), and the checker says the
+/// first (issue 27).
+#[test]
+fn a_gain_for_another_output_is_named_as_that_output() {
+    let rc = key("baranowski-single-output");
+    let p = rc.part("G1").unwrap();
+    let (d, notes) = diagnose(&rc, p, "[14; 14; 6]");
+    let d = d.expect("a diagnosis");
+    assert_eq!(d.mistake.name(), "another_output");
+    assert!(
+        d.message.contains("x₃") && d.message.contains("[0 0 1]"),
+        "{}",
+        d.message
+    );
+    // and what the answer does is still said: the poles it places
+    assert!(
+        notes.iter().any(|n| n.contains("observer polynomial")),
+        "{notes:?}"
+    );
+    // the other output's gain with the other convention is no neighbouring problem of this kind
+    assert_ne!(mistake(&rc, "G1", "[-14; -14; -6]"), Some("another_output"));
+    // the same answer through the command line, as the page shows it
+    let dir = std::env::temp_dir().join(format!("owb-another-output-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let answers = dir.join("a.toml");
+    std::fs::write(&answers, "[answers]\nG1 = \"[14; 14; 6]\"\n").unwrap();
+    let (code, out, _) = owb(&[
+        "check",
+        "baranowski-single-output",
+        answers.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1);
+    assert!(
+        out.contains("another output — this is the gain for output x₃"),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every mistake the checker names is explained in the exercises' README.
+#[test]
+fn every_named_mistake_is_in_the_readme_table() {
+    let readme = std::fs::read_to_string("worked_examples/exercises/README.md").unwrap();
+    for m in observer_workbench::exercise::Mistake::ALL {
+        assert!(
+            readme.contains(&format!("| `{}` |", m.name())),
+            "{} is not in worked_examples/exercises/README.md",
+            m.name()
+        );
+    }
+}
+
 #[test]
 fn equivalent_forms_and_rounding_count_as_correct() {
     let st = key("stoustrup-pole-assignment");

@@ -269,6 +269,13 @@ await test("variant: a student's exercise, checked in the page and graded by owb
     .map((l) => { const m = l.match(/^# (\S+) = "(.*)"$/); return [m[1], m[2]]; }));
   assert.ok(Object.keys(key).length >= 5, `the key: ${JSON.stringify(key)}`);
   assert.ok(readFileSync(exerciseFile, "utf8").includes(`id = "${id}"`), "the same exercise");
+  // read like the book's exercises: a title without the seed, the system typeset by KaTeX, the
+  // steps as a numbered list, hints for the parts
+  const title = await box.locator("h4").textContent();
+  assert.ok(!/seed|\d{6,}/.test(title), title);
+  assert.ok(await box.locator(".owb-math .katex").count() >= 1, "the system typeset");
+  assert.equal(await box.locator("ol.owb-steps > li").count(), 5);
+  assert.ok(await box.locator(".owb-hints li").count() >= 5, "hints for the parts");
   const right = await answer(page, ".owb-variant .owb-exercise", key);
   for (const [part, s] of Object.entries(right.shown)) assert.ok(s.correct, `${part}: ${JSON.stringify(s)}`);
   sameAsCli(right.shown, owbCheck(exerciseFile, right.file));

@@ -427,6 +427,40 @@
     });
   }
 
+  // A statement as the workbench lays it out: paragraphs, numbered steps, the system typeset.
+  function statementBlocks(target, blocks) {
+    blocks.forEach(function (b) {
+      if (b.text !== undefined) {
+        paragraphs(target, b.text);
+      } else if (b.steps) {
+        var list = el("ol", "owb-steps");
+        b.steps.forEach(function (step) { list.appendChild(el("li", null, step)); });
+        target.appendChild(list);
+      } else if (b.math !== undefined) {
+        var box = el("div", "owb-math");
+        box.setAttribute("tabindex", "0");
+        math(box, b.math, true);
+        target.appendChild(box);
+      }
+    });
+  }
+
+  // The method each part asks for (not its answer), as the book's exercises show it.
+  function hints(parts) {
+    var list = el("ul");
+    parts.forEach(function (p) {
+      if (!p.hint) return;
+      var item = el("li");
+      item.appendChild(el("code", null, p.id));
+      item.appendChild(document.createTextNode(": " + p.hint));
+      list.appendChild(item);
+    });
+    var details = el("details", "owb-hints");
+    details.appendChild(el("summary", null, "Hints"));
+    details.appendChild(list);
+    return list.children.length ? details : null;
+  }
+
   function variantExercise(v, student) {
     var form = el("div", "owb-exercise");
     form.setAttribute("data-exercise-id", v.id);
@@ -451,6 +485,8 @@
       part.appendChild(feedback);
       form.appendChild(part);
     });
+    var hinted = hints(v.parts);
+    if (hinted) form.appendChild(hinted);
     var actions = el("div", "owb-actions");
     var button = el("button", "owb-check", "Check");
     button.type = "button";
@@ -498,10 +534,12 @@
           body.appendChild(el("p", "owb-error", v.error));
           return;
         }
-        body.appendChild(el("h4", null, v.title + " — " + v.id));
-        paragraphs(body, v.statement);
+        body.appendChild(el("h4", null, v.title));
+        statementBlocks(body, v.statement_blocks);
         var p = el("p", "owb-note");
-        p.appendChild(document.createTextNode("Your teacher regenerates this exercise with "));
+        p.appendChild(document.createTextNode("Exercise "));
+        p.appendChild(el("code", null, v.id));
+        p.appendChild(document.createTextNode(". Your teacher regenerates it with "));
         p.appendChild(el("code", null, v.command));
         p.appendChild(document.createTextNode(" and grades the saved answers with "));
         p.appendChild(el("code", null, "owb grade variants SUBMISSIONS/ --csv report.csv"));

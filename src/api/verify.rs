@@ -1,7 +1,7 @@
 //! `owb verify`: recompute the worked examples and compare with what the documents printed.
 //!
 //! `--json` prints one object, kept stable for graders:
-//! `{"examples": [{"id", "document", "claims": [{"id", "source", "printed", "recomputed",
+//! `{"examples": [{"id", "document", "document_title", "claims": [{"id", "source", "printed", "recomputed",
 //! "verdict", "explanation"}]}], "summary": {"holds", "erratum", "mismatch", …}}`, and, when the
 //! whole folder is verified, `"coverage": [{"document", "title", "statements", "recorded",
 //! "inputs", "not_checked": {reason: count}}]`.

@@ -52,38 +52,6 @@ fn placeholder(input: &str) -> &'static str {
     }
 }
 
-/// A hint for a part asking this computation: the method, not the answer.
-pub fn hint(what: crate::worked::Computation) -> Option<&'static str> {
-    use crate::worked::Computation as C;
-    Some(match what {
-        C::ObservabilityMatrix => "stack C, CA, CA², … (n blocks); one row per output and power",
-        C::ObservabilityDeterminant => "for one output O is square: expand its determinant; zero means not observable",
-        C::Observable => "observable exactly when rank O = n (for one output: det O ≠ 0)",
-        C::CharacteristicPolynomial => "det(λI − A); for 2×2, λ² − (trace A)λ + det A",
-        C::Eigenvalues => "the roots of det(λI − A)",
-        C::CanonicalTransformation | C::CanonicalTransformationInverse => "last column t_n = O⁻¹ e_n, then t_(k−1) = A t_k; T = (t₁ … t_n)",
-        C::CanonicalA | C::CanonicalB | C::CanonicalC => "A_o = T⁻¹ A T, B_o = T⁻¹ B, C_o = C T; C_o must come out as (1 0 … 0)",
-        C::DesiredPolynomial => "multiply out ∏ (λ − p_i) over the desired poles",
-        C::CanonicalGain => "in canonical coordinates the gain is the difference of coefficients; mind the sign of the convention",
-        C::Gain => "Ackermann: K = P(A) O⁻¹ e_n, or K = T K_o; then check det(sI − (A − KC)) = P(s). A + LC means L = −K",
-        C::StateFeedback => "the dual of the observer gain: design for (Aᵀ, Bᵀ) and transpose; u = Fx means F = −K",
-        C::ClosedLoopPoles | C::ClosedLoopPolynomial => "separation principle: the poles of A + BF together with those of A + LC",
-        C::ControllerTransferFunction => "K(s) = −F (sI − A − BF − LC)⁻¹ L in the A + LC convention",
-        C::ClosedLoopTransferFunction => "G (I − K G)⁻¹ with G = C (sI − A)⁻¹ B",
-        C::PerfectObserverE | C::PerfectObserverF | C::PerfectObserverInputMatrix | C::PerfectObserverOutputMatrix => {
-            "keep the middle n − p state rows and replace the last rows by the output equation (E singular)"
-        }
-        C::DiscreteGain => "the same formulas as continuous time, with the polynomial in z; dead-beat: every pole at 0",
-        C::DeadbeatSteps => "the error is (A − KC)ᵏ e(0): find the first power of the error matrix that is zero",
-        C::ReducedOrderGain => "split A with x₁ measured: place the poles of A₂₂ − L A₁₂, an observer design for the pair (A₂₂, A₁₂)",
-        C::ReducedOrderErrorPolynomial => "det(sI − (A₂₂ − L A₁₂)), of degree n − p",
-        C::Detectable => "find the unobservable modes (ker O); detectable when every one of them is stable",
-        C::DetectableGain => "decompose into observable and unobservable parts; place the observable poles, the others stay",
-        C::DetectableObserverPolynomial => "the chosen polynomial times the unobservable modes' polynomial",
-        _ => return None,
-    })
-}
-
 /// The answer fields of an exercise: one per part, a check button, the feedback in place and the
 /// answer file `owb check` reads (kept up to date as the student types). `toml` is the exercise
 /// file itself, which the browser checks against.
@@ -110,7 +78,7 @@ pub fn exercise_form(id: &str, toml: &str, key: &AnswerKey) -> String {
         .parts
         .iter()
         .filter_map(|p| {
-            hint(p.spec.ask).map(|h| {
+            crate::exercise::hint(p.spec.ask).map(|h| {
                 format!(
                     "<li><code>{}</code>: {}</li>",
                     escape(&p.spec.id),

@@ -111,7 +111,8 @@ fn matrix_candidates(
     answer: Option<&Matrix<Quadratic>>,
     (other, asked): (&str, &str),
 ) -> Vec<Candidate> {
-    let mut out = Vec::new();
+    // neighbouring problems first: the same design for another output of the same system
+    let mut out = another_output(key, part, ask);
     if ask == Computation::StateFeedback {
         out.push((
             Mistake::FeedbackSign,
@@ -212,6 +213,71 @@ fn matrix_candidates(
         out.push(procedure);
     }
     out
+}
+
+/// The largest order for which the gains of every other output are tried.
+const MAX_OUTPUTS_TRIED: usize = 8;
+
+/// The gains of the neighbouring problems that measure another state: for a single-output
+/// system, the same design (polynomial, convention, method) with `C = e_jᵀ` for each state `x_j`
+/// the exercise does not measure, where that pair is observable.
+fn another_output(key: &AnswerKey, part: &KeyPart, ask: Computation) -> Vec<Candidate> {
+    if !matches!(ask, Computation::Gain | Computation::DiscreteGain) {
+        return Vec::new();
+    }
+    let Some(c_text) = part.claim.c.as_ref().or(key.example.system.c.as_ref()) else {
+        return Vec::new();
+    };
+    let Some(c) = answer_matrix(key, c_text) else {
+        return Vec::new();
+    };
+    let n = c.cols();
+    if c.rows() != 1 || n > MAX_OUTPUTS_TRIED {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for j in 0..n {
+        let row: Vec<&str> = (0..n).map(|k| if k == j { "1" } else { "0" }).collect();
+        let unit = format!("[{}]", row.join(" "));
+        if answer_matrix(key, &unit).is_some_and(|e| e == c) {
+            continue;
+        }
+        let claim = ClaimSpec {
+            c: Some(unit.clone()),
+            ..part.claim.clone()
+        };
+        if let Some(value @ Value::Matrix(_)) = key.recompute(&claim) {
+            out.push((
+                Mistake::AnotherOutput,
+                value,
+                format!(
+                    "this is the gain for output x{} (C = {unit}): the right design for another measurement of the same system; this exercise measures y = C x with C = {}",
+                    subscript(j + 1),
+                    c.to_input()
+                ),
+            ));
+        }
+    }
+    out
+}
+
+fn subscript(k: usize) -> String {
+    k.to_string()
+        .chars()
+        .map(|d| match d {
+            '0' => '₀',
+            '1' => '₁',
+            '2' => '₂',
+            '3' => '₃',
+            '4' => '₄',
+            '5' => '₅',
+            '6' => '₆',
+            '7' => '₇',
+            '8' => '₈',
+            '9' => '₉',
+            other => other,
+        })
+        .collect()
 }
 
 /// The right answers to the other parts of the same exercise, of the same kind and shape.

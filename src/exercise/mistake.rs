@@ -36,6 +36,8 @@ named_enum! {
         CurrentEstimator = "current_estimator",
         /// A formula that equals the key only at particular values of the parameters.
         OnlyAtSomeValues = "only_at_some_values",
+        /// The right gain of the same system measured through another output (another state).
+        AnotherOutput = "another_output",
     }
 }
 

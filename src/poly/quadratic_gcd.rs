@@ -299,7 +299,6 @@ pub(crate) fn divide_exact_quadratic(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::algebra::Ring as _;
     use crate::poly::Poly;
 
     fn q(a: i64, b: i64, den: i64, d: i64) -> Quadratic {

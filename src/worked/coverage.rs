@@ -260,12 +260,36 @@ pub fn check(
     Ok(totals)
 }
 
-/// Document file → author and title, from the coverage lists of `dir` (empty when there are
-/// none or they cannot be read: titles only label reports).
+// `BUILTIN_DOCUMENT_TITLES`, written by build.rs from worked_examples/coverage/*.toml
+include!(concat!(env!("OUT_DIR"), "/builtin_document_titles.rs"));
+
+/// The author and title of a source document (by its file name) as the project's coverage lists
+/// record them, built into the program; `None` for a document without a list (the course's
+/// cross-checks against python-control).
+///
+/// ```
+/// use observer_workbench::worked::coverage::document_title;
+/// assert!(document_title("001_7629475c4a00cd3e.txt").is_some_and(|t| t.starts_with("Stoustrup")));
+/// assert_eq!(document_title("elsewhere.txt"), None);
+/// ```
+pub fn document_title(document: &str) -> Option<&'static str> {
+    BUILTIN_DOCUMENT_TITLES
+        .iter()
+        .find(|(file, _)| *file == document)
+        .map(|(_, title)| *title)
+}
+
+/// Document file → author and title: the built-in titles, then the coverage lists of `dir`
+/// (a list there wins; titles only label reports, so a list that cannot be read is skipped).
 pub fn titles(dir: &Path) -> BTreeMap<String, String> {
-    load(dir)
-        .unwrap_or_default()
-        .into_iter()
-        .map(|(_, l)| (l.document, l.title))
+    BUILTIN_DOCUMENT_TITLES
+        .iter()
+        .map(|(d, t)| ((*d).to_string(), (*t).to_string()))
+        .chain(
+            load(dir)
+                .unwrap_or_default()
+                .into_iter()
+                .map(|(_, l)| (l.document, l.title)),
+        )
         .collect()
 }

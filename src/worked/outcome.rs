@@ -75,6 +75,9 @@ pub struct ExampleReport {
     pub title: String,
     /// Source document file name.
     pub document: String,
+    /// The source document's author and title (`null` for the course's cross-checks, which
+    /// have no document).
+    pub document_title: Option<String>,
     /// The claims.
     pub claims: Vec<ClaimReport>,
     /// Printed values awaiting another part of the workbench.

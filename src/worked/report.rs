@@ -9,7 +9,10 @@ fn one_line(s: &str) -> String {
 
 /// The terminal table of one example: claim, source, printed, recomputed, verdict.
 pub fn render_table(r: &ExampleReport) -> String {
-    let mut out = format!("{} — {} ({})\n", r.id, r.title, r.document);
+    let mut out = match &r.document_title {
+        Some(source) => format!("{} — {}\n  from {source} ({})\n", r.id, r.title, r.document),
+        None => format!("{} — {} ({})\n", r.id, r.title, r.document),
+    };
     let rows: Vec<[String; 5]> = r
         .claims
         .iter()
@@ -106,6 +109,7 @@ pub fn report_json(reports: &[ExampleReport]) -> serde_json::Value {
         "examples": reports.iter().map(|r| json!({
             "id": r.id,
             "document": r.document,
+            "document_title": r.document_title,
             "claims": r.claims.iter().map(|c| json!({
                 "id": c.id,
                 "source": c.source,

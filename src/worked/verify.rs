@@ -81,6 +81,7 @@ pub fn verify_example(
         id: ex.id.clone(),
         title: ex.title.clone(),
         document: ex.document.clone(),
+        document_title: super::coverage::document_title(&ex.document).map(str::to_string),
         claims,
         printed_only: ex.printed_only.clone(),
     })

@@ -81,8 +81,8 @@ fn answer_latex(text: &str) -> Option<String> {
 
 /// A student's own exercise, as `owb exercise new --kind KIND --student ID --order ORDER
 /// --convention C` generates it (the same request, run by the same library function). Returns
-/// `{"id", "command", "toml", "title", "statement", "parts": [{"id", "prompt", "points"}]}` or
-/// `{"error": …}`.
+/// `{"id", "command", "toml", "title", "statement", "statement_blocks": [{"text"} | {"steps"} |
+/// {"math"}], "parts": [{"id", "prompt", "points", "hint"}]}` or `{"error": …}`.
 #[wasm_bindgen]
 pub fn variant(student: &str, order: &str, convention: &str, kind: &str) -> String {
     if student.trim().is_empty() {
@@ -129,8 +129,10 @@ pub fn variant(student: &str, order: &str, convention: &str, kind: &str) -> Stri
         "toml": text,
         "title": ex.title,
         "statement": ex.statement,
+        "statement_blocks": observer_workbench::exercise::statement::blocks(&ex),
         "parts": ex.parts.iter().map(|p| json!({
-            "id": p.id, "prompt": p.prompt, "points": p.points
+            "id": p.id, "prompt": p.prompt, "points": p.points,
+            "hint": observer_workbench::exercise::hint(p.ask),
         })).collect::<Vec<_>>(),
     })
     .to_string()

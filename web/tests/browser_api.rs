@@ -107,6 +107,28 @@ fn a_students_variant_is_the_one_owb_exercise_new_generates() {
         "2",
     ]);
     assert_eq!(db["toml"].as_str().unwrap(), text);
+    // read like the book's exercises: no seed in the title, the system typeset from the
+    // exercise's own matrices, the steps numbered, a hint for every part
+    for v in [&v, &db] {
+        let title = v["title"].as_str().unwrap();
+        let seed = Settings::for_student("ada", 2, 2, "a-kc").seed.to_string();
+        assert!(!title.contains("seed") && !title.contains(&seed), "{title}");
+        let blocks = v["statement_blocks"].as_array().unwrap();
+        assert!(
+            blocks.iter().any(|b| b["math"]
+                .as_str()
+                .is_some_and(|m| m.starts_with("A = \\begin{bmatrix}") && m.contains("C = "))),
+            "{blocks:?}"
+        );
+        let steps = blocks.iter().find_map(|b| b["steps"].as_array()).unwrap();
+        assert!(steps.len() >= 4, "{steps:?}");
+        assert!(steps
+            .iter()
+            .all(|s| !s.as_str().unwrap().starts_with(char::is_numeric)));
+        for p in v["parts"].as_array().unwrap() {
+            assert!(p["hint"].as_str().is_some_and(|h| !h.is_empty()), "{p}");
+        }
+    }
     for (student, order, convention, kind) in [
         ("", "3", "a-kc", "pole-placement"),
         ("x", "9", "a-kc", "pole-placement"),
