@@ -483,6 +483,34 @@ await test("worker: a 30-state gain runs off the main thread (longest task under
   }
 });
 
+await test("fast: a gain in the page within 3× the native command at n = 30 and n = 60", async () => {
+  const page = await open(base + "workbench.html");
+  // the module loaded and warmed up (one small design in the worker), as for a reader who has
+  // opened the page: then the reader's own command
+  await runAny(page, "a = [0 1; -2 -3]\nc = [1 0]\npoles = -4, -5");
+  await page.waitForFunction(() => document.documentElement.hasAttribute("data-owb-warm"), null, { timeout: 60000 });
+  for (const n of [30, 60]) {
+    const { a, c, poles } = randomPlant(n, 7);
+    const args = ["gain", "--a", a, "--c", c, "--poles", poles, "--summary"];
+    const native = [];
+    for (let i = 0; i < 3; i++) {
+      const t = performance.now();
+      owb(args);
+      native.push(performance.now() - t);
+    }
+    const ran = await runAny(page, `a = ${a}\nc = ${c}\npoles = ${poles}\nsummary = true`);
+    await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 120000 });
+    assert.equal(await page.locator(".owb-any-output").textContent(), owb(args));
+    const inPage = Number(await page.locator(".owb-playground").getAttribute("data-any-ms"));
+    const best = Math.min(...native);
+    (timings[`${n}-state gain in the page (warm module), ms`] ||= []).push(Number(inPage.toFixed(1)));
+    (timings[`${n}-state gain, the owb process (best of 3), ms`] ||= []).push(Number(best.toFixed(1)));
+    (timings[`${n}-state gain, in the page ÷ native`] ||= []).push(Number((inPage / best).toFixed(2)));
+    assert.ok(inPage <= 3 * best, `n = ${n}: ${inPage} ms in the page, ${best.toFixed(1)} ms native`);
+  }
+  await page.close();
+});
+
 await test("worker: a running computation can be stopped, and the next one runs", async () => {
   const page = await open(base + "workbench.html");
   const { a, c, poles } = randomPlant(80, 11);

@@ -67,7 +67,14 @@
   function startWorker() {
     var url = URL.createObjectURL(new Blob([window.OWB_WORKER_SOURCE], { type: "text/javascript" }));
     var w = new Worker(url);
-    w.onmessage = function (e) { settle(e.data.id, e.data); };
+    w.onmessage = function (e) {
+      // the worker says when its warm-up (one small design, see web/worker.js) is done
+      if (e.data.warm !== undefined) {
+        document.documentElement.setAttribute("data-owb-warm", String(e.data.warm));
+        return;
+      }
+      settle(e.data.id, e.data);
+    };
     w.onerror = function (e) {
       e.preventDefault();
       Object.keys(calls).forEach(function (id) { settle(id, { error: e.message || "the worker failed" }); });
