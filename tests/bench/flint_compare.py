@@ -12,8 +12,22 @@ entries in [−9, 9]), C = e1ᵀ, all observer poles at −1. Timed, best of thr
   * python-flint's bare exact gain K = P(A) O_n⁻¹ e_n (fmpq_mat solve and Horner), nothing else;
   * python-flint's characteristic polynomial of A (fmpz_mat.charpoly), for the kernel table.
 The gains are compared entry by entry.
+
+    python3 tests/bench/flint_compare.py --same-work [n …]
+
+The fair table (issue 31): FLINT doing the computation owb does, not a textbook one, and CPU time
+rather than wall time. For each command, owb's CPU time is the whole process's (user + system,
+both threads of its multimodular characteristic polynomial counted), less owb's process floor
+(the CPU time of `owb --version`); FLINT's is the CPU time of the same steps in-process:
+  * gain: integer O_n, det(sI − A), one solve O_n q = e_n, Horner on integers with one
+    denominator (K = P(A) x / d), and the rank-one check det(sI − A + KC) = det(sI − A) +
+    C adj(sI − A) K from O_n K (one polynomial product), compared with P(s);
+  * observe: integer O_n, its determinant and rank;
+  * canonical: both procedures — T⁻¹ = Mᵀ O_n (M the Toeplitz matrix of det(sI − A)), T its
+    inverse, A_o = T⁻¹ A T, C_o = C T; and t_n = O_n⁻¹ e_n, t_(k−1) = A t_k — compared.
+Best of five (min CPU time each side). The load average is printed with the table.
 """
-import json, subprocess, sys, time
+import json, os, resource, subprocess, sys, time
 from math import comb
 from pathlib import Path
 
@@ -70,7 +84,123 @@ def flint_gain(a, n):
     return acc
 
 
+def matrix_text(a):
+    return "[" + "; ".join(" ".join(map(str, r)) for r in a) + "]"
+
+
+def owb_cpu(args):
+    """CPU seconds (user + system) of one owb process, and its standard output."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out = subprocess.run([str(OWB), *args], check=True, capture_output=True, text=True).stdout
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), out
+
+
+def best_cpu(f, runs=5):
+    times, out = [], None
+    for _ in range(runs):
+        t, out = f()
+        times.append(t)
+    return min(times), out
+
+
+def in_process(f):
+    def timed():
+        t = time.process_time()
+        out = f()
+        return time.process_time() - t, out
+    return timed
+
+
+def observability(a, n):
+    """Integer O_n = [C; CA; …] with C = e1ᵀ."""
+    az = flint.fmpz_mat(a)
+    rows = [flint.fmpz_mat(1, n, [1] + [0] * (n - 1))]
+    for _ in range(1, n):
+        rows.append(rows[-1] * az)
+    return az, flint.fmpz_mat(n, n, [x for r in rows for x in r.entries()])
+
+
+def flint_gain_same_work(a, n):
+    az, o = observability(a, n)
+    chi = az.charpoly()  # det(sI − A), integer
+    q = o.solve(flint.fmpz_mat(n, 1, [0] * (n - 1) + [1]))  # fmpq_mat
+    d = flint.fmpz(1)
+    for x in q.entries():
+        d = d.lcm(x.q)
+    x = flint.fmpz_mat(n, 1, [int(v * d) for v in q.entries()])
+    acc = flint.fmpz_mat(n, 1, [0] * n)
+    for k in range(n, -1, -1):  # P(s) = (s + 1)^n: Horner on integers, one denominator
+        acc = az * acc + x * comb(n, k)
+    # the rank-one check: m_j = C A^j K = (O_n K)_j, and C adj(sI − A) K is the polynomial part
+    # of det(sI − A) · Σ m_j s^(−j−1): one product of integer polynomials
+    m = (o * acc).entries()
+    nu = flint.fmpz_poly([m[n - 1 - i] for i in range(n)])  # Σ m_j s^(n−1−j)
+    prod = chi * nu
+    coeffs = [prod[k] for k in range(n, 2 * n)]
+    achieved = chi * d + flint.fmpz_poly(coeffs)
+    desired = flint.fmpz_poly([comb(n, k) for k in range(n + 1)]) * d
+    assert achieved == desired, "the rank-one check failed"
+    return [flint.fmpq(v, d) for v in acc.entries()]
+
+
+def flint_observe_same_work(a, n):
+    _, o = observability(a, n)
+    return o.det(), o.rank()
+
+
+def flint_canonical_same_work(a, n):
+    az, o = observability(a, n)
+    chi = az.charpoly()
+    coeff = [chi[n - k] for k in range(n)]  # 1, a_1, …, a_(n−1)
+    m = flint.fmpz_mat(n, n, [coeff[j - i] if j >= i else 0 for i in range(n) for j in range(n)])
+    t_inv = m.transpose() * o  # integer
+    t = flint.fmpq_mat(t_inv).inv()
+    aq = flint.fmpq_mat(az)
+    a_o = flint.fmpq_mat(t_inv) * aq * t
+    c_o = flint.fmpq_mat(1, n, [1] + [0] * (n - 1)) * t
+    # Stoustrup's procedure: t_n = O_n⁻¹ e_n, t_(k−1) = A t_k
+    cols = [o.solve(flint.fmpz_mat(n, 1, [0] * (n - 1) + [1]))]
+    for _ in range(1, n):
+        cols.append(aq * cols[-1])
+    cols.reverse()
+    t2 = flint.fmpq_mat(n, n, [cols[j][i, 0] for i in range(n) for j in range(n)])
+    assert t2 == t, "the two procedures differ"
+    return a_o, c_o
+
+
+def same_work(orders):
+    floor, _ = best_cpu(lambda: owb_cpu(["--version"]), runs=20)
+    load = os.getloadavg()
+    print(f"owb's process floor (owb --version): {floor * 1e3:.2f} ms CPU; "
+          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; "
+          f"python-flint {flint.__version__}; {os.cpu_count()} cores")
+    print()
+    print("| command | n | owb CPU − floor | FLINT same work (CPU) | ratio |")
+    print("|---|---|---|---|---|")
+    for n in orders:
+        a = dense_random(n)
+        at, c = matrix_text(a), "[" + " ".join(["1"] + ["0"] * (n - 1)) + "]"
+        cases = [
+            ("gain --summary", ["gain", "--a", at, "--c", c, "--repeated", "1", "--method",
+                                "ackermann", "--summary", "--json"], flint_gain_same_work),
+            ("observe", ["observe", "--a", at, "--c", c, "--json"], flint_observe_same_work),
+            ("canonical", ["canonical", "--a", at, "--c", c, "--json"], flint_canonical_same_work),
+        ]
+        for name, args, peer in cases:
+            t_owb, out = best_cpu(lambda: owb_cpu(args))
+            t_fl, got = best_cpu(in_process(lambda: peer(a, n)))
+            if name.startswith("gain"):
+                assert [str(x) for x in got] == [r[0] for r in json.loads(out)["gain"]], "gains differ"
+            own = max(t_owb - floor, 0.0)
+            print(f"| `{name}` | {n} | {own * 1e3:.2f} ms | {t_fl * 1e3:.2f} ms | "
+                  f"{own / t_fl:.1f}× |", flush=True)
+
+
 def main():
+    if sys.argv[1:2] == ["--same-work"]:
+        same_work([int(x) for x in sys.argv[2:]] or [10, 20, 30, 40, 60, 80])
+        return
     orders = [int(x) for x in sys.argv[1:]] or [20, 30, 60, 80]
     print("| n | owb gain --json (whole process) | with --summary | python-flint bare gain "
           "| python-flint charpoly | gains equal |")
