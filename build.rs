@@ -7,23 +7,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 fn main() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("worked_examples")
-        .join("exercises");
-    println!("cargo:rerun-if-changed={}", dir.display());
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-                .collect()
-        })
-        .unwrap_or_default();
-    files.sort();
     let mut out = String::from(
         "/// The exercises built into the program: `(id, text of the TOML file)`, sorted by id.\npub const BUILTIN_EXERCISES: &[(&str, &str)] = &[\n",
     );
-    for f in &files {
-        println!("cargo:rerun-if-changed={}", f.display());
+    for f in toml_files("exercises") {
         let id = f.file_stem().unwrap_or_default().to_string_lossy();
         let _ = writeln!(
             out,
@@ -32,17 +19,15 @@ fn main() {
         );
     }
     out.push_str("];\n");
-    let target = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
-        .join("builtin_exercises.rs");
-    std::fs::write(target, out).expect("OUT_DIR is writable");
+    write_generated("builtin_exercises.rs", &out);
     document_titles();
 }
 
-/// `BUILTIN_DOCUMENT_TITLES: &[(file, author and title)]` from the coverage lists' top lines.
-fn document_titles() {
+/// The `*.toml` files of `worked_examples/<folder>`, sorted, each watched for changes.
+fn toml_files(folder: &str) -> Vec<std::path::PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("worked_examples")
-        .join("coverage");
+        .join(folder);
     println!("cargo:rerun-if-changed={}", dir.display());
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .map(|d| {
@@ -52,12 +37,24 @@ fn document_titles() {
         })
         .unwrap_or_default();
     files.sort();
+    for f in &files {
+        println!("cargo:rerun-if-changed={}", f.display());
+    }
+    files
+}
+
+fn write_generated(name: &str, text: &str) {
+    let target = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join(name);
+    std::fs::write(target, text).expect("OUT_DIR is writable");
+}
+
+/// `BUILTIN_DOCUMENT_TITLES: &[(file, author and title)]` from the coverage lists' top lines.
+fn document_titles() {
     let mut out = String::from(
         "/// The source documents by file name: `(file, author and title)`, from the coverage lists.\npub const BUILTIN_DOCUMENT_TITLES: &[(&str, &str)] = &[\n",
     );
-    for f in &files {
-        println!("cargo:rerun-if-changed={}", f.display());
-        let text = std::fs::read_to_string(f).unwrap_or_default();
+    for f in toml_files("coverage") {
+        let text = std::fs::read_to_string(&f).unwrap_or_default();
         // the top-level `key = "value"` lines before the first table
         let top = |key: &str| {
             text.lines()
@@ -72,7 +69,5 @@ fn document_titles() {
         }
     }
     out.push_str("];\n");
-    let target = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
-        .join("builtin_document_titles.rs");
-    std::fs::write(target, out).expect("OUT_DIR is writable");
+    write_generated("builtin_document_titles.rs", &out);
 }

@@ -54,6 +54,13 @@ impl Element {
     fn is_zero(&self) -> bool {
         self.x.is_zero() && self.y.is_zero()
     }
+    /// `x − y√d`.
+    fn conjugate(&self) -> Self {
+        Element {
+            x: self.x.clone(),
+            y: -&self.y,
+        }
+    }
 }
 
 impl Ring {
@@ -99,11 +106,7 @@ impl Ring {
         if n.is_zero() {
             return None;
         }
-        let conjugate = Element {
-            x: b.x.clone(),
-            y: -&b.y,
-        };
-        let p = self.mul(a, &conjugate);
+        let p = self.mul(a, &b.conjugate());
         let (qx, rx) = p.x.div_rem(&n);
         let (qy, ry) = p.y.div_rem(&n);
         (rx.is_zero() && ry.is_zero()).then_some(Element { x: qx, y: qy })
@@ -198,10 +201,7 @@ fn monic(ring: &Ring, p: &[Element], d: i64) -> Option<Vec<Quadratic>> {
     if n.is_zero() {
         return None;
     }
-    let conjugate = Element {
-        x: lead.x.clone(),
-        y: -&lead.y,
-    };
+    let conjugate = lead.conjugate();
     Some(
         p.iter()
             .map(|c| to_field(ring, c, &conjugate, &n, d))
