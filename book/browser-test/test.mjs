@@ -252,6 +252,16 @@ await test("formula exercises: formulas as answers check in the page as owb chec
   await page.close();
 });
 
+await test("mistake attribution: the RC ladder's gain for the other node is named as that problem, as owb check names it", async () => {
+  const page = await open(base + "multi-output.html");
+  const id = "baranowski-single-output";
+  const { shown, file } = await answer(page, `.owb-exercise[data-exercise-id="${id}"]`, { G1: "[14; 14; 6]" });
+  sameAsCli(shown, owbCheck(id, file));
+  assert.equal(shown.G1.mistake, "another_output");
+  assert.ok(shown.G1.feedback.includes("the gain for output x₃ (C = [0 0 1])"), shown.G1.feedback);
+  await page.close();
+});
+
 // ---- a student's own exercise ---------------------------------------------------------------
 
 await test("variant: a student's exercise, checked in the page and graded by owb grade variants", async () => {
