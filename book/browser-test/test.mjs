@@ -508,12 +508,17 @@ await test("fast: a gain in the page within 3× the native command at n = 30 and
       owb(args);
       native.push(performance.now() - t);
     }
-    const ran = await runAny(page, `a = ${a}\nc = ${c}\npoles = ${poles}\nsummary = true`);
-    await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 120000 });
-    assert.equal(await page.locator(".owb-any-output").textContent(), owb(args));
-    const inPage = Number(await page.locator(".owb-playground").getAttribute("data-any-ms"));
+    // best of 3 on each side, as the native side is measured (a loaded CI machine slows either)
+    const inPageRuns = [];
+    for (let i = 0; i < 3; i++) {
+      const ran = await runAny(page, `a = ${a}\nc = ${c}\npoles = ${poles}\nsummary = true`);
+      await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 120000 });
+      assert.equal(await page.locator(".owb-any-output").textContent(), owb(args));
+      inPageRuns.push(Number(await page.locator(".owb-playground").getAttribute("data-any-ms")));
+    }
+    const inPage = Math.min(...inPageRuns);
     const best = Math.min(...native);
-    (timings[`${n}-state gain in the page (warm module), ms`] ||= []).push(Number(inPage.toFixed(1)));
+    (timings[`${n}-state gain in the page (warm module, best of 3), ms`] ||= []).push(Number(inPage.toFixed(1)));
     (timings[`${n}-state gain, the owb process (best of 3), ms`] ||= []).push(Number(best.toFixed(1)));
     (timings[`${n}-state gain, in the page ÷ native`] ||= []).push(Number((inPage / best).toFixed(2)));
     assert.ok(inPage <= 3 * best, `n = ${n}: ${inPage} ms in the page, ${best.toFixed(1)} ms native`);
