@@ -23,7 +23,7 @@ use num_traits::ToPrimitive;
 /// reached. A prime costs about ten Miller–Rabin tests of odd candidates (≈ 1.5 µs), far below
 /// the O(n³) work done modulo it; a table of the first 4 096 built once per process cost 5–7 ms
 /// before the first command could use one, most of the time of a 10-state `owb observe`.
-fn primes() -> impl Iterator<Item = u64> {
+pub(crate) fn primes() -> impl Iterator<Item = u64> {
     (1..(1u64 << 30))
         .rev()
         .map(|k| 2 * k + 1)
@@ -109,7 +109,7 @@ fn pow_mod(mut b: u64, mut e: u64, p: u64) -> u64 {
     r
 }
 
-fn inv_mod(a: u64, p: u64) -> Option<u64> {
+pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
     (a % p != 0).then(|| pow_mod(a, p - 2, p))
 }
 
@@ -697,6 +697,7 @@ mod tests {
             assert!((w[1] + 2..w[0]).step_by(2).all(|c| !is_prime(c)), "{w:?}");
         }
         assert_eq!(first[1], 2_147_483_629);
+        assert_eq!(first[2], 2_147_483_587);
         assert!(ps.windows(2).all(|w| w[0] > w[1]));
         assert!(ps.iter().all(|&p| is_prime(p) && p < 1 << 31));
         assert!(!is_prime(2_147_483_649));
