@@ -93,6 +93,15 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         let mut out = report_json(&reports);
         if !coverage.is_empty() {
             out["coverage"] = serde_json::to_value(&coverage)?;
+            let sum = |f: fn(&crate::worked::coverage::Totals) -> usize| -> usize {
+                coverage.iter().map(f).sum()
+            };
+            out["coverage_totals"] = serde_json::json!({
+                "statements": sum(|t| t.statements),
+                "recorded": sum(|t| t.recorded),
+                "checkable": sum(|t| t.checkable),
+                "claims": sum(|t| t.claims),
+            });
         }
         rep.json(&out);
     } else {
@@ -119,6 +128,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             for t in &coverage {
                 outln!(rep, "  {}", t.line());
             }
+            outln!(rep, "{}", crate::worked::coverage::overall(&coverage));
         }
     }
     Ok(if summary.mismatch > 0 {

@@ -317,6 +317,18 @@ impl BookContext {
                     st.not_checked
                         .map_or_else(String::new, |w| format!("not checked: {}", w.word()))
                 };
+                let by = if st.related.is_empty() {
+                    by
+                } else {
+                    format!(
+                        "{by}; related (bears on it, not counted): {}",
+                        st.related
+                            .iter()
+                            .map(|r| format!("`{r}`"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                };
                 let by = match &st.note {
                     Some(n) => format!("{by} — {}", cell(n)),
                     None => by,

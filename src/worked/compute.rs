@@ -84,6 +84,10 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             simple(&title, Value::Polynomial(p.with_var(&inputs.var())))
         }
         C::CanonicalGain => canonical_gain_claim(inputs, &title),
+        C::EquationReference => {
+            let (value, derivation) = super::equation_reference::evaluate(inputs, &title)?;
+            Ok(Computed { value, derivation })
+        }
         C::MatrixExpression => {
             let (m, derivation) = super::matrix_expression::evaluate(inputs, &title)?;
             Ok(Computed {

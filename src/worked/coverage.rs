@@ -8,6 +8,16 @@
 //! The lists are checked against the examples: every claim and figure a list names exists and
 //! belongs to that document, and every claim and figure of the document's examples is listed,
 //! so the list cannot silently fall behind the examples. `owb verify` prints the totals.
+//!
+//! **Counted strictly: one statement, one check.** `recorded` names only what checks exactly
+//! that statement. A claim recorded for several statements must list each of them (their
+//! `where`) in its own `checks`, so crediting one claim to several statements is a decision
+//! written beside the claim, not an accident of the list; a simulated figure is recorded only
+//! when it has checks of its own (an overshoot, a settling time), since a figure without them
+//! checks nothing. What bears on a statement without checking it — a theorem's instance, a
+//! value the statement is used for — goes under `related`: shown with the statement, never
+//! counted. A statement is *checkable* when it is recorded or `not_yet_recorded`; `owb verify`
+//! prints the share recorded.
 
 use super::format::ExampleFile;
 use serde::{Deserialize, Serialize};
@@ -67,9 +77,14 @@ pub struct Statement {
     pub location: String,
     /// The statement, in our words.
     pub statement: String,
-    /// The claims (`example/claim`) or simulated figures (`example/scenario`) that check it.
+    /// The claims (`example/claim`) or simulated figures (`example/scenario`) that check
+    /// exactly this statement.
     #[serde(default)]
     pub recorded: Vec<String>,
+    /// Claims or figures that bear on the statement without checking exactly it (shown, not
+    /// counted).
+    #[serde(default)]
+    pub related: Vec<String>,
     /// The example that takes it as input data (system, parameters, noise).
     pub input: Option<String>,
     /// Why it is not checked.
@@ -99,8 +114,12 @@ pub struct Totals {
     pub title: String,
     /// Statements listed.
     pub statements: usize,
-    /// Checked by claims or figures.
+    /// Checked by claims or figures, strictly: each names exactly this statement.
     pub recorded: usize,
+    /// Checkable: recorded, or checkable and not yet recorded.
+    pub checkable: usize,
+    /// The claims of the document's worked examples.
+    pub claims: usize,
     /// Taken as input data.
     pub inputs: usize,
     /// Not checked, per reason.
@@ -116,7 +135,13 @@ impl Totals {
     /// The counts: `60 statements — 40 checked by claims or figures, …`.
     pub fn counts(&self) -> String {
         let mut parts = vec![
-            format!("{} checked by claims or figures", self.recorded),
+            format!(
+                "{} checked by claims or figures (strictly: one statement, one check; {} of {} checkable, {})",
+                self.recorded,
+                self.recorded,
+                self.checkable,
+                percent(self.recorded, self.checkable)
+            ),
             format!("{} input data", self.inputs),
         ];
         for (why, n) in &self.not_checked {
@@ -124,6 +149,28 @@ impl Totals {
         }
         format!("{} statements — {}", self.statements, parts.join(", "))
     }
+}
+
+/// `part` of `whole` as a percentage with one decimal (`92.1 %`; `—` of nothing).
+pub fn percent(part: usize, whole: usize) -> String {
+    if whole == 0 {
+        return "—".to_string();
+    }
+    #[allow(clippy::cast_precision_loss)] // counts of statements, far below 2^52
+    let p = 100.0 * part as f64 / whole as f64;
+    format!("{p:.1} %")
+}
+
+/// The totals over every list: recorded strictly, checkable, claims about the documents.
+pub fn overall(totals: &[Totals]) -> String {
+    let recorded: usize = totals.iter().map(|t| t.recorded).sum();
+    let checkable: usize = totals.iter().map(|t| t.checkable).sum();
+    let claims: usize = totals.iter().map(|t| t.claims).sum();
+    let statements: usize = totals.iter().map(|t| t.statements).sum();
+    format!(
+        "Counted strictly (one statement, one check): {recorded} of {checkable} checkable statements recorded ({}), of {statements} statements listed; {claims} claims about the documents",
+        percent(recorded, checkable)
+    )
 }
 
 /// A list that does not fit the examples.
@@ -195,9 +242,13 @@ pub fn check(
         title: list.title.clone(),
         statements: list.statements.len(),
         recorded: 0,
+        checkable: 0,
         inputs: 0,
+        claims: mine.iter().map(|e| e.claims.len()).sum(),
         not_checked: BTreeMap::new(),
     };
+    // claim → the statements (their `where`) that record it
+    let mut credited: BTreeMap<String, Vec<&str>> = BTreeMap::new();
     for s in &list.statements {
         let at = format!("statement at {} ('{}')", s.location, s.statement);
         let ways = usize::from(!s.recorded.is_empty())
@@ -208,22 +259,37 @@ pub fn check(
                 "{at}: give exactly one of recorded, input or not_checked"
             )));
         }
-        for r in &s.recorded {
+        for (r, strict) in s
+            .recorded
+            .iter()
+            .map(|r| (r, true))
+            .chain(s.related.iter().map(|r| (r, false)))
+        {
             let (ex, item) = r
                 .split_once('/')
                 .ok_or_else(|| error(format!("{at}: '{r}' is not example/claim")))?;
             let e = mine.iter().find(|e| e.id == ex).ok_or_else(|| {
                 error(format!(
-                    "{at}: no example '{ex}' of {} (recorded '{r}')",
+                    "{at}: no example '{ex}' of {} (named '{r}')",
                     list.document
                 ))
             })?;
-            let exists = e.claims.iter().any(|c| c.id == item)
-                || e.scenarios.iter().any(|sc| sc.name == item);
-            if !exists {
+            let claim = e.claims.iter().any(|c| c.id == item);
+            let figure = e.scenarios.iter().find(|sc| sc.name == item);
+            if !claim && figure.is_none() {
                 return Err(error(format!(
                     "{at}: example '{ex}' has no claim or figure '{item}'"
                 )));
+            }
+            if strict {
+                if figure.is_some_and(|f| f.checks.is_empty()) {
+                    return Err(error(format!(
+                        "{at}: figure '{r}' has no checks of its own, so it checks nothing: name it under related"
+                    )));
+                }
+                if claim {
+                    credited.entry(r.clone()).or_default().push(&s.location);
+                }
             }
             listed.push(r.clone());
         }
@@ -239,6 +305,37 @@ pub fn check(
         totals.inputs += usize::from(s.input.is_some());
         if let Some(why) = s.not_checked {
             *totals.not_checked.entry(why).or_default() += 1;
+        }
+    }
+    totals.checkable = totals.recorded
+        + totals
+            .not_checked
+            .get(&NotChecked::NotYetRecorded)
+            .copied()
+            .unwrap_or(0);
+    // one statement, one check: a claim credited to several statements lists each of them
+    for e in &mine {
+        for c in &e.claims {
+            let r = format!("{}/{}", e.id, c.id);
+            let by = credited.get(&r).cloned().unwrap_or_default();
+            let mut wanted: Vec<&str> = c.checks.iter().map(String::as_str).collect();
+            wanted.sort_unstable();
+            let mut got = by.clone();
+            got.sort_unstable();
+            if by.len() > 1 && wanted != got {
+                return Err(error(format!(
+                    "'{r}' is recorded for {} statements ({}); a claim checks several only when its `checks` lists each of them",
+                    by.len(),
+                    by.join("; ")
+                )));
+            }
+            if !c.checks.is_empty() && wanted != got {
+                return Err(error(format!(
+                    "'{r}' lists checks [{}] but is recorded for [{}]",
+                    c.checks.join("; "),
+                    by.join("; ")
+                )));
+            }
         }
     }
     for e in &mine {

@@ -108,6 +108,10 @@ pub struct ClaimSpec {
     pub what: super::Computation,
     /// The value exactly as printed (in input syntax; decimals as printed).
     pub printed: String,
+    /// The coverage statements (their `where`) this claim checks, when it checks more than one:
+    /// a claim is credited to several statements only when each is listed here.
+    #[serde(default)]
+    pub checks: Vec<String>,
     /// A remark shown with the claim.
     #[serde(default)]
     pub note: String,
@@ -156,6 +160,13 @@ pub struct ClaimSpec {
     pub period: Option<String>,
     /// For `what = "matrix_expression"`: the formula as printed (`Q T A T^-1`).
     pub expression: Option<String>,
+    /// For `what = "equation_reference"`: what the sentence refers to (`A`, `B`, `C1`, or
+    /// `gain`), in the order of the printed labels.
+    #[serde(default)]
+    pub refers: Vec<String>,
+    /// … and the document's numbered equations as printed (label → matrix, or words).
+    #[serde(default)]
+    pub equations: BTreeMap<String, String>,
     /// Further named matrices the expression uses (`Q`, `T`), as printed.
     #[serde(default)]
     pub matrices: BTreeMap<String, String>,

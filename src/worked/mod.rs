@@ -14,6 +14,7 @@ mod compute;
 mod compute_course;
 mod compute_optimal;
 pub mod coverage;
+mod equation_reference;
 mod format;
 mod inputs;
 mod load;

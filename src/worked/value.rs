@@ -37,6 +37,8 @@ pub enum Value {
     Equations(Vec<MultiPoly>),
     /// A set of conditions `p_i = 0` (order does not matter).
     Conditions(Vec<MultiPoly>),
+    /// Equation labels, one entry per referent (`(4)`, `(10a) or (13)`, `none`).
+    Labels(Vec<String>),
     /// A linear system `M g = r`.
     LinearSystem(Matrix<Rational>, Matrix<Rational>),
     /// Float results of an optimisation: every equally good candidate (`rows × cols`, row-major),
@@ -90,6 +92,7 @@ impl Value {
             Value::Scalar(x) => x.to_input(),
             Value::Symbolic(x) => x.to_input(),
             Value::Bool(b) => b.to_string(),
+            Value::Labels(l) => l.join(", "),
             Value::Roots(r) => r.iter().map(Ring::to_input).collect::<Vec<_>>().join(", "),
             Value::Transfer(t) => t.to_input(),
             Value::Equations(e) | Value::Conditions(e) => e
@@ -134,6 +137,7 @@ impl Value {
                     "no".into()
                 }
             }
+            Value::Labels(l) => l.join(", "),
             Value::Roots(r) => r
                 .iter()
                 .map(|x| x.to_string())
@@ -164,6 +168,7 @@ impl Value {
             Value::Scalar(x) => x.to_latex(),
             Value::Symbolic(x) => x.to_latex(),
             Value::Bool(b) => format!("\\text{{{}}}", if *b { "yes" } else { "no" }),
+            Value::Labels(l) => format!("\\text{{{}}}", l.join(", ")),
             Value::Roots(r) => r
                 .iter()
                 .map(Ring::to_latex)
@@ -392,6 +397,7 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
         Value::SymbolicPolynomial(q, _) | Value::Symbolic(q) => compare_symbolic(q, printed, env),
         Value::Scalar(x) => compare_scalar(x, printed, env, digits),
         Value::Bool(b) => compare_bool(b, printed),
+        Value::Labels(l) => Ok(compare_labels(l, printed)),
         Value::Roots(r) => compare_roots(r, printed, env, digits),
         Value::Transfer(t) => compare_transfer(t, printed, env),
         Value::Equations(eqs) => compare_equations(eqs, printed, env),
@@ -585,6 +591,31 @@ fn compare_scalar(
     Ok(agreement(close(x, &p, digits), digits, || {
         format!("printed {p}, recomputed {x}")
     }))
+}
+
+/// Equation labels as printed (`(3), (4), (7)`), one per referent, compared in order.
+fn compare_labels(l: &[String], printed: &str) -> Agreement {
+    let p: Vec<&str> = printed.split(',').map(str::trim).collect();
+    let bad: Vec<String> = l
+        .iter()
+        .enumerate()
+        .filter(|(i, x)| p.get(*i) != Some(&x.as_str()))
+        .map(|(i, x)| {
+            format!(
+                "referent {}: printed {}, recomputed {x}",
+                i + 1,
+                p.get(i).copied().unwrap_or("nothing")
+            )
+        })
+        .collect();
+    let counts = if p.len() == l.len() {
+        String::new()
+    } else {
+        format!(" ({} labels printed, {} referents)", p.len(), l.len())
+    };
+    agreement(bad.is_empty() && counts.is_empty(), None, || {
+        format!("{}{counts}", bad.join("; "))
+    })
 }
 
 fn compare_bool(b: &bool, printed: &str) -> Result<Agreement, PrintError> {

@@ -186,6 +186,17 @@ pub(super) fn deviation(value: &Value, printed: &str, env: &Environment) -> Opti
         Value::Approximate { candidates, .. } => candidates.clone(),
         Value::Scalar(x) => vec![vec![x.to_complex_f64().0]],
         Value::Matrix(m) => vec![m.entries().iter().map(|x| x.to_complex_f64().0).collect()],
+        Value::Polynomial(q) => return polynomial_deviation(q, printed, env),
+        // a polynomial in its variable only (no other symbol): its numeric coefficients
+        Value::SymbolicPolynomial(q, var) => {
+            let coefficients = q
+                .coefficients_in(var)
+                .iter()
+                .map(|c| c.as_constant().map(crate::algebra::Quadratic::rational))
+                .collect::<Option<Vec<_>>>()?;
+            let q = crate::poly::Poly::new(coefficients, var);
+            return polynomial_deviation(&q, printed, env);
+        }
         _ => return None,
     };
     let rows = crate::syntax::parse_matrix_expressions(printed).ok()?;
@@ -205,6 +216,31 @@ pub(super) fn deviation(value: &Value, printed: &str, env: &Environment) -> Opti
             })
         })
         .min_by(|x, y| x.1.total_cmp(&y.1))
+}
+
+/// The largest deviation of a recomputed polynomial's coefficients from the printed ones (a
+/// polynomial printed factored, `(λ + 4)^3`, is expanded first).
+fn polynomial_deviation(
+    q: &crate::poly::Poly<crate::algebra::Quadratic>,
+    printed: &str,
+    env: &Environment,
+) -> Option<(f64, f64)> {
+    let e = crate::syntax::parse_expression(printed).ok()?;
+    let rf =
+        crate::syntax::rational_function_with::<crate::algebra::Quadratic>(&e, q.var(), Some(env))
+            .ok()?;
+    if rf.denominator().degree() != Some(0) {
+        return None;
+    }
+    let p = rf
+        .numerator()
+        .scale(&crate::algebra::Field::inverse(&rf.denominator().coeff(0))?);
+    let n = p.degree()?.max(q.degree()?);
+    Some((0..=n).fold((0.0f64, 0.0f64), |(a, r), k| {
+        let (x, y) = (q.coeff(k).to_complex_f64().0, p.coeff(k).to_complex_f64().0);
+        let d = (x - y).abs();
+        (a.max(d), r.max(d / y.abs().max(f64::MIN_POSITIVE)))
+    }))
 }
 
 pub(super) fn show_deviation((absolute, relative): (f64, f64)) -> String {

@@ -1,0 +1,130 @@
+//! A printed equation reference checked by reading the equations: "A, B and C₁ are given by
+//! (3), (4) and (7)". The claim records the document's numbered equations as printed
+//! (`[claims.equations]`, label → matrix, or words for an equation that is not a matrix) and
+//! what the sentence refers to (`refers`); for each referent the workbench finds the equations
+//! that hold it and compares those labels with the print.
+//!
+//! A referent is a matrix the claim or its system names (`A`, `B`, `C1`), matched by equality
+//! with the equation's matrix, or `gain`: an equation holding an observer gain, i.e. a column
+//! `K` with `det(sI − (A − K c)) = P(s)` for the claim's desired polynomial and some row `c` of
+//! the system's `C` (`gain:i`: the i-th row only) — the same test a reader applies ("the gains
+//! are (10a) and (13)").
+//! Labels are the text before the first space of a key, so one equation printing two matrices
+//! is recorded as `"(7) C1"` and `"(7) C2"`.
+
+use super::inputs::{input_error, to_numeric, ComputeError, Inputs};
+use super::value::Value;
+use crate::algebra::{MultiPoly, Rational};
+use crate::derivation::{Derivation, Words};
+use crate::linalg::charpoly::characteristic_polynomial;
+use crate::linalg::Matrix;
+use crate::syntax::{evaluate_with, parse_matrix_expressions};
+
+/// The matrix an equation prints, or `None` for an equation that is not a matrix (an error
+/// equation, a system of equations written in words).
+fn equation_matrix(text: &str, inputs: &Inputs) -> Option<Matrix<Rational>> {
+    let rows = parse_matrix_expressions(text).ok()?;
+    let values = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|e| evaluate_with::<MultiPoly>(e, inputs.env))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .ok()?;
+    to_numeric(&Matrix::from_rows(values).ok()?).ok()
+}
+
+/// Whether `k` is an observer gain placing the claim's desired polynomial for one row of `C`.
+fn places(k: &Matrix<Rational>, row: Option<usize>, inputs: &Inputs) -> Result<bool, ComputeError> {
+    let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);
+    if k.shape() != (a.rows(), 1) {
+        return Ok(false);
+    }
+    let desired = inputs.desired()?.rational().ok_or_else(|| {
+        input_error(
+            "poles",
+            "an equation reference to gains needs a rational desired polynomial",
+        )
+    })?
+    .with_var("s");
+    for i in (0..c.rows()).filter(|i| row.is_none_or(|r| r == *i)) {
+        let row = Matrix::from_rows(vec![c.row(i).to_vec()])?;
+        let closed = a.sub(&k.mul(&row)?)?;
+        if characteristic_polynomial(&closed, "s")?.with_var("s") == desired {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// For each referent, the labels of the equations that hold it (`or` between several, `none`).
+///
+/// # Errors
+/// [`ComputeError`] for a claim without `refers` or `[claims.equations]`, or a referent the
+/// claim and its system do not give.
+pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), ComputeError> {
+    let claim = inputs.claim;
+    if claim.refers.is_empty() || claim.equations.is_empty() {
+        return Err(input_error(
+            "refers",
+            "an equation_reference claim gives `refers` and `[claims.equations]`",
+        ));
+    }
+    let mut d = Derivation::new(title);
+    let equations: Vec<(&str, Option<Matrix<Rational>>)> = claim
+        .equations
+        .iter()
+        .map(|(key, text)| {
+            let label = key.split_whitespace().next().unwrap_or(key);
+            (label, equation_matrix(text, inputs))
+        })
+        .collect();
+    for (key, text) in &claim.equations {
+        d.push(&format!("equation {key}"), "as printed", &Words(text.clone()));
+    }
+    let mut found = Vec::new();
+    for r in &claim.refers {
+        let mut labels: Vec<&str> = Vec::new();
+        // `gain` (any output) or `gain:i` (the i-th row of C, 1-based), else a named matrix
+        let gain_row = match r.strip_prefix("gain") {
+            Some("") => Some(None),
+            Some(i) => Some(Some(
+                i.strip_prefix(':')
+                    .and_then(|i| i.parse::<usize>().ok())
+                    .filter(|i| *i >= 1)
+                    .ok_or_else(|| input_error("refers", format!("'{r}' is not gain or gain:i")))?
+                    - 1,
+            )),
+            None => None,
+        };
+        let wanted = match gain_row {
+            Some(_) => None,
+            None => Some(inputs.numeric(r)?),
+        };
+        for (label, m) in &equations {
+            let Some(m) = m else { continue };
+            let holds = match &wanted {
+                Some(w) => w == m,
+                None => places(m, gain_row.flatten(), inputs)?,
+            };
+            if holds && !labels.contains(label) {
+                labels.push(label);
+            }
+        }
+        let text = if labels.is_empty() {
+            "none".to_string()
+        } else {
+            labels.join(" or ")
+        };
+        let how = if gain_row.is_some() {
+            "the equations holding a gain that places the desired polynomial for one output"
+        } else {
+            "the equations whose matrix equals it"
+        };
+        d.push(&format!("{r} is given by"), how, &Words(text.clone()));
+        found.push(text);
+    }
+    Ok((Value::Labels(found), d))
+}
