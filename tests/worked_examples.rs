@@ -317,4 +317,34 @@ fn coverage_lists_fit_the_examples_both_ways() {
         e.message.contains("no statement of the list records it"),
         "{e}"
     );
+    // one statement, one check: a claim credited to a second statement without listing it in
+    // its own `checks`, and a figure without checks of its own recorded as a check
+    let (path, list) = lists
+        .iter()
+        .find(|(_, l)| l.title.starts_with("Baranowski"))
+        .unwrap();
+    let mut twice = list.clone();
+    let g1 = "baranowski-rc-ladder/G1".to_string();
+    let theorem = twice
+        .statements
+        .iter_mut()
+        .find(|s| s.location == "Theorem 1")
+        .unwrap();
+    theorem.recorded = vec![g1];
+    theorem.not_checked = None;
+    let e = coverage::check(path, &twice, &examples).unwrap_err();
+    assert!(e.message.contains("`checks` lists each of them"), "{e}");
+    let mut figure = list.clone();
+    let bound = figure
+        .statements
+        .iter_mut()
+        .find(|s| s.location == "eq. (24)")
+        .unwrap();
+    bound.recorded = std::mem::take(&mut bound.related);
+    bound.not_checked = None;
+    let e = coverage::check(path, &figure, &examples).unwrap_err();
+    assert!(e.message.contains("has no checks of its own"), "{e}");
+    // the strict share: recorded of checkable
+    let t = coverage::check(path, list, &examples).unwrap();
+    assert!(t.recorded <= t.checkable && t.checkable <= t.statements);
 }

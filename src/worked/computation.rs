@@ -86,6 +86,9 @@ named_enum! {
         /// A printed matrix formula (`expression`, e.g. `Q T A T^-1`) evaluated as printed over
         /// the claim's matrices (`[claims.matrices]`) and the system's.
         MatrixExpression = "matrix_expression",
+        /// A printed equality of two matrix formulas, both sides evaluated as printed
+        /// (`expression` = `printed`), compared exactly — an identity in the symbols.
+        MatrixIdentity = "matrix_identity",
         /// A printed equation reference ("A, B and C₁ are given by (3), (4) and (7)") checked by
         /// finding the equations that hold each referent (`refers`, `[claims.equations]`).
         EquationReference = "equation_reference",

@@ -88,12 +88,14 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             let (value, derivation) = super::equation_reference::evaluate(inputs, &title)?;
             Ok(Computed { value, derivation })
         }
+        C::MatrixIdentity => {
+            let (value, derivation) =
+                super::matrix_expression::evaluate_identity(inputs, &title)?;
+            Ok(Computed { value, derivation })
+        }
         C::MatrixExpression => {
-            let (m, derivation) = super::matrix_expression::evaluate(inputs, &title)?;
-            Ok(Computed {
-                value: Value::Matrix(lift(&m)),
-                derivation,
-            })
+            let (value, derivation) = super::matrix_expression::evaluate(inputs, &title)?;
+            Ok(Computed { value, derivation })
         }
         C::Gain => {
             let desired = inputs.desired()?;

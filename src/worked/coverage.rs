@@ -313,6 +313,22 @@ pub fn check(
             .get(&NotChecked::NotYetRecorded)
             .copied()
             .unwrap_or(0);
+    for e in &mine {
+        let items = e
+            .claims
+            .iter()
+            .map(|c| &c.id)
+            .chain(e.scenarios.iter().map(|s| &s.name));
+        for item in items {
+            let r = format!("{}/{item}", e.id);
+            if !listed.contains(&r) {
+                return Err(error(format!(
+                    "'{r}' checks {} but no statement of the list records it",
+                    list.document
+                )));
+            }
+        }
+    }
     // one statement, one check: a claim credited to several statements lists each of them
     for e in &mine {
         for c in &e.claims {
@@ -334,22 +350,6 @@ pub fn check(
                     "'{r}' lists checks [{}] but is recorded for [{}]",
                     c.checks.join("; "),
                     by.join("; ")
-                )));
-            }
-        }
-    }
-    for e in &mine {
-        let items = e
-            .claims
-            .iter()
-            .map(|c| &c.id)
-            .chain(e.scenarios.iter().map(|s| &s.name));
-        for item in items {
-            let r = format!("{}/{item}", e.id);
-            if !listed.contains(&r) {
-                return Err(error(format!(
-                    "'{r}' checks {} but no statement of the list records it",
-                    list.document
                 )));
             }
         }

@@ -117,7 +117,11 @@ impl Inputs<'_> {
         match name {
             "A" | "B" | "C" | "D" => {
                 let own = [&self.claim.a, &self.claim.b, &self.claim.c];
-                self.file.system.resolve(own, name)
+                // a claim's own D (a formula over a general plant) is one of its matrices
+                self.file
+                    .system
+                    .resolve(own, name)
+                    .or_else(|| self.claim.matrices.get(name).map(String::as_str))
             }
             "gain" => self.claim.gain.as_deref(),
             "feedback" => self.claim.feedback.as_deref(),

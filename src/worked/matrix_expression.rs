@@ -2,12 +2,17 @@
 //! (`[claims.matrices]`) and the system's, exactly. It checks a document's statement in its
 //! literal matrix form — dimensions included, so a selector matrix printed with the wrong number
 //! of rows is found — rather than through an equivalent condition the workbench derived.
+//!
+//! Matrices with free symbols (`A = [a1 1; a2 0]`, `K = [k1; k2]`) are evaluated over the
+//! rational functions of those symbols, so a general formula (`A − K C` at order n) is checked
+//! as an identity, not at sample points; numbers stay on the rational path.
 
-use super::inputs::{input_error, ComputeError, Inputs};
-use crate::algebra::Rational;
+use super::inputs::{input_error, lift, to_numeric, ComputeError, Inputs};
+use super::value::Value;
+use crate::algebra::{Field, Fraction, MultiPoly, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, Matrix};
-use crate::syntax::parse_expression;
+use crate::syntax::{evaluate_with, parse_expression};
 use crate::syntax::{Expr, ExprKind};
 
 /// Why a printed matrix formula cannot be evaluated as printed.
@@ -24,32 +29,36 @@ enum FormulaError {
     Refused(String),
 }
 
-/// A value met while evaluating: a number or a matrix.
-enum Term {
-    Scalar(Rational),
-    Matrix(Matrix<Rational>),
+/// A value met while evaluating: a number or a matrix (over the rationals, or the rational
+/// functions of the symbols).
+enum Term<F> {
+    Scalar(F),
+    Matrix(Matrix<F>),
 }
 
-fn shape(m: &Matrix<Rational>) -> String {
+fn shape<F: Field>(m: &Matrix<F>) -> String {
     format!("{}×{}", m.rows(), m.cols())
 }
 
-/// Evaluates `e`; `lookup` gives a named matrix; each named matrix is recorded in `d`.
-fn eval(
+/// Evaluates `e`; `lookup` gives a named matrix or scalar (a parameter), `number` a printed
+/// number in the field.
+fn eval<F: Field>(
     e: &Expr,
-    lookup: &dyn Fn(&str) -> Result<Matrix<Rational>, ComputeError>,
-) -> Result<Term, FormulaError> {
+    lookup: &dyn Fn(&str) -> Result<Term<F>, ComputeError>,
+    number: &dyn Fn(&Rational) -> F,
+) -> Result<Term<F>, FormulaError> {
     let bad = FormulaError::Refused;
+    let eval = |x: &Expr| eval(x, lookup, number);
     Ok(match &e.kind {
-        ExprKind::Number(r) => Term::Scalar(r.clone()),
-        ExprKind::Symbol(name) => Term::Matrix(lookup(name)?),
-        ExprKind::Neg(x) => match eval(x, lookup)? {
+        ExprKind::Number(r) => Term::Scalar(number(r)),
+        ExprKind::Symbol(name) => lookup(name)?,
+        ExprKind::Neg(x) => match eval(x)? {
             Term::Scalar(r) => Term::Scalar(-r),
             Term::Matrix(m) => Term::Matrix(m.neg()),
         },
         ExprKind::Add(x, y) | ExprKind::Sub(x, y) => {
             let minus = matches!(e.kind, ExprKind::Sub(..));
-            match (eval(x, lookup)?, eval(y, lookup)?) {
+            match (eval(x)?, eval(y)?) {
                 (Term::Scalar(a), Term::Scalar(b)) => {
                     Term::Scalar(if minus { a - b } else { a + b })
                 }
@@ -72,7 +81,7 @@ fn eval(
                 }
             }
         }
-        ExprKind::Mul(x, y) => match (eval(x, lookup)?, eval(y, lookup)?) {
+        ExprKind::Mul(x, y) => match (eval(x)?, eval(y)?) {
             (Term::Scalar(a), Term::Scalar(b)) => Term::Scalar(a * b),
             (Term::Scalar(a), Term::Matrix(m)) | (Term::Matrix(m), Term::Scalar(a)) => {
                 Term::Matrix(m.scale(&a))
@@ -86,11 +95,16 @@ fn eval(
                 ))
             })?),
         },
-        ExprKind::Div(x, y) => match (eval(x, lookup)?, eval(y, lookup)?) {
-            (t, Term::Scalar(b)) if !num_traits::Zero::is_zero(&b) => match t {
-                Term::Scalar(a) => Term::Scalar(a / b),
-                Term::Matrix(m) => Term::Matrix(m.scale(&b.recip())),
-            },
+        ExprKind::Div(x, y) => match (eval(x)?, eval(y)?) {
+            (t, Term::Scalar(b)) if !num_traits::Zero::is_zero(&b) => {
+                let inverse = b
+                    .inverse()
+                    .ok_or_else(|| bad(format!("a division by zero (column {})", e.column)))?;
+                match t {
+                    Term::Scalar(a) => Term::Scalar(a * inverse),
+                    Term::Matrix(m) => Term::Matrix(m.scale(&inverse)),
+                }
+            }
             _ => {
                 return Err(bad(format!(
                     "a division by a matrix or by zero (column {}); write X^-1",
@@ -98,9 +112,17 @@ fn eval(
                 )))
             }
         },
-        ExprKind::Pow(x, k) => match eval(x, lookup)? {
+        ExprKind::Pow(x, k) => match eval(x)? {
             Term::Scalar(a) => {
-                Term::Scalar(num_traits::pow(a, k.unsigned_abs() as usize)).inverted_if(*k < 0)?
+                let k_abs = u32::try_from(k.unsigned_abs())
+                    .ok()
+                    .filter(|k| *k <= 64)
+                    .ok_or_else(|| bad(format!("the power {k} is too large (at most 64)")))?;
+                let mut p = F::one();
+                for _ in 0..k_abs {
+                    p = p * a.clone();
+                }
+                Term::Scalar(p).inverted_if(*k < 0)?
             }
             Term::Matrix(m) => {
                 if !m.is_square() {
@@ -132,56 +154,169 @@ fn eval(
     })
 }
 
-impl Term {
-    fn inverted_if(self, invert: bool) -> Result<Term, FormulaError> {
+impl<F: Field> Term<F> {
+    fn inverted_if(self, invert: bool) -> Result<Term<F>, FormulaError> {
         match self {
-            Term::Scalar(a) if invert => {
-                if num_traits::Zero::is_zero(&a) {
-                    Err(FormulaError::Refused("zero to a negative power".into()))
-                } else {
-                    Ok(Term::Scalar(a.recip()))
-                }
-            }
+            Term::Scalar(a) if invert => a
+                .inverse()
+                .map(Term::Scalar)
+                .ok_or_else(|| FormulaError::Refused("zero to a negative power".into())),
             t => Ok(t),
         }
     }
 }
 
+/// How a name of a formula is read: a matrix of the claim or its system, or else a parameter
+/// (a scalar, `k1`, `a`), its value substituted when the example gives one.
+enum Name {
+    Matrix(Matrix<MultiPoly>),
+    Scalar(MultiPoly),
+}
+
+fn name(inputs: &Inputs, n: &str) -> Result<Name, ComputeError> {
+    match inputs.symbolic(n) {
+        Ok(m) => Ok(Name::Matrix(m)),
+        Err(missing @ ComputeError::Input { .. }) => {
+            let e = parse_expression(n).map_err(|_| missing.clone())?;
+            evaluate_with::<MultiPoly>(&e, inputs.env)
+                .map(Name::Scalar)
+                .map_err(|_| missing)
+        }
+        Err(other) => Err(other),
+    }
+}
+
+/// Evaluates the printed formulas `texts` over the same names: exactly over the rationals when
+/// every name is a number, else over the rational functions of the symbols (each result a
+/// [`Value::Formula`]). Each named matrix goes into `d` once.
+fn evaluate_texts(
+    inputs: &Inputs,
+    texts: &[(&str, &str, &str)],
+    d: &mut Derivation,
+) -> Result<Vec<Value>, ComputeError> {
+    let mut parsed = Vec::new();
+    let mut names: Vec<String> = Vec::new();
+    for (field, label, text) in texts {
+        let e = parse_expression(text).map_err(|e| input_error(field, e.show_in(text)))?;
+        collect_symbols(&e, &mut names);
+        parsed.push((*field, *label, *text, e));
+    }
+    // in the order the formulas name them (the derivation lists them so)
+    let mut read: Vec<(String, Name)> = Vec::new();
+    for n in &names {
+        read.push((n.clone(), name(inputs, n)?));
+    }
+    let get = |n: &str| read.iter().find(|(m, _)| m == n).map(|(_, v)| v);
+    let symbolic = read.iter().map(|(_, v)| v).any(|v| match v {
+        Name::Matrix(m) => m.entries().iter().any(|x| x.as_constant().is_none()),
+        Name::Scalar(x) => x.as_constant().is_none(),
+    });
+    for (n, v) in &read {
+        if let Name::Matrix(m) = v {
+            d.push(n, "as printed", m);
+        }
+    }
+    let not_matrix = |field: &str, text: &str| {
+        input_error(field, format!("{text} is a number, not a matrix"))
+    };
+    let mut out = Vec::new();
+    for (field, label, text, e) in &parsed {
+        let refused = |m: FormulaError| input_error(field, format!("{text}: {m}"));
+        let value = if symbolic {
+            let lookup = |n: &str| -> Result<Term<Fraction>, ComputeError> {
+                match get(n) {
+                    Some(Name::Matrix(m)) => {
+                        let rows = (0..m.rows())
+                            .map(|i| m.row(i).iter().cloned().map(Fraction::of).collect())
+                            .collect();
+                        Ok(Term::Matrix(
+                            Matrix::from_rows(rows).map_err(|e| input_error(n, e.to_string()))?,
+                        ))
+                    }
+                    Some(Name::Scalar(x)) => Ok(Term::Scalar(Fraction::of(x.clone()))),
+                    None => Err(input_error(n, "missing")),
+                }
+            };
+            let number = |r: &Rational| Fraction::constant(r.clone());
+            match eval(e, &lookup, &number).map_err(refused)? {
+                Term::Matrix(m) => {
+                    d.push(label, text, &m);
+                    Value::Formula(m)
+                }
+                Term::Scalar(_) => return Err(not_matrix(field, text)),
+            }
+        } else {
+            let lookup = |n: &str| -> Result<Term<Rational>, ComputeError> {
+                match get(n) {
+                    Some(Name::Matrix(m)) => Ok(Term::Matrix(to_numeric(m)?)),
+                    Some(Name::Scalar(x)) => x
+                        .as_constant()
+                        .map(Term::Scalar)
+                        .ok_or_else(|| ComputeError::NeedsValues(x.variables())),
+                    None => Err(input_error(n, "missing")),
+                }
+            };
+            let number = |r: &Rational| r.clone();
+            match eval(e, &lookup, &number).map_err(refused)? {
+                Term::Matrix(m) => {
+                    d.push(label, text, &m);
+                    Value::Matrix(lift(&m))
+                }
+                Term::Scalar(_) => return Err(not_matrix(field, text)),
+            }
+        };
+        out.push(value);
+    }
+    Ok(out)
+}
+
 /// The claim's `expression` evaluated over its matrices, with each named matrix and the result
-/// in the derivation.
+/// in the derivation: an exact matrix, or a matrix of formulas when a name has symbols.
 ///
 /// # Errors
 /// An input error naming the expression and what does not fit (undefined products, singular
 /// inverses, unknown names).
-pub fn evaluate(
-    inputs: &Inputs,
-    title: &str,
-) -> Result<(Matrix<Rational>, Derivation), ComputeError> {
+pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), ComputeError> {
     let text = inputs.claim.expression.as_deref().ok_or_else(|| {
         input_error(
             "expression",
             "a matrix_expression claim gives its expression",
         )
     })?;
-    let e = parse_expression(text).map_err(|e| input_error("expression", e.show_in(text)))?;
     let mut d = Derivation::new(title);
-    let mut names: Vec<String> = Vec::new();
-    collect_symbols(&e, &mut names);
-    for n in &names {
-        let m = inputs.numeric(n)?;
-        d.push(n, "as printed", &m);
-    }
-    let lookup = |name: &str| inputs.numeric(name);
-    match eval(&e, &lookup).map_err(|m| input_error("expression", format!("{text}: {m}")))? {
-        Term::Matrix(m) => {
-            d.push("result", text, &m);
-            Ok((m, d))
-        }
-        Term::Scalar(_) => Err(input_error(
+    let value = evaluate_texts(inputs, &[("expression", "result", text)], &mut d)?
+        .pop()
+        .ok_or_else(|| input_error("expression", "nothing evaluated"))?;
+    Ok((value, d))
+}
+
+/// A printed equality of two matrix formulas (`A(x̂ − x) + L(Cx̂ − Cx) = (A + LC)e`): the left
+/// side is the claim's `expression`, the right side its `printed`, both evaluated as printed over
+/// the same names, compared exactly (an identity in the symbols when there are any).
+///
+/// # Errors
+/// As [`evaluate`], for either side.
+pub fn evaluate_identity(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), ComputeError> {
+    let left = inputs.claim.expression.as_deref().ok_or_else(|| {
+        input_error(
             "expression",
-            format!("{text} is a number, not a matrix"),
-        )),
-    }
+            "a matrix_identity claim gives its left side as expression",
+        )
+    })?;
+    let right = inputs.claim.printed.as_str();
+    let mut d = Derivation::new(title);
+    let mut sides = evaluate_texts(
+        inputs,
+        &[
+            ("expression", "left side", left),
+            ("printed", "right side", right),
+        ],
+        &mut d,
+    )?;
+    let (Some(r), Some(l)) = (sides.pop(), sides.pop()) else {
+        return Err(input_error("expression", "nothing evaluated"));
+    };
+    Ok((Value::Sides(Box::new(l), Box::new(r)), d))
 }
 
 fn collect_symbols(e: &Expr, out: &mut Vec<String>) {

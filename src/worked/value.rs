@@ -37,6 +37,8 @@ pub enum Value {
     Equations(Vec<MultiPoly>),
     /// A set of conditions `p_i = 0` (order does not matter).
     Conditions(Vec<MultiPoly>),
+    /// The two sides of a printed equality, each evaluated as printed (left, right).
+    Sides(Box<Value>, Box<Value>),
     /// Equation labels, one entry per referent (`(4)`, `(10a) or (13)`, `none`).
     Labels(Vec<String>),
     /// A linear system `M g = r`.
@@ -93,6 +95,7 @@ impl Value {
             Value::Symbolic(x) => x.to_input(),
             Value::Bool(b) => b.to_string(),
             Value::Labels(l) => l.join(", "),
+            Value::Sides(l, _) => l.input(),
             Value::Roots(r) => r.iter().map(Ring::to_input).collect::<Vec<_>>().join(", "),
             Value::Transfer(t) => t.to_input(),
             Value::Equations(e) | Value::Conditions(e) => e
@@ -138,6 +141,7 @@ impl Value {
                 }
             }
             Value::Labels(l) => l.join(", "),
+            Value::Sides(l, _) => l.text(),
             Value::Roots(r) => r
                 .iter()
                 .map(|x| x.to_string())
@@ -169,6 +173,7 @@ impl Value {
             Value::Symbolic(x) => x.to_latex(),
             Value::Bool(b) => format!("\\text{{{}}}", if *b { "yes" } else { "no" }),
             Value::Labels(l) => format!("\\text{{{}}}", l.join(", ")),
+            Value::Sides(l, _) => l.latex(),
             Value::Roots(r) => r
                 .iter()
                 .map(Ring::to_latex)
@@ -398,6 +403,7 @@ pub fn compare(value: &Value, printed: &str, env: &Environment) -> Result<Agreem
         Value::Scalar(x) => compare_scalar(x, printed, env, digits),
         Value::Bool(b) => compare_bool(b, printed),
         Value::Labels(l) => Ok(compare_labels(l, printed)),
+        Value::Sides(l, r) => Ok(compare_sides(l, r)),
         Value::Roots(r) => compare_roots(r, printed, env, digits),
         Value::Transfer(t) => compare_transfer(t, printed, env),
         Value::Equations(eqs) => compare_equations(eqs, printed, env),
@@ -591,6 +597,19 @@ fn compare_scalar(
     Ok(agreement(close(x, &p, digits), digits, || {
         format!("printed {p}, recomputed {x}")
     }))
+}
+
+/// The two sides of a printed equality: equal, or the right side's value named.
+fn compare_sides(l: &Value, r: &Value) -> Agreement {
+    if l == r {
+        Agreement::Exact
+    } else {
+        Agreement::Differs(format!(
+            "the printed right side is {}, the left side {}",
+            r.input(),
+            l.input()
+        ))
+    }
 }
 
 /// Equation labels as printed (`(3), (4), (7)`), one per referent, compared in order.
