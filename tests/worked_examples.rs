@@ -330,8 +330,8 @@ fn coverage_lists_fit_the_examples_both_ways() {
         .iter_mut()
         .find(|s| s.location == "Theorem 1")
         .unwrap();
-    theorem.recorded = vec![g1];
-    theorem.not_checked = None;
+    theorem.related.retain(|r| *r != g1);
+    theorem.recorded.push(g1);
     let e = coverage::check(path, &twice, &examples).unwrap_err();
     assert!(e.message.contains("`checks` lists each of them"), "{e}");
     let mut figure = list.clone();
@@ -347,4 +347,78 @@ fn coverage_lists_fit_the_examples_both_ways() {
     // the strict share: recorded of checkable
     let t = coverage::check(path, list, &examples).unwrap();
     assert!(t.recorded <= t.checkable && t.checkable <= t.statements);
+}
+
+/// Printed formulas are evaluated as printed and can fail: a wrong sign in a symbolic matrix, a
+/// printed equality whose sides differ, a wrong equation reference, a wrong stability verdict;
+/// a corrected value documented as an erratum is confirmed; a transpose is refused outside a
+/// matrix formula.
+#[test]
+fn formulas_as_printed_can_fail() {
+    use observer_workbench::worked::{parse_example, Verdict};
+    let head = "id = \"g\"\ntitle = \"t\"\ndocument = \"d\"\n[system]\nA = \"[a1 1; a2 0]\"\nC = \"[1 0]\"\n";
+    let verdict = |claim: &str| {
+        let text = format!("{head}[[claims]]\nid = \"w\"\nsource = \"s\"\n{claim}");
+        let ex = parse_example("g.toml", &text).unwrap();
+        let r = verify_example(Path::new("g.toml"), &ex, &text).unwrap();
+        (r.claims[0].verdict, r.claims[0].explanation.clone())
+    };
+    // A − KC with symbols: the print with the right signs holds, a flipped sign does not
+    let expression = |printed: &str| {
+        format!("what = \"matrix_expression\"\nexpression = \"A - K C\"\nprinted = \"{printed}\"\n[claims.matrices]\nK = \"[k1; k2]\"\n")
+    };
+    assert_eq!(
+        verdict(&expression("[a1 - k1, 1; a2 - k2, 0]")).0,
+        Verdict::Holds
+    );
+    let (v, why) = verdict(&expression("[a1 + k1, 1; a2 - k2, 0]"));
+    assert_eq!(v, Verdict::Mismatch, "{why}");
+    // a printed equality: both sides evaluated; a transpose in a matrix formula is read
+    let identity = |left: &str, right: &str| {
+        format!("what = \"matrix_identity\"\nexpression = \"{left}\"\nprinted = \"{right}\"\n[claims.matrices]\nK = \"[k1; k2]\"\n")
+    };
+    assert_eq!(
+        verdict(&identity("(A - K C)^T", "A^T - C^T K^T")).0,
+        Verdict::Holds
+    );
+    let (v, why) = verdict(&identity("(A - K C)^T", "A - C^T K^T"));
+    assert_eq!(v, Verdict::Mismatch, "{why}");
+    let (v, why) = verdict(&identity("T_o^-1 A T_o", "[-a_1 1; -a_2 0]"));
+    assert_eq!(v, Verdict::Holds, "{why}");
+    let (v, why) = verdict(&identity("T_o^-1 A T_o", "[a_1 1; a_2 0]"));
+    assert_eq!(v, Verdict::Mismatch, "{why}");
+    // an equation reference: the matrix of (2) is A only at a1 = 0, a2 = 1
+    let reference = |printed: &str, extra: &str| {
+        format!("what = \"equation_reference\"\nA = \"[0 1; 1 0]\"\nrefers = [\"A\", \"C\"]\nprinted = \"{printed}\"\n[claims.equations]\n\"(1)\" = \"ẋ = Ax\"\n\"(2)\" = \"[0 1; 1 0]\"\n\"(3)\" = \"[1 0]\"\n{extra}")
+    };
+    assert_eq!(verdict(&reference("(2), (3)", "")).0, Verdict::Holds);
+    let (v, why) = verdict(&reference("(1), (3)", ""));
+    assert_eq!(v, Verdict::Mismatch, "{why}");
+    let erratum = "[claims.erratum]\nexplanation = \"shifted\"\nseverity = \"notation\"\ncorrected = \"(2), (3)\"\n";
+    let (v, why) = verdict(&reference("(1), (3)", erratum));
+    assert_eq!(v, Verdict::Erratum, "{why}");
+    // a wrong correction is not confirmed
+    let wrong = "[claims.erratum]\nexplanation = \"shifted\"\nseverity = \"notation\"\ncorrected = \"(1), (2)\"\n";
+    assert_eq!(verdict(&reference("(1), (3)", wrong)).0, Verdict::Mismatch);
+    // stability decided exactly
+    let stable = |a: &str, printed: &str| {
+        format!("what = \"stable\"\nA = \"{a}\"\nprinted = \"{printed}\"\n")
+    };
+    assert_eq!(verdict(&stable("[0 1; -2 -3]", "stable")).0, Verdict::Holds);
+    assert_eq!(
+        verdict(&stable("[0 1; -2 3]", "stable")).0,
+        Verdict::Mismatch
+    );
+    assert_eq!(
+        verdict(&stable("[0 1; -1 0]", "stable")).0,
+        Verdict::Mismatch
+    );
+    // the transpose is for matrix formulas: a number refuses it, naming the column
+    let e = observer_workbench::syntax::parse_expression("s^T + 1").unwrap();
+    let err = observer_workbench::syntax::evaluate_with::<observer_workbench::algebra::Rational>(
+        &e,
+        &Default::default(),
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("transpose"), "{err}");
 }

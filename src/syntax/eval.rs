@@ -231,6 +231,7 @@ fn scalar<T: FromExpr>(e: &Expr, ctx: &mut Context) -> Result<T, SyntaxError> {
             let r = rational_argument(arg)?;
             T::sqrt_of(&r).map_err(|what| not_allowed(c, what.to_string(), T::TARGET))?
         }
+        ExprKind::Transpose(_) => return Err(not_allowed(c, "a transpose ^T", T::TARGET)),
         ExprKind::Neg(x) => -scalar::<T>(x, ctx)?,
         ExprKind::Add(x, y) => {
             let (a, b) = (scalar::<T>(x, ctx)?, scalar::<T>(y, ctx)?);
@@ -474,7 +475,9 @@ fn mentions(e: &Expr, var: &str) -> bool {
     match &e.kind {
         ExprKind::Symbol(name) => name == var,
         ExprKind::Number(_) | ExprKind::ImaginaryUnit => false,
-        ExprKind::Sqrt(x) | ExprKind::Neg(x) | ExprKind::Pow(x, _) => mentions(x, var),
+        ExprKind::Sqrt(x) | ExprKind::Neg(x) | ExprKind::Pow(x, _) | ExprKind::Transpose(x) => {
+            mentions(x, var)
+        }
         ExprKind::Add(x, y) | ExprKind::Sub(x, y) | ExprKind::Mul(x, y) | ExprKind::Div(x, y) => {
             mentions(x, var) || mentions(y, var)
         }
@@ -693,9 +696,10 @@ fn rf<F: Field + FromExpr>(
         ExprKind::Symbol(name) => {
             return Err(unknown_symbol(c, name, &format!("a function of {var}")))
         }
-        ExprKind::Number(_) | ExprKind::ImaginaryUnit | ExprKind::Sqrt(_) => {
-            constant(scalar::<F>(e, ctx)?)
-        }
+        ExprKind::Number(_)
+        | ExprKind::ImaginaryUnit
+        | ExprKind::Sqrt(_)
+        | ExprKind::Transpose(_) => constant(scalar::<F>(e, ctx)?),
         ExprKind::Neg(x) => -rf(x, var, ctx)?,
         ExprKind::Add(x, y) | ExprKind::Sub(x, y) => {
             let (a, b) = (rf::<F>(x, var, ctx)?, rf::<F>(y, var, ctx)?);

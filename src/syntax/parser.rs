@@ -37,6 +37,9 @@ pub enum ExprKind {
     Div(Box<Expr>, Box<Expr>),
     /// `x ^ k` with an integer `k`.
     Pow(Box<Expr>, i64),
+    /// `X^T`, the transpose: meaningful in a printed matrix formula only (a number or a
+    /// polynomial refuses it).
+    Transpose(Box<Expr>),
 }
 
 /// A product holding `i` and the root of a nonnegative number, `2*sqrt(3)*i`, read as the root
@@ -444,6 +447,13 @@ impl Parser {
             return Ok(base);
         }
         let caret = self.next();
+        if self.peek().tok == Tok::Ident("T".into()) {
+            self.next();
+            return Ok(Expr {
+                kind: ExprKind::Transpose(Box::new(base)),
+                column: caret.column,
+            });
+        }
         let paren = self.peek().tok == Tok::LParen;
         if paren {
             self.next();

@@ -17,6 +17,9 @@ named_enum! {
         Observable = "observable",
         /// `det(sI − A)`, symbols allowed.
         CharacteristicPolynomial = "characteristic_polynomial",
+        /// Whether every eigenvalue of `A` lies in the open left half-plane (Routh–Hurwitz on
+        /// `det(sI − A)`, exact; no root computed).
+        Stable = "stable",
         /// The eigenvalues of `A`, exactly.
         Eigenvalues = "eigenvalues",
         /// `T` of the observer canonical form.
@@ -198,6 +201,10 @@ named_enum! {
         CanonicalProceduresAgree = "canonical_procedures_agree",
         /// The closed loop's poles are the feedback's and the observer's.
         SeparationPrinciple = "separation_principle",
+        /// Pole placement from one output: Ackermann's `K = P(A) O_n⁻¹ e_n` gives
+        /// `det(sI − (A − KC)) = P(s)` — for a general system with symbols, an identity over the
+        /// rational functions (wherever `det O_n ≠ 0`), i.e. every polynomial is reachable.
+        PlacementAnyPolynomial = "placement_any_polynomial",
     }
 }
 

@@ -68,6 +68,23 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             simple(&title, Value::SymbolicPolynomial(p, var))
         }
         C::Eigenvalues => eigenvalues(inputs, &title),
+        C::Stable => {
+            let a = inputs.numeric("A")?;
+            let p = crate::linalg::charpoly::characteristic_polynomial(&a, "s")?;
+            let stable = crate::poly::is_hurwitz(&p);
+            let mut d = Derivation::new(&title);
+            d.push("det(sI − A)", "", &p);
+            let v = Value::Labels(vec![if stable { "stable" } else { "unstable" }.to_string()]);
+            d.push(
+                "every root in Re s < 0",
+                "Routh–Hurwitz, exact (no root computed)",
+                &v,
+            );
+            Ok(Computed {
+                value: v,
+                derivation: d,
+            })
+        }
         C::CanonicalTransformation => canonical_matrix(inputs, &title, CanonicalPart::T),
         C::CanonicalTransformationInverse => {
             canonical_matrix(inputs, &title, CanonicalPart::TInverse)
@@ -89,8 +106,7 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             Ok(Computed { value, derivation })
         }
         C::MatrixIdentity => {
-            let (value, derivation) =
-                super::matrix_expression::evaluate_identity(inputs, &title)?;
+            let (value, derivation) = super::matrix_expression::evaluate_identity(inputs, &title)?;
             Ok(Computed { value, derivation })
         }
         C::MatrixExpression => {
@@ -506,6 +522,25 @@ fn identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
             d.push("T_o (Di Ruscio)", "(Mᵀ O_n)⁻¹", &x.t);
             d.push("T (Stoustrup)", "[t_1 … t_n]", &y.t);
             x.t == y.t
+        }
+        Identity::PlacementAnyPolynomial => {
+            let c = inputs.numeric("C")?;
+            let desired = inputs.desired()?;
+            let g = design(
+                &a,
+                &c,
+                &desired,
+                GainMethod::Ackermann,
+                Convention::AMinusKC,
+            )?;
+            let closed = lift(&a).sub(&g.gain.matrix.mul(&lift(&c))?)?;
+            let achieved = crate::linalg::charpoly::characteristic_polynomial(&closed, "s")?;
+            d.push("K", "P(A) O_n⁻¹ e_n", &g.gain.matrix);
+            d.push("det(sI − (A − KC))", "", &achieved);
+            desired
+                .exact
+                .as_ref()
+                .is_some_and(|p| *p == achieved.with_var(p.var()))
         }
         Identity::SeparationPrinciple => {
             let l = inputs.observer_gain_a_plus_lc()?;

@@ -42,13 +42,16 @@ fn places(k: &Matrix<Rational>, row: Option<usize>, inputs: &Inputs) -> Result<b
     if k.shape() != (a.rows(), 1) {
         return Ok(false);
     }
-    let desired = inputs.desired()?.rational().ok_or_else(|| {
-        input_error(
-            "poles",
-            "an equation reference to gains needs a rational desired polynomial",
-        )
-    })?
-    .with_var("s");
+    let desired = inputs
+        .desired()?
+        .rational()
+        .ok_or_else(|| {
+            input_error(
+                "poles",
+                "an equation reference to gains needs a rational desired polynomial",
+            )
+        })?
+        .with_var("s");
     for i in (0..c.rows()).filter(|i| row.is_none_or(|r| r == *i)) {
         let row = Matrix::from_rows(vec![c.row(i).to_vec()])?;
         let closed = a.sub(&k.mul(&row)?)?;
@@ -82,7 +85,11 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
         })
         .collect();
     for (key, text) in &claim.equations {
-        d.push(&format!("equation {key}"), "as printed", &Words(text.clone()));
+        d.push(
+            &format!("equation {key}"),
+            "as printed",
+            &Words(text.clone()),
+        );
     }
     let mut found = Vec::new();
     for r in &claim.refers {

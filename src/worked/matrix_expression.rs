@@ -12,7 +12,7 @@ use super::value::Value;
 use crate::algebra::{Field, Fraction, MultiPoly, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, Matrix};
-use crate::syntax::{evaluate_with, parse_expression};
+use crate::syntax::{evaluate_with, parse_expression, parse_matrix_expressions};
 use crate::syntax::{Expr, ExprKind};
 
 /// Why a printed matrix formula cannot be evaluated as printed.
@@ -145,6 +145,10 @@ fn eval<F: Field>(
                 Term::Matrix(base.pow(k)?)
             }
         },
+        ExprKind::Transpose(x) => match eval(x)? {
+            Term::Scalar(a) => Term::Scalar(a),
+            Term::Matrix(m) => Term::Matrix(m.transpose()),
+        },
         ExprKind::Sqrt(_) | ExprKind::ImaginaryUnit => {
             return Err(bad(format!(
                 "square roots are not evaluated in a matrix formula (column {})",
@@ -166,14 +170,67 @@ impl<F: Field> Term<F> {
     }
 }
 
-/// How a name of a formula is read: a matrix of the claim or its system, or else a parameter
-/// (a scalar, `k1`, `a`), its value substituted when the example gives one.
+/// How a name of a formula is read: a matrix of the claim or its system; else one the workbench
+/// derives from the claim's `A` and `C` (see [`derived`]); else a parameter (a scalar, `k1`,
+/// `a`), its value substituted when the example gives one.
 enum Name {
     Matrix(Matrix<MultiPoly>),
     Scalar(MultiPoly),
+    Derived(Term<Fraction>),
+}
+
+/// The names a printed formula may use for what the workbench computes from the claim's `A`
+/// and `C` (single output), over the rational functions of their symbols:
+/// `O_n` (the observability matrix), `M` (Di Ruscio's Toeplitz matrix of `det(λI − A)`, eq.
+/// (18)), `T_o` (Di Ruscio's transformation to observer form, `ss2ocf`), `T_s` (Stoustrup's,
+/// `t_n = O⁻¹ e_n`, `t_(i−1) = A t_i`) and the scalars `a_1 … a_n` of
+/// `det(λI − A) = λⁿ + a_1 λⁿ⁻¹ + … + a_n`. Each is computed by the same function the commands
+/// call, so a printed formula over them is compared with the workbench's own result. `None`
+/// for any other name.
+fn derived(inputs: &Inputs, n: &str) -> Result<Option<Term<Fraction>>, ComputeError> {
+    let coefficient = n
+        .strip_prefix("a_")
+        .and_then(|k| k.parse::<usize>().ok())
+        .filter(|k| *k >= 1);
+    if !matches!(n, "O_n" | "M" | "T_o" | "T_s") && coefficient.is_none() {
+        return Ok(None);
+    }
+    let fractions = |name: &str| -> Result<Matrix<Fraction>, ComputeError> {
+        let m = inputs.symbolic(name)?;
+        let rows = (0..m.rows())
+            .map(|i| m.row(i).iter().cloned().map(Fraction::of).collect())
+            .collect();
+        Matrix::from_rows(rows).map_err(|e| input_error(name, e.to_string()))
+    };
+    let (a, c) = (fractions("A")?, fractions("C")?);
+    let refused = |e: String| input_error("expression", format!("{n}: {e}"));
+    Ok(Some(match (n, coefficient) {
+        (_, Some(k)) => {
+            let chi = crate::linalg::charpoly::berkowitz(&a, "s")?;
+            let deg = a.rows();
+            if k > deg {
+                return Err(refused(format!("A has order {deg}, so a_1 … a_{deg}")));
+            }
+            Term::Scalar(chi.coeff(deg - k))
+        }
+        ("O_n", None) => Term::Matrix(crate::observability::observability_matrix(&a, &c)?),
+        ("M", None) | ("T_o", None) => {
+            let f = crate::canonical_form::observer_form_di_ruscio(&a, None, &c)
+                .map_err(|e| refused(e.to_string()))?;
+            Term::Matrix(if n == "M" { f.toeplitz } else { f.t })
+        }
+        _ => Term::Matrix(
+            crate::canonical_form::observer_form_stoustrup(&a, None, &c)
+                .map_err(|e| refused(e.to_string()))?
+                .t,
+        ),
+    }))
 }
 
 fn name(inputs: &Inputs, n: &str) -> Result<Name, ComputeError> {
+    if let Some(t) = derived(inputs, n)? {
+        return Ok(Name::Derived(t));
+    }
     match inputs.symbolic(n) {
         Ok(m) => Ok(Name::Matrix(m)),
         Err(missing @ ComputeError::Input { .. }) => {
@@ -197,9 +254,19 @@ fn evaluate_texts(
     let mut parsed = Vec::new();
     let mut names: Vec<String> = Vec::new();
     for (field, label, text) in texts {
-        let e = parse_expression(text).map_err(|e| input_error(field, e.show_in(text)))?;
-        collect_symbols(&e, &mut names);
-        parsed.push((*field, *label, *text, e));
+        let form = if text.trim_start().starts_with('[') {
+            let rows =
+                parse_matrix_expressions(text).map_err(|e| input_error(field, e.show_in(text)))?;
+            rows.iter()
+                .flatten()
+                .for_each(|e| collect_symbols(e, &mut names));
+            Form::Literal(rows)
+        } else {
+            let e = parse_expression(text).map_err(|e| input_error(field, e.show_in(text)))?;
+            collect_symbols(&e, &mut names);
+            Form::Formula(e)
+        };
+        parsed.push((*field, *label, *text, form));
     }
     // in the order the formulas name them (the derivation lists them so)
     let mut read: Vec<(String, Name)> = Vec::new();
@@ -207,20 +274,28 @@ fn evaluate_texts(
         read.push((n.clone(), name(inputs, n)?));
     }
     let get = |n: &str| read.iter().find(|(m, _)| m == n).map(|(_, v)| v);
+    // what the workbench derives is over the rational functions, numbers or not
     let symbolic = read.iter().map(|(_, v)| v).any(|v| match v {
         Name::Matrix(m) => m.entries().iter().any(|x| x.as_constant().is_none()),
         Name::Scalar(x) => x.as_constant().is_none(),
+        Name::Derived(_) => true,
     });
     for (n, v) in &read {
-        if let Name::Matrix(m) = v {
-            d.push(n, "as printed", m);
+        match v {
+            Name::Matrix(m) => d.push(n, "as printed", m),
+            Name::Derived(Term::Matrix(m)) => d.push(n, "computed by the workbench", m),
+            Name::Derived(Term::Scalar(x)) => {
+                d.push(
+                    n,
+                    "computed by the workbench",
+                    &Matrix::from_rows(vec![vec![x.clone()]])?,
+                );
+            }
+            Name::Scalar(_) => {}
         }
     }
-    let not_matrix = |field: &str, text: &str| {
-        input_error(field, format!("{text} is a number, not a matrix"))
-    };
     let mut out = Vec::new();
-    for (field, label, text, e) in &parsed {
+    for (field, label, text, form) in &parsed {
         let refused = |m: FormulaError| input_error(field, format!("{text}: {m}"));
         let value = if symbolic {
             let lookup = |n: &str| -> Result<Term<Fraction>, ComputeError> {
@@ -234,17 +309,15 @@ fn evaluate_texts(
                         ))
                     }
                     Some(Name::Scalar(x)) => Ok(Term::Scalar(Fraction::of(x.clone()))),
+                    Some(Name::Derived(Term::Matrix(m))) => Ok(Term::Matrix(m.clone())),
+                    Some(Name::Derived(Term::Scalar(x))) => Ok(Term::Scalar(x.clone())),
                     None => Err(input_error(n, "missing")),
                 }
             };
             let number = |r: &Rational| Fraction::constant(r.clone());
-            match eval(e, &lookup, &number).map_err(refused)? {
-                Term::Matrix(m) => {
-                    d.push(label, text, &m);
-                    Value::Formula(m)
-                }
-                Term::Scalar(_) => return Err(not_matrix(field, text)),
-            }
+            let m = form.matrix(&lookup, &number).map_err(refused)?;
+            d.push(label, text, &m);
+            Value::Formula(m)
         } else {
             let lookup = |n: &str| -> Result<Term<Rational>, ComputeError> {
                 match get(n) {
@@ -253,21 +326,73 @@ fn evaluate_texts(
                         .as_constant()
                         .map(Term::Scalar)
                         .ok_or_else(|| ComputeError::NeedsValues(x.variables())),
-                    None => Err(input_error(n, "missing")),
+                    // derived names make the evaluation symbolic (above)
+                    Some(Name::Derived(_)) | None => Err(input_error(n, "missing")),
                 }
             };
             let number = |r: &Rational| r.clone();
-            match eval(e, &lookup, &number).map_err(refused)? {
-                Term::Matrix(m) => {
-                    d.push(label, text, &m);
-                    Value::Matrix(lift(&m))
-                }
-                Term::Scalar(_) => return Err(not_matrix(field, text)),
-            }
+            let m = form.matrix(&lookup, &number).map_err(refused)?;
+            d.push(label, text, &m);
+            Value::Matrix(lift(&m))
         };
         out.push(value);
     }
     Ok(out)
+}
+
+/// A printed side: a matrix formula (`(A + L C) e`) or a matrix written out entry by entry
+/// (`[-a_1 1; -a_2 0]`, each entry a formula over the same names, a matrix entry a block).
+enum Form {
+    Formula(Expr),
+    Literal(Vec<Vec<Expr>>),
+}
+
+impl Form {
+    fn matrix<F: Field>(
+        &self,
+        lookup: &dyn Fn(&str) -> Result<Term<F>, ComputeError>,
+        number: &dyn Fn(&Rational) -> F,
+    ) -> Result<Matrix<F>, FormulaError> {
+        match self {
+            Form::Formula(e) => match eval(e, lookup, number)? {
+                Term::Matrix(m) => Ok(m),
+                Term::Scalar(_) => Err(FormulaError::Refused("a number, not a matrix".into())),
+            },
+            // entries that are matrices are blocks (`[C; C A]`): each row of blocks side by
+            // side, the rows stacked, a number a 1×1 block; shapes that do not fit are refused
+            Form::Literal(rows) => {
+                let mut out: Option<Matrix<F>> = None;
+                for r in rows {
+                    let mut row: Option<Matrix<F>> = None;
+                    for e in r {
+                        let block = match eval(e, lookup, number)? {
+                            Term::Scalar(x) => Matrix::from_rows(vec![vec![x]])?,
+                            Term::Matrix(m) => m,
+                        };
+                        row = Some(match row {
+                            None => block,
+                            Some(left) => left.hstack(&block).map_err(|_| {
+                                FormulaError::Refused(format!(
+                                    "blocks of different heights side by side (column {})",
+                                    e.column
+                                ))
+                            })?,
+                        });
+                    }
+                    let Some(row) = row else {
+                        return Err(FormulaError::Refused("an empty row".into()));
+                    };
+                    out = Some(match out {
+                        None => row,
+                        Some(top) => top.vstack(&row).map_err(|_| {
+                            FormulaError::Refused("rows of blocks of different widths".into())
+                        })?,
+                    });
+                }
+                out.ok_or_else(|| FormulaError::Refused("an empty matrix".into()))
+            }
+        }
+    }
 }
 
 /// The claim's `expression` evaluated over its matrices, with each named matrix and the result
@@ -296,7 +421,10 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
 ///
 /// # Errors
 /// As [`evaluate`], for either side.
-pub fn evaluate_identity(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), ComputeError> {
+pub fn evaluate_identity(
+    inputs: &Inputs,
+    title: &str,
+) -> Result<(Value, Derivation), ComputeError> {
     let left = inputs.claim.expression.as_deref().ok_or_else(|| {
         input_error(
             "expression",
@@ -322,7 +450,9 @@ pub fn evaluate_identity(inputs: &Inputs, title: &str) -> Result<(Value, Derivat
 fn collect_symbols(e: &Expr, out: &mut Vec<String>) {
     match &e.kind {
         ExprKind::Symbol(s) if !out.contains(s) => out.push(s.clone()),
-        ExprKind::Neg(x) | ExprKind::Sqrt(x) | ExprKind::Pow(x, _) => collect_symbols(x, out),
+        ExprKind::Neg(x) | ExprKind::Sqrt(x) | ExprKind::Pow(x, _) | ExprKind::Transpose(x) => {
+            collect_symbols(x, out)
+        }
         ExprKind::Add(x, y) | ExprKind::Sub(x, y) | ExprKind::Mul(x, y) | ExprKind::Div(x, y) => {
             collect_symbols(x, out);
             collect_symbols(y, out);

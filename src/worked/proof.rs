@@ -86,6 +86,9 @@ pub fn prove(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proof
         C::Identity if inputs.claim.identity == Some(super::Identity::GainMethodsAgree) => {
             methods_agree_claim(inputs)
         }
+        C::Identity if inputs.claim.identity == Some(super::Identity::PlacementAnyPolynomial) => {
+            placement_claim(inputs)
+        }
         other => Err(format!("no symbolic recomputation of '{other}'").into()),
     }
 }
@@ -312,6 +315,35 @@ fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
             c_minus_a.iter().map(Fraction::termwise).collect::<Vec<_>>().join("; ")
         ),
         method: "Ackermann's K = P(A) O⁻¹ eₙ over the rational functions, then Mᵀ O_n K = c − a, so T_o K_o = O_n⁻¹ M⁻ᵀ (c − a) = K with T_o = (Mᵀ O_n)⁻¹",
+    })
+}
+
+/// Every polynomial is reachable from one output: Ackermann's gain over the rational functions of
+/// the symbols, and `det(sI − (A − KC))` computed from it equals the desired polynomial
+/// coefficient by coefficient — an identity wherever `det O_n ≠ 0`.
+fn placement_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
+    let a = symbolic_matrix(inputs, "A")?;
+    let c = symbolic_matrix(inputs, "C")?;
+    if c.rows() != 1 || !a.is_square() || c.cols() != a.rows() {
+        return Err("not a single-output pair".into());
+    }
+    let desired = symbolic_desired(inputs, a.rows())?;
+    let (k, _) = ackermann(&a, &c, &desired)?;
+    let achieved = berkowitz(&a.sub(&k.mul(&c)?)?, "s")?;
+    let mut all: Vec<&Fraction> = k.entries().iter().collect();
+    all.extend(desired.iter());
+    one_radicand(&all)?;
+    let mut symbols: Vec<String> = all.iter().flat_map(|v| v.symbols()).collect();
+    symbols.sort();
+    symbols.dedup();
+    Ok(Proof {
+        holds: (0..=a.rows()).all(|i| achieved.coeff(i) == desired[i]),
+        symbols,
+        value: format!(
+            "K = [{}], det(sI − (A − KC)) = the desired polynomial",
+            k.entries().iter().map(Fraction::termwise).collect::<Vec<_>>().join("; ")
+        ),
+        method: "Ackermann's K = P(A) O⁻¹ eₙ over the rational functions, then det(sI − (A − KC)) by Berkowitz, compared coefficient by coefficient",
     })
 }
 

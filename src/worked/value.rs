@@ -39,7 +39,8 @@ pub enum Value {
     Conditions(Vec<MultiPoly>),
     /// The two sides of a printed equality, each evaluated as printed (left, right).
     Sides(Box<Value>, Box<Value>),
-    /// Equation labels, one entry per referent (`(4)`, `(10a) or (13)`, `none`).
+    /// Words, one per item, compared as printed: equation labels, one per referent (`(4)`,
+    /// `(10a) or (13)`, `none`), or a verdict (`stable`, `unstable`).
     Labels(Vec<String>),
     /// A linear system `M g = r`.
     LinearSystem(Matrix<Rational>, Matrix<Rational>),
@@ -621,7 +622,7 @@ fn compare_labels(l: &[String], printed: &str) -> Agreement {
         .filter(|(i, x)| p.get(*i) != Some(&x.as_str()))
         .map(|(i, x)| {
             format!(
-                "referent {}: printed {}, recomputed {x}",
+                "item {}: printed {}, recomputed {x}",
                 i + 1,
                 p.get(i).copied().unwrap_or("nothing")
             )
@@ -630,7 +631,7 @@ fn compare_labels(l: &[String], printed: &str) -> Agreement {
     let counts = if p.len() == l.len() {
         String::new()
     } else {
-        format!(" ({} labels printed, {} referents)", p.len(), l.len())
+        format!(" ({} printed, {} recomputed)", p.len(), l.len())
     };
     agreement(bad.is_empty() && counts.is_empty(), None, || {
         format!("{}{counts}", bad.join("; "))

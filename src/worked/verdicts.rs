@@ -249,7 +249,10 @@ pub(super) fn show_deviation((absolute, relative): (f64, f64)) -> String {
     } else {
         format!("{absolute:.4}")
     };
-    if relative < 10.0 {
+    if relative != 0.0 && relative < 5e-5 {
+        // below what two decimals of a percentage show
+        format!("off by {absolute} ({relative:.1e} of the print)")
+    } else if relative < 10.0 {
         format!("off by {absolute} ({:.2}% of the print)", relative * 100.0)
     } else {
         format!("off by {absolute} ({relative:.0} times the print)")
