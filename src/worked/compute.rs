@@ -371,7 +371,10 @@ fn perfect(inputs: &Inputs, part: PerfectPart) -> Result<Computed, ComputeError>
 }
 
 /// `det(var·I − M)` over the symbolic ring, as a polynomial containing `var`.
-fn symbolic_charpoly(m: &Matrix<MultiPoly>, var: &str) -> Result<MultiPoly, ComputeError> {
+pub(super) fn symbolic_charpoly(
+    m: &Matrix<MultiPoly>,
+    var: &str,
+) -> Result<MultiPoly, ComputeError> {
     let p = linalg::berkowitz(m, var)?;
     let x = MultiPoly::var(var);
     Ok(p.coeffs()

@@ -11,10 +11,17 @@
 //! are (10a) and (13)").
 //! Labels are the text before the first space of a key, so one equation printing two matrices
 //! is recorded as `"(7) C1"` and `"(7) C2"`.
+//!
+//! Two referents are polynomials: `observer_polynomial`, `det(λI − (A − K C))` with the claim's
+//! symbolic `gain` K, and `desired_polynomial`, the claim's desired polynomial (a family with a
+//! symbolic `T` allowed). An equation printing a polynomial holds one when the two agree as
+//! rational functions of the symbols once both are made monic in the variable (`s` and `λ` are
+//! the same variable here), so `T³s³ + 2T²s² + 2Ts + 1` holds the Butterworth polynomial
+//! `s³ + (2/T)s² + (2/T²)s + 1/T³`.
 
 use super::inputs::{input_error, to_numeric, ComputeError, Inputs};
 use super::value::Value;
-use crate::algebra::{MultiPoly, Rational};
+use crate::algebra::{Fraction, MultiPoly, Rational, Zero};
 use crate::derivation::{Derivation, Words};
 use crate::linalg::charpoly::characteristic_polynomial;
 use crate::linalg::Matrix;
@@ -62,6 +69,40 @@ fn places(k: &Matrix<Rational>, row: Option<usize>, inputs: &Inputs) -> Result<b
     Ok(false)
 }
 
+/// `p` in `λ` (an `s` renamed), divided by its leading coefficient in `λ`; `None` when it is not
+/// a polynomial in `λ` (or is zero).
+fn monic(p: &Fraction) -> Option<Fraction> {
+    let p = p.substitute("s", &Fraction::symbol("λ"));
+    let coefficients = p.coefficients_in("λ")?;
+    let lead = coefficients.iter().rev().find(|c| !c.is_zero())?.clone();
+    p.checked_div(&lead)
+}
+
+/// The polynomial referents, monic in `λ`.
+fn polynomial_referent(r: &str, inputs: &Inputs) -> Result<Option<Fraction>, ComputeError> {
+    let p = match r {
+        "observer_polynomial" => {
+            let a = inputs.symbolic("A")?;
+            let c = inputs.symbolic("C")?;
+            let k = inputs.symbolic("gain")?;
+            let closed = a.sub(&k.mul(&c)?)?;
+            Fraction::of(super::compute::symbolic_charpoly(&closed, "λ")?)
+        }
+        "desired_polynomial" => {
+            let n = inputs.order()?;
+            let coefficients = super::proof::symbolic_desired(inputs, n)
+                .map_err(|e| input_error("refers", e.to_string()))?;
+            let x = Fraction::symbol("λ");
+            coefficients
+                .iter()
+                .rev()
+                .fold(Fraction::zero(), |acc, c| acc * x.clone() + c.clone())
+        }
+        _ => return Ok(None),
+    };
+    Ok(monic(&p))
+}
+
 /// For each referent, the labels of the equations that hold it (`or` between several, `none`).
 ///
 /// # Errors
@@ -94,6 +135,31 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
     let mut found = Vec::new();
     for r in &claim.refers {
         let mut labels: Vec<&str> = Vec::new();
+        if let Some(p) = polynomial_referent(r, inputs)? {
+            for (key, text) in &claim.equations {
+                let label = key.split_whitespace().next().unwrap_or(key);
+                let holds = super::value::read_formula(text, inputs.env)
+                    .ok()
+                    .filter(|m| m.shape() == (1, 1))
+                    .and_then(|m| monic(m.get(0, 0)))
+                    .is_some_and(|q| q == p);
+                if holds && !labels.contains(&label) {
+                    labels.push(label);
+                }
+            }
+            let text = if labels.is_empty() {
+                "none".to_string()
+            } else {
+                labels.join(" or ")
+            };
+            d.push(
+                &format!("{r} is given by"),
+                "the equations printing it (as rational functions, made monic in λ; s read as λ)",
+                &Words(text.clone()),
+            );
+            found.push(text);
+            continue;
+        }
         // `gain` (any output) or `gain:i` (the i-th row of C, 1-based), else a named matrix
         let gain_row = match r.strip_prefix("gain") {
             Some("") => Some(None),

@@ -253,6 +253,9 @@ named_enum! {
     pub enum Severity ("severity") {
         /// A misprint that changes a result (a number, a sign, a matrix).
         ChangesResult = "changes_result",
+        /// A slip that changes what a stated formula or theorem says — its dimensions, an index
+        /// set — while the examples' results stand.
+        ChangesStatement = "changes_statement",
         /// A notation or cross-reference slip: the result stands.
         Notation = "notation",
     }

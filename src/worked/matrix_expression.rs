@@ -255,12 +255,17 @@ fn evaluate_texts(
     let mut names: Vec<String> = Vec::new();
     for (field, label, text) in texts {
         let form = if text.trim_start().starts_with('[') {
+            // a written-out matrix, possibly transposed as a whole (`[C1 C2]^T`)
+            let (body, transposed) = match text.trim_end().strip_suffix("^T") {
+                Some(b) if b.trim_end().ends_with(']') => (b, true),
+                _ => (*text, false),
+            };
             let rows =
-                parse_matrix_expressions(text).map_err(|e| input_error(field, e.show_in(text)))?;
+                parse_matrix_expressions(body).map_err(|e| input_error(field, e.show_in(text)))?;
             rows.iter()
                 .flatten()
                 .for_each(|e| collect_symbols(e, &mut names));
-            Form::Literal(rows)
+            Form::Literal(rows, transposed)
         } else {
             let e = parse_expression(text).map_err(|e| input_error(field, e.show_in(text)))?;
             collect_symbols(&e, &mut names);
@@ -341,10 +346,11 @@ fn evaluate_texts(
 }
 
 /// A printed side: a matrix formula (`(A + L C) e`) or a matrix written out entry by entry
-/// (`[-a_1 1; -a_2 0]`, each entry a formula over the same names, a matrix entry a block).
+/// (`[-a_1 1; -a_2 0]`, each entry a formula over the same names, a matrix entry a block),
+/// possibly transposed as a whole (`[C1 C2]^T`).
 enum Form {
     Formula(Expr),
-    Literal(Vec<Vec<Expr>>),
+    Literal(Vec<Vec<Expr>>, bool),
 }
 
 impl Form {
@@ -360,7 +366,7 @@ impl Form {
             },
             // entries that are matrices are blocks (`[C; C A]`): each row of blocks side by
             // side, the rows stacked, a number a 1×1 block; shapes that do not fit are refused
-            Form::Literal(rows) => {
+            Form::Literal(rows, transposed) => {
                 let mut out: Option<Matrix<F>> = None;
                 for r in rows {
                     let mut row: Option<Matrix<F>> = None;
@@ -389,7 +395,8 @@ impl Form {
                         })?,
                     });
                 }
-                out.ok_or_else(|| FormulaError::Refused("an empty matrix".into()))
+                let m = out.ok_or_else(|| FormulaError::Refused("an empty matrix".into()))?;
+                Ok(if *transposed { m.transpose() } else { m })
             }
         }
     }

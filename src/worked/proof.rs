@@ -126,7 +126,7 @@ fn with_definitions(v: Fraction, inputs: &Inputs, penv: &Environment) -> Result<
 }
 
 /// The desired polynomial's coefficients (lowest power first) over the rational functions.
-fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof> {
+pub(super) fn symbolic_desired(inputs: &Inputs, n: usize) -> Result<Vec<Fraction>, NoProof> {
     let c = inputs.claim;
     let env = inputs.env;
     let scaled =

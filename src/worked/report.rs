@@ -147,9 +147,16 @@ pub fn errata_markdown_titled(
          tolerance an approximate value meets, or every reading of an undefined value).*\n\n",
     );
     type Belongs = dyn Fn(&super::outcome::ClaimReport) -> bool;
-    let groups: [(&str, &Belongs); 5] = [
+    let groups: [(&str, &Belongs); 6] = [
         ("Misprints that change a result", &|c| {
-            c.verdict == Verdict::Erratum && c.severity != Some(Severity::Notation)
+            c.verdict == Verdict::Erratum
+                && !matches!(
+                    c.severity,
+                    Some(Severity::Notation | Severity::ChangesStatement)
+                )
+        }),
+        ("Slips that change a stated formula or theorem", &|c| {
+            c.verdict == Verdict::Erratum && c.severity == Some(Severity::ChangesStatement)
         }),
         ("Notation and cross-reference slips", &|c| {
             c.verdict == Verdict::Erratum && c.severity == Some(Severity::Notation)
