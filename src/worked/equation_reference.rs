@@ -12,6 +12,10 @@
 //! Labels are the text before the first space of a key, so one equation printing two matrices
 //! is recorded as `"(7) C1"` and `"(7) C2"`.
 //!
+//! A referent `=formula` is a matrix formula (`=A - T_o K_o C`) over the claim's matrices, its
+//! `where` definitions and what the workbench derives (see `matrix_expression`); an equation
+//! printing a formula over the same names holds it when the two evaluate to the same matrix.
+//!
 //! Two referents are polynomials: `observer_polynomial`, `det(λI − (A − K C))` with the claim's
 //! symbolic `gain` K, and `desired_polynomial`, the claim's desired polynomial (a family with a
 //! symbolic `T` allowed). An equation printing a polynomial holds one when the two agree as
@@ -135,6 +139,42 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
     let mut found = Vec::new();
     for r in &claim.refers {
         let mut labels: Vec<&str> = Vec::new();
+        // `=formula`: a matrix formula over the claim's names (and what the workbench derives),
+        // held by the equations whose own formula evaluates to the same matrix
+        if let Some(formula) = r.strip_prefix('=') {
+            let mut scratch = Derivation::new("");
+            let wanted = super::matrix_expression::evaluate_texts(
+                inputs,
+                &[("refers", r, formula)],
+                &mut scratch,
+            )?
+            .pop();
+            for (key, text) in &claim.equations {
+                let label = key.split_whitespace().next().unwrap_or(key);
+                let value = super::matrix_expression::evaluate_texts(
+                    inputs,
+                    &[("equations", key, text)],
+                    &mut scratch,
+                )
+                .ok()
+                .and_then(|mut v| v.pop());
+                if value.is_some() && value == wanted && !labels.contains(&label) {
+                    labels.push(label);
+                }
+            }
+            let text = if labels.is_empty() {
+                "none".to_string()
+            } else {
+                labels.join(" or ")
+            };
+            d.push(
+                &format!("{formula} is given by"),
+                "the equations whose formula, evaluated as printed, is the same matrix",
+                &Words(text.clone()),
+            );
+            found.push(text);
+            continue;
+        }
         if let Some(p) = polynomial_referent(r, inputs)? {
             for (key, text) in &claim.equations {
                 let label = key.split_whitespace().next().unwrap_or(key);

@@ -182,7 +182,8 @@ enum Name {
 /// The names a printed formula may use for what the workbench computes from the claim's `A`
 /// and `C` (single output), over the rational functions of their symbols:
 /// `O_n` (the observability matrix), `M` (Di Ruscio's Toeplitz matrix of `det(λI − A)`, eq.
-/// (18)), `T_o` (Di Ruscio's transformation to observer form, `ss2ocf`), `T_s` (Stoustrup's,
+/// (18)), `T_o` (Di Ruscio's transformation to observer form, `ss2ocf`) with `A_o = T_o⁻¹ A T_o`
+/// and `C_o = C T_o`, `T_s` (Stoustrup's,
 /// `t_n = O⁻¹ e_n`, `t_(i−1) = A t_i`) and the scalars `a_1 … a_n` of
 /// `det(λI − A) = λⁿ + a_1 λⁿ⁻¹ + … + a_n`. Each is computed by the same function the commands
 /// call, so a printed formula over them is compared with the workbench's own result. `None`
@@ -192,7 +193,7 @@ fn derived(inputs: &Inputs, n: &str) -> Result<Option<Term<Fraction>>, ComputeEr
         .strip_prefix("a_")
         .and_then(|k| k.parse::<usize>().ok())
         .filter(|k| *k >= 1);
-    if !matches!(n, "O_n" | "M" | "T_o" | "T_s") && coefficient.is_none() {
+    if !matches!(n, "O_n" | "M" | "T_o" | "A_o" | "C_o" | "T_s") && coefficient.is_none() {
         return Ok(None);
     }
     let fractions = |name: &str| -> Result<Matrix<Fraction>, ComputeError> {
@@ -214,10 +215,15 @@ fn derived(inputs: &Inputs, n: &str) -> Result<Option<Term<Fraction>>, ComputeEr
             Term::Scalar(chi.coeff(deg - k))
         }
         ("O_n", None) => Term::Matrix(crate::observability::observability_matrix(&a, &c)?),
-        ("M", None) | ("T_o", None) => {
+        ("M" | "T_o" | "A_o" | "C_o", None) => {
             let f = crate::canonical_form::observer_form_di_ruscio(&a, None, &c)
                 .map_err(|e| refused(e.to_string()))?;
-            Term::Matrix(if n == "M" { f.toeplitz } else { f.t })
+            Term::Matrix(match n {
+                "M" => f.toeplitz,
+                "T_o" => f.t,
+                "A_o" => f.a,
+                _ => f.c,
+            })
         }
         _ => Term::Matrix(
             crate::canonical_form::observer_form_stoustrup(&a, None, &c)
@@ -230,6 +236,33 @@ fn derived(inputs: &Inputs, n: &str) -> Result<Option<Term<Fraction>>, ComputeEr
 fn name(inputs: &Inputs, n: &str) -> Result<Name, ComputeError> {
     if let Some(t) = derived(inputs, n)? {
         return Ok(Name::Derived(t));
+    }
+    // a matrix the document defines by a formula (`where.K = "T_o K_o"`): evaluated over the
+    // same names, which may not be defined by formulas in turn
+    if let Some(text) = inputs.claim.definitions.get(n) {
+        let e = parse_expression(text)
+            .map_err(|e| input_error(&format!("where.{n}"), e.show_in(text)))?;
+        let mut inner = Vec::new();
+        collect_symbols(&e, &mut inner);
+        if let Some(m) = inner
+            .iter()
+            .find(|m| inputs.claim.definitions.contains_key(*m))
+        {
+            return Err(input_error(
+                &format!("where.{n}"),
+                format!("{text} names {m}, itself defined by a formula"),
+            ));
+        }
+        let mut scratch = Derivation::new("");
+        let field = format!("where.{n}");
+        return match evaluate_texts(inputs, &[(&field, n, text)], &mut scratch)?.pop() {
+            Some(Value::Formula(m)) => Ok(Name::Derived(Term::Matrix(m))),
+            Some(Value::Matrix(m)) => Ok(Name::Derived(Term::Matrix(m.map(Fraction::quadratic)))),
+            _ => Err(input_error(
+                &field,
+                format!("{text} is not a matrix formula"),
+            )),
+        };
     }
     match inputs.symbolic(n) {
         Ok(m) => Ok(Name::Matrix(m)),
@@ -246,7 +279,7 @@ fn name(inputs: &Inputs, n: &str) -> Result<Name, ComputeError> {
 /// Evaluates the printed formulas `texts` over the same names: exactly over the rationals when
 /// every name is a number, else over the rational functions of the symbols (each result a
 /// [`Value::Formula`]). Each named matrix goes into `d` once.
-fn evaluate_texts(
+pub(super) fn evaluate_texts(
     inputs: &Inputs,
     texts: &[(&str, &str, &str)],
     d: &mut Derivation,
