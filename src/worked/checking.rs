@@ -176,9 +176,34 @@ pub(super) fn check(
                 let point: Vec<String> =
                     sampled.iter().map(|n| format!("{n} = {}", e[n])).collect();
                 if !c.agreement.holds() {
+                    // a disagreement is shown at the example's own values when it has them
+                    // (Example 7.1's T = 1/8), not at the random point that found it
+                    let own = parameter_env(&file.parameters);
+                    let at_own = if sampled.iter().all(|n| own.contains_key(n)) {
+                        let mut o = env.clone();
+                        for n in &sampled {
+                            o.insert(n.clone(), own[n].clone());
+                        }
+                        attempt(&o).ok().filter(|c| !c.agreement.holds()).map(|c| {
+                            (
+                                sampled
+                                    .iter()
+                                    .map(|n| format!("{n} = {}", o[n]))
+                                    .collect::<Vec<_>>(),
+                                c,
+                            )
+                        })
+                    } else {
+                        None
+                    };
+                    let (shown, c, whose) = match at_own {
+                        Some((p, c)) if p.len() == 1 => (p, c, " (the example's value)"),
+                        Some((p, c)) => (p, c, " (the example's values)"),
+                        None => (point, c, ""),
+                    };
                     return Ok(with_proof(
                         Check {
-                            recomputed: format!("at {}: {}", point.join(", "), c.recomputed),
+                            recomputed: format!("at {}{whose}: {}", shown.join(", "), c.recomputed),
                             sampled: sampled.clone(),
                             ..c
                         },
