@@ -178,7 +178,11 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
                     c.source,
                     c.metric,
                     c.comparison,
-                    if c.holds { "holds" } else { "DOES NOT HOLD" }
+                    if c.holds {
+                        c.verdict()
+                    } else {
+                        "DOES NOT HOLD".to_string()
+                    }
                 );
             }
         }

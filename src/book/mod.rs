@@ -246,7 +246,7 @@ impl BookContext {
                     c.source,
                     c.metric,
                     c.comparison,
-                    if c.holds { "holds" } else { "does not hold" }
+                    c.verdict()
                 );
             }
         }

@@ -382,4 +382,8 @@ pub struct CheckSpec {
     /// Holds when the metric is above the same metric in these scenarios.
     #[serde(default)]
     pub greater_than: Vec<String>,
+    /// The statement depends on the initial state the scenario assumes: the check is repeated
+    /// with this `x(0)` for this scenario and every one it is compared with, and the verdict
+    /// says whether it holds for the assumed state only.
+    pub also_from_x0: Option<String>,
 }

@@ -1,7 +1,7 @@
 //! Running a worked example's simulation scenarios and checking what its figures claim.
 
 use super::compute::compute;
-use super::format::{ExampleFile, ScenarioSpec};
+use super::format::{CheckSpec, ExampleFile, ScenarioSpec};
 use super::inputs::Inputs;
 use super::load::WorkedError;
 use super::value::Value;
@@ -52,6 +52,39 @@ pub struct CheckResult {
     pub comparison: String,
     /// Whether it holds.
     pub holds: bool,
+    /// The same check from another initial state (`also_from_x0`), when the statement depends
+    /// on the one the scenario assumes (absent from the JSON otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub elsewhere: Option<Elsewhere>,
+}
+
+/// A check repeated from another initial state.
+#[derive(Clone, Debug, Serialize)]
+pub struct Elsewhere {
+    /// The initial state, as written.
+    pub x0: String,
+    /// The metric's value there.
+    pub value: f64,
+    /// The comparison made there, with the numbers.
+    pub comparison: String,
+    /// Whether it holds there.
+    pub holds: bool,
+}
+
+impl CheckResult {
+    /// The verdict in words: `holds`, `does not hold`, or — for a statement that depends on the
+    /// assumed initial state — `holds for the assumed x(0) only (from … it does not: …)`.
+    pub fn verdict(&self) -> String {
+        match (&self.elsewhere, self.holds) {
+            (_, false) => "does not hold".to_string(),
+            (None, true) => "holds".to_string(),
+            (Some(e), true) if e.holds => format!("holds (also from x(0) = {})", e.x0),
+            (Some(e), true) => format!(
+                "holds for the assumed x(0) only — from x(0) = {} it does not: {}",
+                e.x0, e.comparison
+            ),
+        }
+    }
 }
 
 fn metric(s: &StateSummary, name: &str) -> Option<f64> {
@@ -120,6 +153,8 @@ pub fn run_scenarios(
         runs.push(run_one(&file, raw, ex, sc)?);
     }
     let mut checks = Vec::new();
+    // runs from another initial state, made once per (scenario, x(0))
+    let mut moved: Vec<(String, String, ScenarioRun)> = Vec::new();
     for (sc, run) in ex.scenarios.iter().zip(&runs) {
         for c in &sc.checks {
             let bad = |m: String| error(&file, raw, &sc.name, "checks", m);
@@ -130,55 +165,106 @@ pub fn run_scenarios(
                     METRICS.join(", ")
                 )));
             }
-            let state = run
-                .summary
-                .get(c.state.wrapping_sub(1))
-                .ok_or_else(|| bad(format!("state {} does not exist", c.state)))?;
-            let value = metric(state, &c.metric).unwrap_or(f64::NAN);
-            let mut parts = Vec::new();
-            let mut holds = true;
-            if let Some(b) = c.below {
-                holds &= value < b;
-                parts.push(format!("{value:.4e} < {b:.4e}"));
+            if run.summary.get(c.state.wrapping_sub(1)).is_none() {
+                return Err(bad(format!("state {} does not exist", c.state)));
             }
-            if let Some(b) = c.above {
-                holds &= value > b;
-                parts.push(format!("{value:.4e} > {b:.4e}"));
-            }
-            for (others, less) in [(&c.less_than, true), (&c.greater_than, false)] {
-                for other in others {
-                    let o = runs
+            let (value, comparison, holds) = compare_check(c, run, &runs).map_err(bad)?;
+            let elsewhere = match &c.also_from_x0 {
+                None => None,
+                Some(x0) => {
+                    let mut names = vec![sc.name.clone()];
+                    names.extend(c.less_than.iter().chain(&c.greater_than).cloned());
+                    for name in names {
+                        if moved.iter().any(|(n, x, _)| *n == name && x == x0) {
+                            continue;
+                        }
+                        let spec = ex
+                            .scenarios
+                            .iter()
+                            .find(|s| s.name == name)
+                            .ok_or_else(|| bad(format!("no scenario named '{name}'")))?;
+                        let shifted = ScenarioSpec {
+                            x0: Some(x0.clone()),
+                            ..spec.clone()
+                        };
+                        let r = run_one(&file, raw, ex, &shifted)?;
+                        moved.push((name, x0.clone(), r));
+                    }
+                    let there: Vec<ScenarioRun> = moved
                         .iter()
-                        .find(|r| &r.name == other)
-                        .ok_or_else(|| bad(format!("no scenario named '{other}'")))?;
-                    let ov = o
-                        .summary
-                        .get(c.state - 1)
-                        .and_then(|s| metric(s, &c.metric))
-                        .unwrap_or(f64::NAN);
-                    holds &= if less { value < ov } else { value > ov };
-                    parts.push(format!(
-                        "{value:.4e} {} {ov:.4e} ({other})",
-                        if less { "<" } else { ">" }
-                    ));
+                        .filter(|(_, x, _)| x == x0)
+                        .map(|(_, _, r)| r.clone())
+                        .collect();
+                    let own = there
+                        .iter()
+                        .find(|r| r.name == sc.name)
+                        .ok_or_else(|| bad(format!("no run of '{}'", sc.name)))?;
+                    let (value, comparison, holds) = compare_check(c, own, &there).map_err(bad)?;
+                    Some(Elsewhere {
+                        x0: x0.clone(),
+                        value,
+                        comparison,
+                        holds,
+                    })
                 }
-            }
-            if parts.is_empty() {
-                return Err(bad(
-                    "a check needs below, above, less_than or greater_than".into()
-                ));
-            }
+            };
             checks.push(CheckResult {
                 scenario: sc.name.clone(),
                 source: c.source.clone(),
                 metric: format!("{} of e{}", c.metric, c.state),
                 value,
-                comparison: parts.join(", "),
+                comparison,
                 holds,
+                elsewhere,
             });
         }
     }
     Ok((runs, checks))
+}
+
+/// One check on one run, against the runs it names: `(value, comparison in numbers, holds)`.
+fn compare_check(
+    c: &CheckSpec,
+    run: &ScenarioRun,
+    runs: &[ScenarioRun],
+) -> Result<(f64, String, bool), String> {
+    let value = run
+        .summary
+        .get(c.state.wrapping_sub(1))
+        .and_then(|s| metric(s, &c.metric))
+        .unwrap_or(f64::NAN);
+    let mut parts = Vec::new();
+    let mut holds = true;
+    if let Some(b) = c.below {
+        holds &= value < b;
+        parts.push(format!("{value:.4e} < {b:.4e}"));
+    }
+    if let Some(b) = c.above {
+        holds &= value > b;
+        parts.push(format!("{value:.4e} > {b:.4e}"));
+    }
+    for (others, less) in [(&c.less_than, true), (&c.greater_than, false)] {
+        for other in others {
+            let o = runs
+                .iter()
+                .find(|r| &r.name == other)
+                .ok_or_else(|| format!("no scenario named '{other}'"))?;
+            let ov = o
+                .summary
+                .get(c.state.wrapping_sub(1))
+                .and_then(|s| metric(s, &c.metric))
+                .unwrap_or(f64::NAN);
+            holds &= if less { value < ov } else { value > ov };
+            parts.push(format!(
+                "{value:.4e} {} {ov:.4e} ({other})",
+                if less { "<" } else { ">" }
+            ));
+        }
+    }
+    if parts.is_empty() {
+        return Err("a check needs below, above, less_than or greater_than".into());
+    }
+    Ok((value, parts.join(", "), holds))
 }
 
 fn error(file: &str, raw: &str, scenario: &str, field: &str, message: String) -> WorkedError {
