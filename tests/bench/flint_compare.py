@@ -24,7 +24,14 @@ both threads of its multimodular characteristic polynomial counted), less owb's 
     C adj(sI − A) K from O_n K (one polynomial product), compared with P(s);
   * observe: integer O_n, its determinant and rank;
   * canonical: both procedures — T⁻¹ = Mᵀ O_n (M the Toeplitz matrix of det(sI − A)), T its
-    inverse, A_o = T⁻¹ A T, C_o = C T; and t_n = O_n⁻¹ e_n, t_(k−1) = A t_k — compared.
+    inverse, A_o = T⁻¹ A T, C_o = C T; and t_n = O_n⁻¹ e_n, t_(k−1) = A t_k — compared;
+  * feedback (B = e1, u = −Kx): the dual gain problem on (Aᵀ, e1ᵀ), the same steps and check;
+  * discrete --deadbeat / --poles 1/2 …: the gain steps for P(z) = zⁿ / (z − 1/2)ⁿ and the check
+    (the single-output error matrix is cyclic, so the dead-beat steps are n);
+  * reduced (C = e1ᵀ): the gain of (A22, A12) for (s + 1)^(n−1), its check, F = A22 − L A12 and
+    G = A21 − L A11 + F L;
+  * detectable: the rank of O_n (an observable plant), then the gain and its check.
+`--only feedback,reduced` restricts the commands (by their first word).
 Best of five (min CPU time each side). The load average is printed with the table.
 """
 import json, os, resource, subprocess, sys, time
@@ -112,17 +119,20 @@ def in_process(f):
     return timed
 
 
-def observability(a, n):
-    """Integer O_n = [C; CA; …] with C = e1ᵀ."""
+def observability(a, n, c=None):
+    """Integer O_n = [C; CA; …] with C = e1ᵀ, or the integer row c."""
     az = flint.fmpz_mat(a)
-    rows = [flint.fmpz_mat(1, n, [1] + [0] * (n - 1))]
+    rows = [flint.fmpz_mat(1, n, c if c is not None else [1] + [0] * (n - 1))]
     for _ in range(1, n):
         rows.append(rows[-1] * az)
     return az, flint.fmpz_mat(n, n, [x for r in rows for x in r.entries()])
 
 
-def flint_gain_same_work(a, n):
-    az, o = observability(a, n)
+def flint_gain_same_work(a, n, c=None, p=None, scale=1):
+    """K with det(sI − A + KC) = P(s)/scale for the integer polynomial P (lowest power first;
+    default (s + 1)^n), C = e1ᵀ or the integer row c: owb's fraction-free steps and its check."""
+    p = p if p is not None else [comb(n, k) for k in range(n + 1)]
+    az, o = observability(a, n, c)
     chi = az.charpoly()  # det(sI − A), integer
     q = o.solve(flint.fmpz_mat(n, 1, [0] * (n - 1) + [1]))  # fmpq_mat
     d = flint.fmpz(1)
@@ -130,8 +140,9 @@ def flint_gain_same_work(a, n):
         d = d.lcm(x.q)
     x = flint.fmpz_mat(n, 1, [int(v * d) for v in q.entries()])
     acc = flint.fmpz_mat(n, 1, [0] * n)
-    for k in range(n, -1, -1):  # P(s) = (s + 1)^n: Horner on integers, one denominator
-        acc = az * acc + x * comb(n, k)
+    for k in range(n, -1, -1):  # Horner on integers, one denominator
+        acc = az * acc + x * p[k]
+    d = d * scale
     # the rank-one check: m_j = C A^j K = (O_n K)_j, and C adj(sI − A) K is the polynomial part
     # of det(sI − A) · Σ m_j s^(−j−1): one product of integer polynomials
     m = (o * acc).entries()
@@ -139,9 +150,51 @@ def flint_gain_same_work(a, n):
     prod = chi * nu
     coeffs = [prod[k] for k in range(n, 2 * n)]
     achieved = chi * d + flint.fmpz_poly(coeffs)
-    desired = flint.fmpz_poly([comb(n, k) for k in range(n + 1)]) * d
+    desired = flint.fmpz_poly(p) * (d // scale)
     assert achieved == desired, "the rank-one check failed"
     return [flint.fmpq(v, d) for v in acc.entries()]
+
+
+def transpose(a):
+    return [list(r) for r in zip(*a)]
+
+
+def flint_feedback_same_work(a, n):
+    """u = −Kx with B = e1: the observer gain of (Aᵀ, e1ᵀ), transposed (the dual problem)."""
+    return flint_gain_same_work(transpose(a), n)
+
+
+def flint_reduced_same_work(a, n):
+    """Gopinath with C = e1ᵀ: the gain L of A22 − L A12 placing (s + 1)^(n−1), then the
+    reduced observer's matrices F = A22 − L A12 and G = A21 − L A11 + F L."""
+    m = n - 1
+    a22 = [r[1:] for r in a[1:]]
+    a12 = a[0][1:]
+    l = flint_gain_same_work(a22, m, c=a12)
+    lq = flint.fmpq_mat(m, 1, l)
+    f = flint.fmpq_mat(a22) - lq * flint.fmpq_mat(1, m, a12)
+    g = flint.fmpq_mat(m, 1, [r[0] for r in a[1:]]) - lq * a[0][0] + f * lq
+    return l, f, g
+
+
+def flint_deadbeat_same_work(a, n):
+    """Dead-beat: P(z) = zⁿ, the same steps and check (the single-output error matrix is cyclic,
+    so its minimal polynomial is zⁿ and the steps are n)."""
+    return flint_gain_same_work(a, n, p=[0] * n + [1])
+
+
+def flint_discrete_half_same_work(a, n):
+    """Every pole at z = 1/2: 2ⁿ P(z) = (2z − 1)ⁿ on integers, one more denominator."""
+    p = [comb(n, k) * 2 ** k * (-1) ** (n - k) for k in range(n + 1)]
+    return flint_gain_same_work(a, n, p=p, scale=2 ** n)
+
+
+def flint_detectable_same_work(a, n):
+    """An observable plant: the rank of O_n decides detectability (every mode observable), then
+    the gain for the whole (observable) plant and its check."""
+    _, o = observability(a, n)
+    assert o.rank() == n
+    return flint_gain_same_work(a, n)
 
 
 def flint_observe_same_work(a, n):
@@ -169,7 +222,7 @@ def flint_canonical_same_work(a, n):
     return a_o, c_o
 
 
-def same_work(orders):
+def same_work(orders, only=()):
     floor, _ = best_cpu(lambda: owb_cpu(["--version"]), runs=20)
     load = os.getloadavg()
     print(f"owb's process floor (owb --version): {floor * 1e3:.2f} ms CPU; "
@@ -181,17 +234,36 @@ def same_work(orders):
     for n in orders:
         a = dense_random(n)
         at, c = matrix_text(a), "[" + " ".join(["1"] + ["0"] * (n - 1)) + "]"
+        b = "[" + "; ".join(["1"] + ["0"] * (n - 1)) + "]"
+        half = ", ".join(["1/2"] * n)
         cases = [
             ("gain --summary", ["gain", "--a", at, "--c", c, "--repeated", "1", "--method",
                                 "ackermann", "--summary", "--json"], flint_gain_same_work),
             ("observe", ["observe", "--a", at, "--c", c, "--json"], flint_observe_same_work),
             ("canonical", ["canonical", "--a", at, "--c", c, "--json"], flint_canonical_same_work),
+            ("feedback", ["feedback", "--a", at, "--b", b, "--repeated", "1", "--method",
+                          "ackermann", "--json"], flint_feedback_same_work),
+            ("discrete --deadbeat", ["discrete", "--a", at, "--c", c, "--deadbeat", "--method",
+                                     "ackermann", "--json"], flint_deadbeat_same_work),
+            ("discrete --poles 1/2", ["discrete", "--a", at, "--c", c, "--poles", half,
+                                      "--method", "ackermann", "--json"],
+             flint_discrete_half_same_work),
+            ("reduced", ["reduced", "--a", at, "--c", c, "--repeated", "1", "--method",
+                         "ackermann", "--json"], flint_reduced_same_work),
+            ("detectable", ["detectable", "--a", at, "--c", c, "--repeated", "1", "--method",
+                            "ackermann", "--json"], flint_detectable_same_work),
         ]
+        if only:
+            cases = [k for k in cases if k[0].split()[0] in only]
         for name, args, peer in cases:
             t_owb, out = best_cpu(lambda: owb_cpu(args))
             t_fl, got = best_cpu(in_process(lambda: peer(a, n)))
-            if name.startswith("gain"):
+            if name.startswith("gain") or name.startswith("discrete") or name.startswith("detectable"):
                 assert [str(x) for x in got] == [r[0] for r in json.loads(out)["gain"]], "gains differ"
+            if name == "feedback":
+                assert [str(x) for x in got] == json.loads(out)["gain"][0], "gains differ"
+            if name == "reduced":
+                assert [str(x) for x in got[0]] == [r[0] for r in json.loads(out)["gain"]], "gains differ"
             own = max(t_owb - floor, 0.0)
             print(f"| `{name}` | {n} | {own * 1e3:.2f} ms | {t_fl * 1e3:.2f} ms | "
                   f"{own / t_fl:.1f}× |", flush=True)
@@ -199,7 +271,12 @@ def same_work(orders):
 
 def main():
     if sys.argv[1:2] == ["--same-work"]:
-        same_work([int(x) for x in sys.argv[2:]] or [10, 20, 30, 40, 60, 80])
+        # --same-work [--only gain,observe,…] [n …]
+        rest = sys.argv[2:]
+        only = ()
+        if rest[:1] == ["--only"]:
+            only, rest = tuple(rest[1].split(",")), rest[2:]
+        same_work([int(x) for x in rest] or [10, 20, 30, 40, 60, 80], only)
         return
     orders = [int(x) for x in sys.argv[1:]] or [20, 30, 60, 80]
     print("| n | owb gain --json (whole process) | with --summary | python-flint bare gain "
