@@ -25,26 +25,15 @@
 
 use super::inputs::{input_error, to_numeric, ComputeError, Inputs};
 use super::value::Value;
-use crate::algebra::{Fraction, MultiPoly, Rational, Zero};
+use crate::algebra::{Fraction, Rational, Zero};
 use crate::derivation::{Derivation, Words};
 use crate::linalg::charpoly::characteristic_polynomial;
 use crate::linalg::Matrix;
-use crate::syntax::{evaluate_with, parse_matrix_expressions};
 
 /// The matrix an equation prints, or `None` for an equation that is not a matrix (an error
 /// equation, a system of equations written in words).
 fn equation_matrix(text: &str, inputs: &Inputs) -> Option<Matrix<Rational>> {
-    let rows = parse_matrix_expressions(text).ok()?;
-    let values = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|e| evaluate_with::<MultiPoly>(e, inputs.env))
-                .collect::<Result<Vec<_>, _>>()
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .ok()?;
-    to_numeric(&Matrix::from_rows(values).ok()?).ok()
+    to_numeric(&inputs.read_matrix("equations", text).ok()?).ok()
 }
 
 /// Whether `k` is an observer gain placing the claim's desired polynomial for one row of `C`.
@@ -107,6 +96,98 @@ fn polynomial_referent(r: &str, inputs: &Inputs) -> Result<Option<Fraction>, Com
     Ok(monic(&p))
 }
 
+/// What a sentence refers to, read from one entry of `refers`.
+enum Referent<'r> {
+    /// `=formula`: the matrix it evaluates to (`None` when it does not evaluate).
+    Formula(&'r str, Option<Value>),
+    /// `observer_polynomial`, `desired_polynomial`: monic in λ.
+    Polynomial(&'r str, Fraction),
+    /// `gain` or `gain:i`: a column placing the desired polynomial for one row of C (or row i).
+    Gain(&'r str, Option<usize>),
+    /// A matrix of the claim or its system.
+    Matrix(&'r str, Matrix<Rational>),
+}
+
+impl<'r> Referent<'r> {
+    fn read(r: &'r str, inputs: &Inputs) -> Result<Self, ComputeError> {
+        if let Some(formula) = r.strip_prefix('=') {
+            let mut scratch = Derivation::new("");
+            let wanted = super::matrix_expression::evaluate_texts(
+                inputs,
+                &[("refers", r, formula)],
+                &mut scratch,
+            )?
+            .pop();
+            return Ok(Referent::Formula(formula, wanted));
+        }
+        if let Some(p) = polynomial_referent(r, inputs)? {
+            return Ok(Referent::Polynomial(r, p));
+        }
+        Ok(match r.strip_prefix("gain") {
+            Some("") => Referent::Gain(r, None),
+            Some(i) => Referent::Gain(
+                r,
+                Some(
+                    i.strip_prefix(':')
+                        .and_then(|i| i.parse::<usize>().ok())
+                        .filter(|i| *i >= 1)
+                        .ok_or_else(|| {
+                            input_error("refers", format!("'{r}' is not gain or gain:i"))
+                        })?
+                        - 1,
+                ),
+            ),
+            None => Referent::Matrix(r, inputs.numeric(r)?),
+        })
+    }
+
+    /// Whether the equation printed as `text` holds it.
+    fn held_by(&self, text: &str, inputs: &Inputs) -> Result<bool, ComputeError> {
+        Ok(match self {
+            Referent::Formula(_, wanted) => {
+                let mut scratch = Derivation::new("");
+                let value = super::matrix_expression::evaluate_texts(
+                    inputs,
+                    &[("equations", text, text)],
+                    &mut scratch,
+                )
+                .ok()
+                .and_then(|mut v| v.pop());
+                value.is_some() && value == *wanted
+            }
+            Referent::Polynomial(_, p) => super::value::read_formula(text, inputs.env)
+                .ok()
+                .filter(|m| m.shape() == (1, 1))
+                .and_then(|m| monic(m.get(0, 0)))
+                .is_some_and(|q| q == *p),
+            Referent::Gain(_, row) => match equation_matrix(text, inputs) {
+                Some(m) => places(&m, *row, inputs)?,
+                None => false,
+            },
+            Referent::Matrix(_, w) => equation_matrix(text, inputs).is_some_and(|m| m == *w),
+        })
+    }
+
+    /// Its name in the derivation, and how the equations were read.
+    fn describe(&self) -> (&'r str, &'static str) {
+        match self {
+            Referent::Formula(f, _) => (
+                f,
+                "the equations whose formula, evaluated as printed, is the same matrix",
+            ),
+            Referent::Polynomial(r, _) => (
+                r,
+                "the equations printing it (as rational functions, made monic in λ; s read as λ)",
+            ),
+            Referent::Gain(r, _) => (
+                r,
+                "the equations holding a gain that places the desired polynomial for one output",
+            ),
+            Referent::Matrix(r, _) => (r, "the equations whose matrix equals it"),
+        }
+    }
+}
+
 /// For each referent, the labels of the equations that hold it (`or` between several, `none`).
 ///
 /// # Errors
@@ -121,14 +202,6 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
         ));
     }
     let mut d = Derivation::new(title);
-    let equations: Vec<(&str, Option<Matrix<Rational>>)> = claim
-        .equations
-        .iter()
-        .map(|(key, text)| {
-            let label = key.split_whitespace().next().unwrap_or(key);
-            (label, equation_matrix(text, inputs))
-        })
-        .collect();
     for (key, text) in &claim.equations {
         d.push(
             &format!("equation {key}"),
@@ -138,91 +211,12 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
     }
     let mut found = Vec::new();
     for r in &claim.refers {
+        let referent = Referent::read(r, inputs)?;
         let mut labels: Vec<&str> = Vec::new();
-        // `=formula`: a matrix formula over the claim's names (and what the workbench derives),
-        // held by the equations whose own formula evaluates to the same matrix
-        if let Some(formula) = r.strip_prefix('=') {
-            let mut scratch = Derivation::new("");
-            let wanted = super::matrix_expression::evaluate_texts(
-                inputs,
-                &[("refers", r, formula)],
-                &mut scratch,
-            )?
-            .pop();
-            for (key, text) in &claim.equations {
-                let label = key.split_whitespace().next().unwrap_or(key);
-                let value = super::matrix_expression::evaluate_texts(
-                    inputs,
-                    &[("equations", key, text)],
-                    &mut scratch,
-                )
-                .ok()
-                .and_then(|mut v| v.pop());
-                if value.is_some() && value == wanted && !labels.contains(&label) {
-                    labels.push(label);
-                }
-            }
-            let text = if labels.is_empty() {
-                "none".to_string()
-            } else {
-                labels.join(" or ")
-            };
-            d.push(
-                &format!("{formula} is given by"),
-                "the equations whose formula, evaluated as printed, is the same matrix",
-                &Words(text.clone()),
-            );
-            found.push(text);
-            continue;
-        }
-        if let Some(p) = polynomial_referent(r, inputs)? {
-            for (key, text) in &claim.equations {
-                let label = key.split_whitespace().next().unwrap_or(key);
-                let holds = super::value::read_formula(text, inputs.env)
-                    .ok()
-                    .filter(|m| m.shape() == (1, 1))
-                    .and_then(|m| monic(m.get(0, 0)))
-                    .is_some_and(|q| q == p);
-                if holds && !labels.contains(&label) {
-                    labels.push(label);
-                }
-            }
-            let text = if labels.is_empty() {
-                "none".to_string()
-            } else {
-                labels.join(" or ")
-            };
-            d.push(
-                &format!("{r} is given by"),
-                "the equations printing it (as rational functions, made monic in λ; s read as λ)",
-                &Words(text.clone()),
-            );
-            found.push(text);
-            continue;
-        }
-        // `gain` (any output) or `gain:i` (the i-th row of C, 1-based), else a named matrix
-        let gain_row = match r.strip_prefix("gain") {
-            Some("") => Some(None),
-            Some(i) => Some(Some(
-                i.strip_prefix(':')
-                    .and_then(|i| i.parse::<usize>().ok())
-                    .filter(|i| *i >= 1)
-                    .ok_or_else(|| input_error("refers", format!("'{r}' is not gain or gain:i")))?
-                    - 1,
-            )),
-            None => None,
-        };
-        let wanted = match gain_row {
-            Some(_) => None,
-            None => Some(inputs.numeric(r)?),
-        };
-        for (label, m) in &equations {
-            let Some(m) = m else { continue };
-            let holds = match &wanted {
-                Some(w) => w == m,
-                None => places(m, gain_row.flatten(), inputs)?,
-            };
-            if holds && !labels.contains(label) {
+        for (key, text) in &claim.equations {
+            // one equation printing two matrices is recorded as "(7) C1" and "(7) C2"
+            let label = key.split_whitespace().next().unwrap_or(key);
+            if referent.held_by(text, inputs)? && !labels.contains(&label) {
                 labels.push(label);
             }
         }
@@ -231,12 +225,8 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
         } else {
             labels.join(" or ")
         };
-        let how = if gain_row.is_some() {
-            "the equations holding a gain that places the desired polynomial for one output"
-        } else {
-            "the equations whose matrix equals it"
-        };
-        d.push(&format!("{r} is given by"), how, &Words(text.clone()));
+        let (name, how) = referent.describe();
+        d.push(&format!("{name} is given by"), how, &Words(text.clone()));
         found.push(text);
     }
     Ok((Value::Labels(found), d))

@@ -135,6 +135,16 @@ impl Inputs<'_> {
         let text = self
             .matrix_text(name)
             .ok_or_else(|| input_error(name, "missing"))?;
+        self.read_matrix(name, text)
+    }
+
+    /// `text` read as a matrix with symbols (those with values substituted); errors name `field`.
+    pub(crate) fn read_matrix(
+        &self,
+        field: &str,
+        text: &str,
+    ) -> Result<Matrix<MultiPoly>, ComputeError> {
+        let name = field;
         let rows =
             parse_matrix_expressions(text).map_err(|e| input_error(name, e.show_in(text)))?;
         let values = rows

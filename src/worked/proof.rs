@@ -103,6 +103,15 @@ fn one_radicand(values: &[&Fraction]) -> Result<(), NoProof> {
     Ok(())
 }
 
+/// The symbols of the values a proof compares, sorted, once each (one square root at most).
+fn symbols_of(all: &[&Fraction]) -> Result<Vec<String>, NoProof> {
+    one_radicand(all)?;
+    let mut symbols: Vec<String> = all.iter().flat_map(|v| v.symbols()).collect();
+    symbols.sort();
+    symbols.dedup();
+    Ok(symbols)
+}
+
 fn read(text: &str, env: &Environment) -> Result<Fraction, NoProof> {
     let e = parse_expression(text).map_err(|e| e.show_in(text))?;
     Ok(evaluate_with::<Fraction>(&e, env).map_err(|e| e.show_in(text))?)
@@ -285,12 +294,18 @@ fn in_canonical_coordinates(
     Ok(m.transpose().mul(o).and_then(|x| x.mul(k))?)
 }
 
-fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
+/// The claim's `A` and `C` over the rational functions, `C` one row.
+fn single_output_pair(inputs: &Inputs) -> Result<(Matrix<Fraction>, Matrix<Fraction>), NoProof> {
     let a = symbolic_matrix(inputs, "A")?;
     let c = symbolic_matrix(inputs, "C")?;
     if c.rows() != 1 || !a.is_square() || c.cols() != a.rows() {
         return Err("not a single-output pair".into());
     }
+    Ok((a, c))
+}
+
+fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
+    let (a, c) = single_output_pair(inputs)?;
     let n = a.rows();
     let desired = symbolic_desired(inputs, n)?;
     let (k, o) = ackermann(&a, &c, &desired)?;
@@ -302,10 +317,7 @@ fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
         .collect();
     let mut all: Vec<&Fraction> = k.entries().iter().collect();
     all.extend(c_minus_a.iter());
-    one_radicand(&all)?;
-    let mut symbols: Vec<String> = all.iter().flat_map(|v| v.symbols()).collect();
-    symbols.sort();
-    symbols.dedup();
+    let symbols = symbols_of(&all)?;
     Ok(Proof {
         holds: k_o.entries().iter().zip(&c_minus_a).all(|(x, y)| x == y),
         symbols,
@@ -322,20 +334,13 @@ fn methods_agree_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
 /// the symbols, and `det(sI − (A − KC))` computed from it equals the desired polynomial
 /// coefficient by coefficient — an identity wherever `det O_n ≠ 0`.
 fn placement_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
-    let a = symbolic_matrix(inputs, "A")?;
-    let c = symbolic_matrix(inputs, "C")?;
-    if c.rows() != 1 || !a.is_square() || c.cols() != a.rows() {
-        return Err("not a single-output pair".into());
-    }
+    let (a, c) = single_output_pair(inputs)?;
     let desired = symbolic_desired(inputs, a.rows())?;
     let (k, _) = ackermann(&a, &c, &desired)?;
     let achieved = berkowitz(&a.sub(&k.mul(&c)?)?, "s")?;
     let mut all: Vec<&Fraction> = k.entries().iter().collect();
     all.extend(desired.iter());
-    one_radicand(&all)?;
-    let mut symbols: Vec<String> = all.iter().flat_map(|v| v.symbols()).collect();
-    symbols.sort();
-    symbols.dedup();
+    let symbols = symbols_of(&all)?;
     Ok(Proof {
         holds: (0..=a.rows()).all(|i| achieved.coeff(i) == desired[i]),
         symbols,
@@ -348,11 +353,7 @@ fn placement_claim(inputs: &Inputs) -> Result<Proof, NoProof> {
 }
 
 fn gain_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proof, NoProof> {
-    let a = symbolic_matrix(inputs, "A")?;
-    let c = symbolic_matrix(inputs, "C")?;
-    if c.rows() != 1 || !a.is_square() || c.cols() != a.rows() {
-        return Err("not a single-output pair".into());
-    }
+    let (a, c) = single_output_pair(inputs)?;
     let coeffs = symbolic_desired(inputs, a.rows())?;
     let (mut k, o) = ackermann(&a, &c, &coeffs)?;
     let canonical = inputs.claim.what == super::Computation::CanonicalGain;
@@ -374,10 +375,7 @@ fn gain_claim(inputs: &Inputs, printed: &str, penv: &Environment) -> Result<Proo
     let shape_ok = rows.len() == k.rows() && rows.iter().all(|r| r.len() == 1);
     let mut all: Vec<&Fraction> = k.entries().iter().collect();
     all.extend(print.iter());
-    one_radicand(&all)?;
-    let mut symbols: Vec<String> = all.iter().flat_map(|v| v.symbols()).collect();
-    symbols.sort();
-    symbols.dedup();
+    let symbols = symbols_of(&all)?;
     let holds = shape_ok && k.entries().iter().zip(&print).all(|(x, y)| x == y);
     Ok(Proof {
         holds,
