@@ -626,6 +626,23 @@ mod tests {
     }
 
     #[test]
+    fn a_transpose_is_read_and_a_symbol_t_is_not_an_exponent() {
+        let e = parse_expression("(A - K C)^T").unwrap();
+        assert!(matches!(e.kind, ExprKind::Transpose(_)));
+        let e = parse_expression("M^T O_n").unwrap();
+        match e.kind {
+            ExprKind::Mul(x, _) => assert!(matches!(x.kind, ExprKind::Transpose(_))),
+            other => panic!("{other:?}"),
+        }
+        // only the letter T alone: T2 or a number stay what they were
+        assert!(parse_expression("s^T2").is_err());
+        assert!(matches!(
+            parse_expression("s^2").unwrap().kind,
+            ExprKind::Pow(_, 2)
+        ));
+    }
+
+    #[test]
     fn matlab_whitespace_rules() {
         assert_eq!(rows("[2 -3; 4 -5]"), [2, 2]);
         assert_eq!(rows("[2 - 3 4 -5]"), [3]);
