@@ -177,15 +177,24 @@ pub fn parameter_values(text: Option<&str>) -> Result<Environment> {
 /// The most values `--at` takes.
 const MAX_AT_VALUES: usize = 64;
 
-/// Reads a flag as rational functions of the parameters (`Ok(None)` when it holds plain
-/// numbers, which the numeric readers take): the symbol error of the numeric reader decides.
-fn symbolic_matrix(flag: &str, text: &str) -> Result<Option<Matrix<Fraction>>> {
-    match parse_matrix::<Rational>(text) {
+/// A matrix flag read once: plain numbers, or rational functions of the parameters — the
+/// symbol error of the numeric reader decides which.
+enum Read {
+    Numbers(Matrix<Rational>),
+    Symbols(Matrix<Fraction>),
+    /// Refused by the numeric reader for another reason (its error is given where numbers
+    /// are needed).
+    Other,
+}
+
+fn read_matrix(flag: &str, text: &str) -> Result<Read> {
+    Ok(match parse_matrix::<Rational>(text) {
         Err(crate::syntax::SyntaxError::UnknownSymbol { .. }) => {
-            Ok(Some(matrix::<Fraction>(flag, text)?))
+            Read::Symbols(matrix::<Fraction>(flag, text)?)
         }
-        _ => Ok(None),
-    }
+        Ok(m) if m.rows() > 0 && m.cols() > 0 => Read::Numbers(m),
+        _ => Read::Other,
+    })
 }
 
 /// A matrix with the values of `--at` substituted, as numbers; errors name a parameter left
@@ -214,10 +223,11 @@ fn evaluated(flag: &str, m: &Matrix<Fraction>, values: &Environment) -> Result<M
 /// A matrix flag of a command that computes with numbers, with the values of `--at`
 /// substituted; a parameter left without a value is refused with the way to give it one.
 pub fn matrix_at(flag: &str, text: &str, values: &Environment) -> Result<Matrix<Rational>> {
-    match symbolic_matrix(flag, text)? {
-        None => matrix::<Rational>(flag, text),
-        Some(m) if values.is_empty() => Err(needs_values(flag, &m)),
-        Some(m) => evaluated(flag, &m, values),
+    match read_matrix(flag, text)? {
+        Read::Numbers(m) => Ok(m),
+        Read::Other => matrix::<Rational>(flag, text),
+        Read::Symbols(m) if values.is_empty() => Err(needs_values(flag, &m)),
+        Read::Symbols(m) => evaluated(flag, &m, values),
     }
 }
 
@@ -373,16 +383,23 @@ impl SystemPair {
                 check_plant(a, None, c, None)
             }
         };
-        let (sa, sc) = (symbolic_matrix("--a", a)?, symbolic_matrix(second, c)?);
-        if sa.is_none() && sc.is_none() {
-            let (a, c) = (matrix("--a", a)?, matrix(second, c)?);
+        let (ra, rc) = (read_matrix("--a", a)?, read_matrix(second, c)?);
+        if !matches!(ra, Read::Symbols(_)) && !matches!(rc, Read::Symbols(_)) {
+            let numbers = |r: Read, flag: &str, text: &str| match r {
+                Read::Numbers(m) => Ok(m),
+                _ => matrix::<Rational>(flag, text),
+            };
+            let (a, c) = (numbers(ra, "--a", a)?, numbers(rc, second, c)?);
             if !feedback {
                 shapes(&a, &c)?;
             }
             return Ok(Plant::Numeric(a, c));
         }
-        let a = sa.map_or_else(|| matrix::<Fraction>("--a", a), Ok)?;
-        let c = sc.map_or_else(|| matrix::<Fraction>(second, c), Ok)?;
+        let symbols = |r: Read, flag: &str, text: &str| match r {
+            Read::Symbols(m) => Ok(m),
+            _ => matrix::<Fraction>(flag, text),
+        };
+        let (a, c) = (symbols(ra, "--a", a)?, symbols(rc, second, c)?);
         if values.is_empty() {
             let names = crate::symbolic::parameters(a.entries().iter().chain(c.entries()));
             crate::symbolic::check_parameters(&names)
