@@ -56,13 +56,76 @@ pub fn observability_matrix<R: Ring>(
     if c.cols() != n {
         return Err(c.mismatch(a, "observability matrix (C against A)"));
     }
+    // integers (the common case: a plant typed with whole numbers): rows on big integers, each
+    // product term a big integer times a machine-word entry of A, no fraction reduced
+    fn rational<R: Ring>(m: &Matrix<R>) -> Option<&Matrix<Rational>> {
+        (m as &dyn std::any::Any).downcast_ref::<Matrix<Rational>>()
+    }
+    if let (Some(ar), Some(cr)) = (rational(a), rational(c)) {
+        if let Some(o) = integer_observability(ar, cr) {
+            if let Some(o) = crate::algebra::from_concrete::<Matrix<R>, _>(o) {
+                return Ok(o);
+            }
+        }
+    }
     let mut block = c.clone();
-    let mut out = c.clone();
+    let mut rows: Vec<Vec<R>> = (0..c.rows()).map(|i| c.row(i).to_vec()).collect();
     for _ in 1..n {
         block = block.mul(a)?;
-        out = out.vstack(&block)?;
+        rows.extend((0..block.rows()).map(|i| block.row(i).to_vec()));
     }
-    Ok(out)
+    Matrix::from_rows(rows)
+}
+
+/// `O_n` of an integer pair whose `A` has machine-word entries, on big integers (each product
+/// term a big integer times an `i64`); `None` for any other pair.
+fn integer_observability(a: &Matrix<Rational>, c: &Matrix<Rational>) -> Option<Matrix<Rational>> {
+    use num_bigint::BigInt;
+    use num_traits::ToPrimitive;
+    let n = a.rows();
+    let small: Vec<i64> = a
+        .entries()
+        .iter()
+        .map(|x| x.is_integer().then(|| x.to_integer().to_i64()).flatten())
+        .collect::<Option<_>>()?;
+    let mut block: Vec<Vec<BigInt>> = (0..c.rows())
+        .map(|i| {
+            c.row(i)
+                .iter()
+                .map(|x| x.is_integer().then(|| x.to_integer()))
+                .collect::<Option<_>>()
+        })
+        .collect::<Option<_>>()?;
+    let mut rows: Vec<Vec<Rational>> = Vec::with_capacity(n * block.len());
+    for k in 0..n {
+        rows.extend(block.iter().map(|r| {
+            r.iter()
+                .map(|x| Rational::from_integer(x.clone()))
+                .collect()
+        }));
+        if k + 1 == n {
+            break;
+        }
+        // the next block: row · A, column by column
+        block = block
+            .iter()
+            .map(|r| {
+                (0..n)
+                    .map(|j| {
+                        let mut acc = BigInt::from(0);
+                        for (i, x) in r.iter().enumerate() {
+                            let w = small[i * n + j];
+                            if w != 0 && !num_traits::Zero::is_zero(x) {
+                                acc += x * w;
+                            }
+                        }
+                        acc
+                    })
+                    .collect()
+            })
+            .collect();
+    }
+    Matrix::from_rows(rows).ok()
 }
 
 /// `C_n = [B, AB, …, A^(n−1)B]`.
