@@ -435,7 +435,18 @@ pub(crate) fn det_and_solve_mod(
 ) -> Option<(u64, Vec<u64>)> {
     let br = Barrett::new(p);
     let mut det = 1u64;
+    // Delayed reduction: an entry below and right of the pivots takes one product (< p² < 2⁶²)
+    // per step without being reduced; starting from a value below p it holds three of them
+    // within 64 bits, so the trailing block is reduced every third step (and Barrett's
+    // reduction is exact for any 64-bit input), the pivot column and row as they are used.
+    const PENDING: u32 = 3;
+    let mut pending = 0u32;
     for col in 0..n {
+        if pending > 0 {
+            for i in col..n {
+                m[i * n + col] = br.reduce(m[i * n + col]);
+            }
+        }
         let piv = (col..n).find(|&i| m[i * n + col] != 0)?;
         if piv != col {
             for j in 0..n {
@@ -445,6 +456,14 @@ pub(crate) fn det_and_solve_mod(
                 rhs.swap(piv * k + j, col * k + j);
             }
             det = (p - det) % p;
+        }
+        if pending > 0 {
+            for j in col + 1..n {
+                m[col * n + j] = br.reduce(m[col * n + j]);
+            }
+            for j in 0..k {
+                rhs[col * k + j] = br.reduce(rhs[col * k + j]);
+            }
         }
         let pv = m[col * n + col];
         det = det * pv % p;
@@ -461,12 +480,29 @@ pub(crate) fn det_and_solve_mod(
                 continue;
             }
             let neg_u = p - u;
-            for j in col..n {
-                m[i * n + j] = br.reduce(m[i * n + j] + neg_u * m[col * n + j]);
+            let (top, below) = m.split_at_mut(i * n);
+            let pivot_row = &top[col * n + col + 1..col * n + n];
+            for (x, &y) in below[col + 1..n].iter_mut().zip(pivot_row) {
+                *x += neg_u * y;
             }
-            for j in 0..k {
-                rhs[i * k + j] = br.reduce(rhs[i * k + j] + neg_u * rhs[col * k + j]);
+            // the pivot column's entry is eliminated: exactly zero
+            below[col] = 0;
+            let (top, below) = rhs.split_at_mut(i * k);
+            for (x, &y) in below[..k].iter_mut().zip(&top[col * k..col * k + k]) {
+                *x += neg_u * y;
             }
+        }
+        pending += 1;
+        if pending == PENDING {
+            for i in col + 1..n {
+                for j in col + 1..n {
+                    m[i * n + j] = br.reduce(m[i * n + j]);
+                }
+                for j in 0..k {
+                    rhs[i * k + j] = br.reduce(rhs[i * k + j]);
+                }
+            }
+            pending = 0;
         }
     }
     // back substitution (unit upper triangular)
@@ -733,6 +769,80 @@ mod tests {
         assert_eq!(a.mul(&x).unwrap(), b);
         let singular = Matrix::from_rows(vec![vec![r(1), r(2)], vec![r(2), r(4)]]).unwrap();
         assert!(solve_rational(&singular, &Matrix::identity(2)).is_none());
+    }
+
+    /// The delayed reduction against elimination reducing every operation, on matrices whose
+    /// residues sit next to the largest prime (the largest products, so the overflow margin is
+    /// tested), with several right-hand sides, singular ones included.
+    #[test]
+    fn delayed_reduction_matches_reducing_every_step() {
+        fn reference(
+            m: &[u64],
+            n: usize,
+            rhs: &[u64],
+            k: usize,
+            p: u64,
+        ) -> Option<(u64, Vec<u64>)> {
+            let (mut m, mut rhs) = (m.to_vec(), rhs.to_vec());
+            let mul = |a: u64, b: u64| (a as u128 * b as u128 % p as u128) as u64;
+            let mut det = 1u64;
+            for col in 0..n {
+                let piv = (col..n).find(|&i| m[i * n + col] != 0)?;
+                if piv != col {
+                    for j in 0..n {
+                        m.swap(piv * n + j, col * n + j);
+                    }
+                    for j in 0..k {
+                        rhs.swap(piv * k + j, col * k + j);
+                    }
+                    det = (p - det) % p;
+                }
+                det = mul(det, m[col * n + col]);
+                let inv = super::inv_mod(m[col * n + col], p)?;
+                for j in col..n {
+                    m[col * n + j] = mul(m[col * n + j], inv);
+                }
+                for j in 0..k {
+                    rhs[col * k + j] = mul(rhs[col * k + j], inv);
+                }
+                for i in 0..n {
+                    let u = m[i * n + col];
+                    if i == col || u == 0 {
+                        continue;
+                    }
+                    for j in col..n {
+                        m[i * n + j] = (m[i * n + j] + p - mul(u, m[col * n + j])) % p;
+                    }
+                    for j in 0..k {
+                        rhs[i * k + j] = (rhs[i * k + j] + p - mul(u, rhs[col * k + j])) % p;
+                    }
+                }
+            }
+            Some((det, rhs))
+        }
+        let p = super::primes().next().unwrap();
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for n in 1..=14 {
+            for trial in 0..20 {
+                let k = trial % 3;
+                let mut m: Vec<u64> = (0..n * n).map(|_| p - 1 - next() % 5).collect();
+                if trial % 7 == 6 && n > 1 {
+                    // a repeated row: singular
+                    for j in 0..n {
+                        m[n + j] = m[j];
+                    }
+                }
+                let rhs: Vec<u64> = (0..n * k).map(|_| next() % p).collect();
+                let got = super::det_and_solve_mod(m.clone(), n, rhs.clone(), k, p);
+                assert_eq!(got, reference(&m, n, &rhs, k, p), "n = {n}, trial {trial}");
+            }
+        }
     }
 
     #[test]
