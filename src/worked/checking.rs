@@ -112,11 +112,38 @@ pub(super) fn check(
     } else {
         claim
     };
-    let attempt = |env: &Environment| -> Result<Check, ComputeError> {
+    let at = Attempt {
+        file,
+        claim,
+        printed,
+    };
+    let mut sampler = Sampler::new(&format!("{}/{}", file.id, claim.id));
+    match at.symbols_to_sample(env, &mut sampler) {
+        FirstTry::Done(result) => *result,
+        FirstTry::Sample(sampled) => at.sampled(env, &sampled, &mut sampler),
+    }
+}
+
+/// One claim checked against one printed text, at the symbol values given.
+struct Attempt<'a> {
+    file: &'a ExampleFile,
+    claim: &'a ClaimSpec,
+    printed: &'a str,
+}
+
+/// The outcome of the exact attempts: a result, or the symbols a division needs sampled.
+enum FirstTry {
+    Done(Box<Result<Check, ComputeError>>),
+    Sample(Vec<String>),
+}
+
+impl Attempt<'_> {
+    fn at(&self, env: &Environment) -> Result<Check, ComputeError> {
+        let (file, claim) = (self.file, self.claim);
         let computed = compute(&Inputs { file, claim, env })?;
         let penv = with_definitions(claim, env).map_err(ComputeError::Failed)?;
         let agreement =
-            compare(&computed.value, printed, &penv).map_err(|m| ComputeError::Input {
+            compare(&computed.value, self.printed, &penv).map_err(|m| ComputeError::Input {
                 field: "printed".into(),
                 message: m.to_string(),
             })?;
@@ -128,117 +155,137 @@ pub(super) fn check(
             sampled: Vec::new(),
             proof: ProofNote::Exact,
         })
-    };
-    // Exact first; free symbols that a division needs are sampled.
-    let mut env0 = env.clone();
-    let mut sampled: Vec<String> = Vec::new();
-    let mut sampler = Sampler::new(&format!("{}/{}", file.id, claim.id));
-    for _ in 0..8 {
-        match attempt(&env0) {
-            Err(ComputeError::NeedsValues(names)) => {
-                for n in names {
-                    if !env0.contains_key(&n) {
-                        let v = sampler.value(&n);
-                        env0.insert(n.clone(), v);
-                        sampled.push(n);
+    }
+
+    /// Exact first; the free symbols that a division needs are collected for sampling.
+    fn symbols_to_sample(&self, env: &Environment, sampler: &mut Sampler) -> FirstTry {
+        let mut env0 = env.clone();
+        let mut sampled: Vec<String> = Vec::new();
+        for _ in 0..8 {
+            match self.at(&env0) {
+                Err(ComputeError::NeedsValues(names)) => {
+                    for n in names {
+                        if !env0.contains_key(&n) {
+                            let v = sampler.value(&n);
+                            env0.insert(n.clone(), v);
+                            sampled.push(n);
+                        }
                     }
                 }
-            }
-            // singular at this point (a sampled value hit a pole): try other values
-            Err(e) if !sampled.is_empty() && e.is_failure() => {
-                for n in &sampled {
-                    let v = sampler.value(n);
-                    env0.insert(n.clone(), v);
+                // singular at this point (a sampled value hit a pole): try other values
+                Err(e) if !sampled.is_empty() && e.is_failure() => {
+                    for n in &sampled {
+                        let v = sampler.value(n);
+                        env0.insert(n.clone(), v);
+                    }
+                }
+                other => {
+                    if sampled.is_empty() {
+                        return FirstTry::Done(Box::new(other));
+                    }
+                    break;
                 }
             }
-            other => {
-                if sampled.is_empty() {
-                    return other;
-                }
-                break;
+        }
+        if sampled.is_empty() {
+            FirstTry::Done(Box::new(self.at(&env0)))
+        } else {
+            FirstTry::Sample(sampled)
+        }
+    }
+
+    /// SAMPLES independent points of the sampled symbols, each exact; the first disagreement
+    /// refutes, shown at the example's own values when it has them.
+    fn sampled(
+        &self,
+        env: &Environment,
+        sampled: &[String],
+        sampler: &mut Sampler,
+    ) -> Result<Check, ComputeError> {
+        let inputs = Inputs {
+            file: self.file,
+            claim: self.claim,
+            env,
+        };
+        let point = |e: &Environment| -> Vec<String> {
+            sampled.iter().map(|n| format!("{n} = {}", e[n])).collect()
+        };
+        let mut good = 0;
+        let mut first: Option<Check> = None;
+        let mut last_error = String::new();
+        for _ in 0..SAMPLE_ATTEMPTS {
+            let mut e = env.clone();
+            for n in sampled {
+                e.insert(n.clone(), sampler.value(n));
             }
-        }
-    }
-    if sampled.is_empty() {
-        return attempt(&env0);
-    }
-    // Sampled: SAMPLES independent points, each exact.
-    let mut good = 0;
-    let mut first: Option<Check> = None;
-    let mut last_error = String::new();
-    for _ in 0..SAMPLE_ATTEMPTS {
-        let mut e = env.clone();
-        for n in &sampled {
-            e.insert(n.clone(), sampler.value(n));
-        }
-        match attempt(&e) {
-            Ok(c) => {
-                let point: Vec<String> =
-                    sampled.iter().map(|n| format!("{n} = {}", e[n])).collect();
-                if !c.agreement.holds() {
-                    // a disagreement is shown at the example's own values when it has them
-                    // (Example 7.1's T = 1/8), not at the random point that found it
-                    let own = parameter_env(&file.parameters);
-                    let at_own = if sampled.iter().all(|n| own.contains_key(n)) {
-                        let mut o = env.clone();
-                        for n in &sampled {
-                            o.insert(n.clone(), own[n].clone());
+            match self.at(&e) {
+                Ok(c) if !c.agreement.holds() => {
+                    let (shown, c, whose) = match self.disagreement_at_own_values(env, sampled) {
+                        Some((o, c)) if sampled.len() == 1 => {
+                            (point(&o), c, " (the example's value)")
                         }
-                        attempt(&o).ok().filter(|c| !c.agreement.holds()).map(|c| {
-                            (
-                                sampled
-                                    .iter()
-                                    .map(|n| format!("{n} = {}", o[n]))
-                                    .collect::<Vec<_>>(),
-                                c,
-                            )
-                        })
-                    } else {
-                        None
-                    };
-                    let (shown, c, whose) = match at_own {
-                        Some((p, c)) if p.len() == 1 => (p, c, " (the example's value)"),
-                        Some((p, c)) => (p, c, " (the example's values)"),
-                        None => (point, c, ""),
+                        Some((o, c)) => (point(&o), c, " (the example's values)"),
+                        None => (point(&e), c, ""),
                     };
                     return Ok(with_proof(
                         Check {
                             recomputed: format!("at {}{whose}: {}", shown.join(", "), c.recomputed),
-                            sampled: sampled.clone(),
+                            sampled: sampled.to_vec(),
                             ..c
                         },
-                        &Inputs { file, claim, env },
-                        printed,
+                        &inputs,
+                        self.printed,
                     ));
                 }
-                good += 1;
-                if first.is_none() {
-                    first = Some(Check {
-                        recomputed: format!(
-                            "agrees exactly at {SAMPLES} random rational points of {}; e.g. at {}: {}",
-                            sampled.join(", "),
-                            point.join(", "),
-                            c.recomputed
-                        ),
-                        sampled: sampled.clone(),
-                        ..c
-                    });
+                Ok(c) => {
+                    good += 1;
+                    if first.is_none() {
+                        first = Some(Check {
+                            recomputed: format!(
+                                "agrees exactly at {SAMPLES} random rational points of {}; e.g. at {}: {}",
+                                sampled.join(", "),
+                                point(&e).join(", "),
+                                c.recomputed
+                            ),
+                            sampled: sampled.to_vec(),
+                            ..c
+                        });
+                    }
+                    if good == SAMPLES {
+                        break;
+                    }
                 }
-                if good == SAMPLES {
-                    break;
+                Err(ComputeError::Input { field, message }) => {
+                    return Err(ComputeError::Input { field, message })
                 }
+                Err(e) => last_error = e.to_string(),
             }
-            Err(ComputeError::Input { field, message }) => {
-                return Err(ComputeError::Input { field, message })
-            }
-            Err(e) => last_error = e.to_string(),
+        }
+        match first {
+            Some(c) if good == SAMPLES => Ok(with_proof(c, &inputs, self.printed)),
+            _ => Err(ComputeError::Failed(format!(
+                "could not find {SAMPLES} sample points where the computation is defined ({last_error})"
+            ))),
         }
     }
-    match first {
-        Some(c) if good == SAMPLES => Ok(with_proof(c, &Inputs { file, claim, env }, printed)),
-        _ => Err(ComputeError::Failed(format!(
-            "could not find {SAMPLES} sample points where the computation is defined ({last_error})"
-        ))),
+
+    /// The check at the example's own values of the sampled symbols (Example 7.1's T = 1/8),
+    /// when it gives every one and the print disagrees there too.
+    fn disagreement_at_own_values(
+        &self,
+        env: &Environment,
+        sampled: &[String],
+    ) -> Option<(Environment, Check)> {
+        let own = parameter_env(&self.file.parameters);
+        if !sampled.iter().all(|n| own.contains_key(n)) {
+            return None;
+        }
+        let mut o = env.clone();
+        for n in sampled {
+            o.insert(n.clone(), own[n].clone());
+        }
+        let c = self.at(&o).ok().filter(|c| !c.agreement.holds())?;
+        Some((o, c))
     }
 }
 

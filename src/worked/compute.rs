@@ -68,23 +68,7 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             simple(&title, Value::SymbolicPolynomial(p, var))
         }
         C::Eigenvalues => eigenvalues(inputs, &title),
-        C::Stable => {
-            let a = inputs.numeric("A")?;
-            let p = crate::linalg::charpoly::characteristic_polynomial(&a, "s")?;
-            let stable = crate::poly::is_hurwitz(&p);
-            let mut d = Derivation::new(&title);
-            d.push("det(sI − A)", "", &p);
-            let v = Value::Labels(vec![if stable { "stable" } else { "unstable" }.to_string()]);
-            d.push(
-                "every root in Re s < 0",
-                "Routh–Hurwitz, exact (no root computed)",
-                &v,
-            );
-            Ok(Computed {
-                value: v,
-                derivation: d,
-            })
-        }
+        C::Stable => stable(inputs, &title),
         C::CanonicalTransformation => canonical_matrix(inputs, &title, CanonicalPart::T),
         C::CanonicalTransformationInverse => {
             canonical_matrix(inputs, &title, CanonicalPart::TInverse)
@@ -101,18 +85,9 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
             simple(&title, Value::Polynomial(p.with_var(&inputs.var())))
         }
         C::CanonicalGain => canonical_gain_claim(inputs, &title),
-        C::EquationReference => {
-            let (value, derivation) = super::equation_reference::evaluate(inputs, &title)?;
-            Ok(Computed { value, derivation })
-        }
-        C::MatrixIdentity => {
-            let (value, derivation) = super::matrix_expression::evaluate_identity(inputs, &title)?;
-            Ok(Computed { value, derivation })
-        }
-        C::MatrixExpression => {
-            let (value, derivation) = super::matrix_expression::evaluate(inputs, &title)?;
-            Ok(Computed { value, derivation })
-        }
+        C::EquationReference => super::equation_reference::evaluate(inputs, &title),
+        C::MatrixIdentity => super::matrix_expression::evaluate_identity(inputs, &title),
+        C::MatrixExpression => super::matrix_expression::evaluate(inputs, &title),
         C::Gain => {
             let desired = inputs.desired()?;
             let (a, c) = (inputs.numeric("A")?, inputs.numeric("C")?);
@@ -180,6 +155,26 @@ pub fn compute(inputs: &Inputs) -> Result<Computed, ComputeError> {
 }
 
 /// A value whose working is the value itself.
+/// Whether every eigenvalue of A is in the open left half-plane: Routh–Hurwitz on det(sI − A),
+/// exact, no root computed.
+fn stable(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
+    let a = inputs.numeric("A")?;
+    let p = crate::linalg::charpoly::characteristic_polynomial(&a, "s")?;
+    let stable = crate::poly::is_hurwitz(&p);
+    let mut d = Derivation::new(title);
+    d.push("det(sI − A)", "", &p);
+    let v = Value::Labels(vec![if stable { "stable" } else { "unstable" }.to_string()]);
+    d.push(
+        "every root in Re s < 0",
+        "Routh–Hurwitz, exact (no root computed)",
+        &v,
+    );
+    Ok(Computed {
+        value: v,
+        derivation: d,
+    })
+}
+
 fn simple(title: &str, value: Value) -> Result<Computed, ComputeError> {
     Ok(Computed {
         derivation: one_step(title, &value),

@@ -237,7 +237,7 @@ pub fn check(
         .iter()
         .filter(|e| e.document == list.document)
         .collect();
-    let mut listed: Vec<String> = Vec::new();
+    let mut refs = References::default();
     let mut totals = Totals {
         document: list.document.clone(),
         title: list.title.clone(),
@@ -248,60 +248,8 @@ pub fn check(
         claims: mine.iter().map(|e| e.claims.len()).sum(),
         not_checked: BTreeMap::new(),
     };
-    // claim → the statements (their `where`) that record it
-    let mut credited: BTreeMap<String, Vec<&str>> = BTreeMap::new();
     for s in &list.statements {
-        let at = format!("statement at {} ('{}')", s.location, s.statement);
-        let ways = usize::from(!s.recorded.is_empty())
-            + usize::from(s.input.is_some())
-            + usize::from(s.not_checked.is_some());
-        if ways != 1 {
-            return Err(error(format!(
-                "{at}: give exactly one of recorded, input or not_checked"
-            )));
-        }
-        for (r, strict) in s
-            .recorded
-            .iter()
-            .map(|r| (r, true))
-            .chain(s.related.iter().map(|r| (r, false)))
-        {
-            let (ex, item) = r
-                .split_once('/')
-                .ok_or_else(|| error(format!("{at}: '{r}' is not example/claim")))?;
-            let e = mine.iter().find(|e| e.id == ex).ok_or_else(|| {
-                error(format!(
-                    "{at}: no example '{ex}' of {} (named '{r}')",
-                    list.document
-                ))
-            })?;
-            let claim = e.claims.iter().any(|c| c.id == item);
-            let figure = e.scenarios.iter().find(|sc| sc.name == item);
-            if !claim && figure.is_none() {
-                return Err(error(format!(
-                    "{at}: example '{ex}' has no claim or figure '{item}'"
-                )));
-            }
-            if strict {
-                if figure.is_some_and(|f| f.checks.is_empty()) {
-                    return Err(error(format!(
-                        "{at}: figure '{r}' has no checks of its own, so it checks nothing: name it under related"
-                    )));
-                }
-                if claim {
-                    credited.entry(r.clone()).or_default().push(&s.location);
-                }
-            }
-            listed.push(r.clone());
-        }
-        if let Some(ex) = &s.input {
-            if !mine.iter().any(|e| e.id == *ex) {
-                return Err(error(format!(
-                    "{at}: no example '{ex}' of {}",
-                    list.document
-                )));
-            }
-        }
+        refs.read(s, &mine, &list.document).map_err(error)?;
         totals.recorded += usize::from(!s.recorded.is_empty());
         totals.inputs += usize::from(s.input.is_some());
         if let Some(why) = s.not_checked {
@@ -314,48 +262,131 @@ pub fn check(
             .get(&NotChecked::NotYetRecorded)
             .copied()
             .unwrap_or(0);
-    for e in &mine {
-        let items = e
-            .claims
-            .iter()
-            .map(|c| &c.id)
-            .chain(e.scenarios.iter().map(|s| &s.name));
-        for item in items {
-            let r = format!("{}/{item}", e.id);
-            if !listed.contains(&r) {
-                return Err(error(format!(
-                    "'{r}' checks {} but no statement of the list records it",
-                    list.document
-                )));
-            }
-        }
-    }
-    // one statement, one check: a claim credited to several statements lists each of them
-    for e in &mine {
-        for c in &e.claims {
-            let r = format!("{}/{}", e.id, c.id);
-            let by = credited.get(&r).cloned().unwrap_or_default();
-            let mut wanted: Vec<&str> = c.checks.iter().map(String::as_str).collect();
-            wanted.sort_unstable();
-            let mut got = by.clone();
-            got.sort_unstable();
-            if by.len() > 1 && wanted != got {
-                return Err(error(format!(
-                    "'{r}' is recorded for {} statements ({}); a claim checks several only when its `checks` lists each of them",
-                    by.len(),
-                    by.join("; ")
-                )));
-            }
-            if !c.checks.is_empty() && wanted != got {
-                return Err(error(format!(
-                    "'{r}' lists checks [{}] but is recorded for [{}]",
-                    c.checks.join("; "),
-                    by.join("; ")
-                )));
-            }
-        }
-    }
+    refs.every_item_listed(&mine, &list.document)
+        .map_err(error)?;
+    refs.shared_credits_listed(&mine).map_err(error)?;
     Ok(totals)
+}
+
+/// What a list's statements name, gathered statement by statement.
+#[derive(Default)]
+struct References<'l> {
+    /// Every claim or figure named (recorded or related), as `example/item`.
+    listed: Vec<String>,
+    /// Claim → the statements (their `where`) that record it.
+    credited: BTreeMap<String, Vec<&'l str>>,
+}
+
+impl<'l> References<'l> {
+    /// One statement: exactly one way of being accounted for, every name existing in this
+    /// document's examples, no figure without checks recorded as a check.
+    fn read(
+        &mut self,
+        s: &'l Statement,
+        mine: &[&ExampleFile],
+        document: &str,
+    ) -> Result<(), String> {
+        let at = format!("statement at {} ('{}')", s.location, s.statement);
+        let ways = usize::from(!s.recorded.is_empty())
+            + usize::from(s.input.is_some())
+            + usize::from(s.not_checked.is_some());
+        if ways != 1 {
+            return Err(format!(
+                "{at}: give exactly one of recorded, input or not_checked"
+            ));
+        }
+        for (r, strict) in s
+            .recorded
+            .iter()
+            .map(|r| (r, true))
+            .chain(s.related.iter().map(|r| (r, false)))
+        {
+            let (ex, item) = r
+                .split_once('/')
+                .ok_or_else(|| format!("{at}: '{r}' is not example/claim"))?;
+            let e = mine
+                .iter()
+                .find(|e| e.id == ex)
+                .ok_or_else(|| format!("{at}: no example '{ex}' of {document} (named '{r}')"))?;
+            let claim = e.claims.iter().any(|c| c.id == item);
+            let figure = e.scenarios.iter().find(|sc| sc.name == item);
+            if !claim && figure.is_none() {
+                return Err(format!(
+                    "{at}: example '{ex}' has no claim or figure '{item}'"
+                ));
+            }
+            if strict {
+                if figure.is_some_and(|f| f.checks.is_empty()) {
+                    return Err(format!(
+                        "{at}: figure '{r}' has no checks of its own, so it checks nothing: name it under related"
+                    ));
+                }
+                if claim {
+                    self.credited
+                        .entry(r.clone())
+                        .or_default()
+                        .push(&s.location);
+                }
+            }
+            self.listed.push(r.clone());
+        }
+        if let Some(ex) = &s.input {
+            if !mine.iter().any(|e| e.id == *ex) {
+                return Err(format!("{at}: no example '{ex}' of {document}"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every claim and figure of the document's examples is named by some statement.
+    fn every_item_listed(&self, mine: &[&ExampleFile], document: &str) -> Result<(), String> {
+        for e in mine {
+            let items = e
+                .claims
+                .iter()
+                .map(|c| &c.id)
+                .chain(e.scenarios.iter().map(|s| &s.name));
+            for item in items {
+                let r = format!("{}/{item}", e.id);
+                if !self.listed.contains(&r) {
+                    return Err(format!(
+                        "'{r}' checks {document} but no statement of the list records it"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// One statement, one check: a claim credited to several statements lists each of them in
+    /// its `checks`, and a claim's `checks` names exactly the statements that record it.
+    fn shared_credits_listed(&self, mine: &[&ExampleFile]) -> Result<(), String> {
+        for e in mine {
+            for c in &e.claims {
+                let r = format!("{}/{}", e.id, c.id);
+                let by = self.credited.get(&r).cloned().unwrap_or_default();
+                let mut wanted: Vec<&str> = c.checks.iter().map(String::as_str).collect();
+                wanted.sort_unstable();
+                let mut got = by.clone();
+                got.sort_unstable();
+                if by.len() > 1 && wanted != got {
+                    return Err(format!(
+                        "'{r}' is recorded for {} statements ({}); a claim checks several only when its `checks` lists each of them",
+                        by.len(),
+                        by.join("; ")
+                    ));
+                }
+                if !c.checks.is_empty() && wanted != got {
+                    return Err(format!(
+                        "'{r}' lists checks [{}] but is recorded for [{}]",
+                        c.checks.join("; "),
+                        by.join("; ")
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 // `BUILTIN_DOCUMENT_TITLES`, written by build.rs from worked_examples/coverage/*.toml

@@ -23,7 +23,7 @@
 //! the same variable here), so `T³s³ + 2T²s² + 2Ts + 1` holds the Butterworth polynomial
 //! `s³ + (2/T)s² + (2/T²)s + 1/T³`.
 
-use super::inputs::{input_error, to_numeric, ComputeError, Inputs};
+use super::inputs::{input_error, to_numeric, ComputeError, Computed, Inputs};
 use super::value::Value;
 use crate::algebra::{Fraction, Rational, Zero};
 use crate::derivation::{Derivation, Words};
@@ -193,7 +193,7 @@ impl<'r> Referent<'r> {
 /// # Errors
 /// [`ComputeError`] for a claim without `refers` or `[claims.equations]`, or a referent the
 /// claim and its system do not give.
-pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), ComputeError> {
+pub fn evaluate(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let claim = inputs.claim;
     if claim.refers.is_empty() || claim.equations.is_empty() {
         return Err(input_error(
@@ -229,5 +229,8 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
         d.push(&format!("{name} is given by"), how, &Words(text.clone()));
         found.push(text);
     }
-    Ok((Value::Labels(found), d))
+    Ok(Computed {
+        value: Value::Labels(found),
+        derivation: d,
+    })
 }

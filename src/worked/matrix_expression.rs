@@ -7,7 +7,7 @@
 //! rational functions of those symbols, so a general formula (`A − K C` at order n) is checked
 //! as an identity, not at sample points; numbers stay on the rational path.
 
-use super::inputs::{input_error, lift, to_numeric, ComputeError, Inputs};
+use super::inputs::{input_error, lift, to_numeric, ComputeError, Computed, Inputs};
 use super::value::Value;
 use crate::algebra::{Field, Fraction, MultiPoly, Rational};
 use crate::derivation::Derivation;
@@ -441,7 +441,7 @@ impl Form {
 /// # Errors
 /// An input error naming the expression and what does not fit (undefined products, singular
 /// inverses, unknown names).
-pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), ComputeError> {
+pub fn evaluate(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let text = inputs.claim.expression.as_deref().ok_or_else(|| {
         input_error(
             "expression",
@@ -452,7 +452,10 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
     let value = evaluate_texts(inputs, &[("expression", "result", text)], &mut d)?
         .pop()
         .ok_or_else(|| input_error("expression", "nothing evaluated"))?;
-    Ok((value, d))
+    Ok(Computed {
+        value,
+        derivation: d,
+    })
 }
 
 /// A printed equality of two matrix formulas (`A(x̂ − x) + L(Cx̂ − Cx) = (A + LC)e`): the left
@@ -461,10 +464,7 @@ pub fn evaluate(inputs: &Inputs, title: &str) -> Result<(Value, Derivation), Com
 ///
 /// # Errors
 /// As [`evaluate`], for either side.
-pub fn evaluate_identity(
-    inputs: &Inputs,
-    title: &str,
-) -> Result<(Value, Derivation), ComputeError> {
+pub fn evaluate_identity(inputs: &Inputs, title: &str) -> Result<Computed, ComputeError> {
     let left = inputs.claim.expression.as_deref().ok_or_else(|| {
         input_error(
             "expression",
@@ -484,7 +484,10 @@ pub fn evaluate_identity(
     let (Some(r), Some(l)) = (sides.pop(), sides.pop()) else {
         return Err(input_error("expression", "nothing evaluated"));
     };
-    Ok((Value::Sides(Box::new(l), Box::new(r)), d))
+    Ok(Computed {
+        value: Value::Sides(Box::new(l), Box::new(r)),
+        derivation: d,
+    })
 }
 
 fn collect_symbols(e: &Expr, out: &mut Vec<String>) {

@@ -543,25 +543,7 @@ fn compare_polynomial(
     env: &Environment,
     digits: Option<i32>,
 ) -> Result<Agreement, PrintError> {
-    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
-    let e = parse_expression(printed).map_err(syntax)?;
-    // the polynomial's variable, or the other one the course writes (`s` for `λ` and back):
-    // a student answering with the prompt's λ is not wrong
-    let rf = match rational_function_with::<Quadratic>(&e, q.var(), Some(env)) {
-        Err(crate::syntax::SyntaxError::UnknownSymbol { name, .. })
-            if POLYNOMIAL_VARIABLES.contains(&name.as_str()) && name != q.var() =>
-        {
-            rational_function_with::<Quadratic>(&e, &name, Some(env)).map_err(syntax)?
-        }
-        r => r.map_err(syntax)?,
-    };
-    if rf.denominator().degree() != Some(0) {
-        return Err(PrintError::Form(format!(
-            "the printed value {printed} is not a polynomial in {}",
-            q.var()
-        )));
-    }
-    let p = rf.numerator().clone().with_var(q.var());
+    let p = printed_polynomial(printed, q.var(), env)?;
     let n = p.degree().unwrap_or(0).max(q.degree().unwrap_or(0));
     let ok = (0..=n).all(|k| close(&q.coeff(k), &p.coeff(k), digits));
     Ok(agreement(ok, digits, || {
@@ -611,6 +593,35 @@ fn compare_sides(l: &Value, r: &Value) -> Agreement {
             l.input()
         ))
     }
+}
+
+/// A printed polynomial in `var`, or in the other variable the course writes (`s` for `λ` and
+/// back: a student answering with the prompt's λ is not wrong), read in `var`.
+///
+/// # Errors
+/// [`PrintError`] for text that does not read, or a rational function that is not a polynomial.
+pub(super) fn printed_polynomial(
+    printed: &str,
+    var: &str,
+    env: &Environment,
+) -> Result<Poly<Quadratic>, PrintError> {
+    let syntax = |e: crate::syntax::SyntaxError| PrintError::syntax(e, printed);
+    let e = parse_expression(printed).map_err(syntax)?;
+    let rf = match rational_function_with::<Quadratic>(&e, var, Some(env)) {
+        Err(crate::syntax::SyntaxError::UnknownSymbol { name, .. })
+            if POLYNOMIAL_VARIABLES.contains(&name.as_str()) && name != var =>
+        {
+            rational_function_with::<Quadratic>(&e, &name, Some(env)).map_err(syntax)?
+        }
+        r => r.map_err(syntax)?,
+    };
+    // a rational function's denominator is monic: a polynomial's is 1
+    if rf.denominator().degree() != Some(0) {
+        return Err(PrintError::Form(format!(
+            "the printed value {printed} is not a polynomial in {var}"
+        )));
+    }
+    Ok(rf.numerator().clone().with_var(var))
 }
 
 /// Equation labels as printed (`(3), (4), (7)`), one per referent, compared in order.

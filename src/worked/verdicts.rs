@@ -225,16 +225,7 @@ fn polynomial_deviation(
     printed: &str,
     env: &Environment,
 ) -> Option<(f64, f64)> {
-    let e = crate::syntax::parse_expression(printed).ok()?;
-    let rf =
-        crate::syntax::rational_function_with::<crate::algebra::Quadratic>(&e, q.var(), Some(env))
-            .ok()?;
-    if rf.denominator().degree() != Some(0) {
-        return None;
-    }
-    let p = rf
-        .numerator()
-        .scale(&crate::algebra::Field::inverse(&rf.denominator().coeff(0))?);
+    let p = super::value::printed_polynomial(printed, q.var(), env).ok()?;
     let n = p.degree()?.max(q.degree()?);
     Some((0..=n).fold((0.0f64, 0.0f64), |(a, r), k| {
         let (x, y) = (q.coeff(k).to_complex_f64().0, p.coeff(k).to_complex_f64().0);
