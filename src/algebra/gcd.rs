@@ -137,6 +137,16 @@ pub fn fraction(n: BigInt, d: BigInt) -> Rational {
     }
 }
 
+/// `n / d` for machine-word integers (`d ≠ 0`), reduced by one word gcd: what a typed `8/50`
+/// costs, instead of two big-integer gcds.
+pub fn small_ratio(n: i128, d: i128) -> Rational {
+    debug_assert!(d != 0, "small_ratio: zero denominator");
+    let g = num_integer::Integer::gcd(&n, &d);
+    let (n, d) = if g == 0 { (n, d) } else { (n / g, d / g) };
+    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    Rational::new_raw(BigInt::from(n), BigInt::from(d))
+}
+
 /// `x + y`, reduced by Lehmer's gcd (num-rational's `+` reduces by num-bigint's binary gcd, a
 /// pass per bit: a sum of two 12 000-bit fractions spent most of its time there). Zero and
 /// integer operands and equal denominators take shortcuts; otherwise Knuth's form, which reduces

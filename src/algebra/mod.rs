@@ -22,7 +22,7 @@ mod quadratic;
 mod scalars;
 
 pub use fraction::Fraction;
-pub use gcd::{fraction, gcd, lcm_of_denominators};
+pub use gcd::{fraction, gcd, lcm_of_denominators, small_ratio};
 pub use multigcd::{normalised, normalising_factor, poly_gcd};
 pub(crate) use multivariate::latex_symbol;
 pub use multivariate::{DivisionTooCostly, Monomial, MultiPoly};

@@ -188,7 +188,7 @@ enum Read {
 }
 
 fn read_matrix(flag: &str, text: &str) -> Result<Read> {
-    Ok(match parse_matrix::<Rational>(text) {
+    Ok(match crate::syntax::parse_rational_matrix(text) {
         Err(crate::syntax::SyntaxError::UnknownSymbol { .. }) => {
             Read::Symbols(matrix::<Fraction>(flag, text)?)
         }

@@ -594,6 +594,114 @@ pub fn has_full_rank(a: &Matrix<Rational>) -> bool {
         .any(|p| rank_mod(scaled.residues(p), rows, cols, p) == full)
 }
 
+/// Whether the pair (A, C) is proved observable modulo a prime: the rows C, CA, CA², … are
+/// reduced against an echelon basis as they are formed, and the proof is complete once the
+/// basis has n rows — for p outputs that is often after ⌈n/p⌉ blocks, never the whole pn × n
+/// matrix O_n. Scaling A and the rows of C to integers changes no row space, and a rank mod p
+/// is never larger than the rank over Q, so `true` is a proof; `false` means "not proved" (the
+/// caller decides exactly). O(n³) word operations per prime, at most three primes.
+pub fn observable_mod_prime(a: &Matrix<Rational>, c: &Matrix<Rational>) -> bool {
+    let n = a.rows();
+    if n == 0 || a.cols() != n || c.cols() != n {
+        return false;
+    }
+    let d = Rational::common_denominator(a.entries());
+    let scaled_a = IntMatrix::new(
+        n,
+        n,
+        a.entries().iter().map(|x| x.scale_to_integer(&d)).collect(),
+    );
+    let (scaled_c, _) = scaled_rows(c);
+    primes().take(3).any(|p| {
+        let br = Barrett::new(p);
+        let am = scaled_a.residues(p);
+        let mut block: Vec<Vec<u64>> = scaled_c
+            .residues(p)
+            .chunks(n)
+            .map(<[u64]>::to_vec)
+            .collect();
+        // echelon rows, each with its pivot column and a leading 1
+        let mut basis: Vec<(usize, Vec<u64>)> = Vec::with_capacity(n);
+        for _ in 0..n {
+            let before = basis.len();
+            for row in &block {
+                let mut r = row.clone();
+                for (col, b) in &basis {
+                    let u = r[*col];
+                    if u != 0 {
+                        let neg_u = p - u;
+                        for (x, y) in r.iter_mut().zip(b) {
+                            *x = br.reduce(*x + neg_u * y);
+                        }
+                    }
+                }
+                if let Some(col) = r.iter().position(|&x| x != 0) {
+                    let inv = inv_mod(r[col], p).unwrap_or(0);
+                    for x in r.iter_mut() {
+                        *x = br.mul(*x, inv);
+                    }
+                    basis.push((col, r));
+                    if basis.len() == n {
+                        return true;
+                    }
+                }
+            }
+            if basis.len() == before {
+                // the rows' span is A-invariant modulo p: no later block adds a row
+                return false;
+            }
+            // the next block, row · A
+            block = block
+                .iter()
+                .map(|row| {
+                    let mut next = vec![0u64; n];
+                    for (k, &x) in row.iter().enumerate() {
+                        if x != 0 {
+                            let a_row = &am[k * n..(k + 1) * n];
+                            for (y, &z) in next.iter_mut().zip(a_row) {
+                                *y = br.reduce(*y + x * z);
+                            }
+                        }
+                    }
+                    next
+                })
+                .collect();
+        }
+        false
+    })
+}
+
+/// Whether the square matrix `a` is proved not nilpotent, by its characteristic polynomial
+/// modulo one prime: a nilpotent `a` has `det(zI − a) = zⁿ`, and so has `d·a` (d a common
+/// denominator, an integer matrix) modulo every prime. A nonzero trace decides it in O(n);
+/// otherwise one Hessenberg reduction, O(n³) word operations. `false` means "not refuted" (the
+/// caller decides exactly).
+pub fn surely_not_nilpotent(a: &Matrix<Rational>) -> bool {
+    let n = a.rows();
+    if n == 0 || a.cols() != n {
+        return false;
+    }
+    if !(0..n)
+        .map(|i| a.get(i, i))
+        .fold(Rational::zero(), |s, x| s + x)
+        .is_zero()
+    {
+        return true;
+    }
+    let d = Rational::common_denominator(a.entries());
+    let scaled = IntMatrix::new(
+        n,
+        n,
+        a.entries().iter().map(|x| x.scale_to_integer(&d)).collect(),
+    );
+    let Some(p) = primes().next() else {
+        return false;
+    };
+    let m = scaled.residues(p);
+    let h: Vec<Vec<u64>> = m.chunks(n).map(<[u64]>::to_vec).collect();
+    charpoly_mod(h, p)[..n].iter().any(|&c| c != 0)
+}
+
 /// Whether the square matrix `a` is cyclic (non-derogatory): some vector v makes the Krylov
 /// matrix [v, Av, …, Aⁿ⁻¹v] nonsingular, so the minimal polynomial of `a` is its
 /// characteristic polynomial. Proved modulo a prime — a Krylov matrix of full rank mod p has

@@ -245,6 +245,11 @@ fn rational_poly(p: &Poly<Quadratic>) -> Option<Poly<Rational>> {
 /// # Errors
 /// A product of mismatched shapes (M not square).
 pub fn nilpotent_index(m: &Matrix<Quadratic>) -> Result<Option<usize>, LinalgError> {
+    if let Some(r) = linalg::rational_entries(m) {
+        if linalg::modular::surely_not_nilpotent(&r) {
+            return Ok(None);
+        }
+    }
     let chi = linalg::characteristic_polynomial(m, "z")?;
     nilpotent_index_with(m, &chi)
 }
@@ -432,6 +437,35 @@ pub fn zero_order_hold(
 
 type Rows = Vec<Vec<f64>>;
 
+/// `Σ_(k<16) X^k / k!` by Paterson and Stockmeyer's scheme: X², X³, X⁴ formed once, then
+/// Horner's rule in X⁴ over blocks of four terms — six matrix products instead of fifteen.
+fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
+    use nalgebra::DMatrix;
+    let size = x.nrows();
+    let identity = DMatrix::<f64>::identity(size, size);
+    let x2 = x * x;
+    let x3 = &x2 * x;
+    let x4 = &x2 * &x2;
+    let powers = [&identity, x, &x2, &x3];
+    // 1/k! for k < 16
+    let mut inverse_factorial = [1.0f64; 16];
+    for k in 1..16 {
+        inverse_factorial[k] = inverse_factorial[k - 1] / k as f64;
+    }
+    let block = |j: usize| {
+        let mut sum = DMatrix::<f64>::zeros(size, size);
+        for (i, power) in powers.iter().enumerate() {
+            sum += *power * inverse_factorial[4 * j + i];
+        }
+        sum
+    };
+    let mut result = block(3);
+    for j in (0..3).rev() {
+        result = &result * &x4 + block(j);
+    }
+    result
+}
+
 fn float_zoh(
     a: &Matrix<Rational>,
     b: &Matrix<Rational>,
@@ -457,9 +491,13 @@ fn float_zoh(
                 .into(),
         )
     };
-    // scaling and squaring with a Taylor series of 30 terms; the squarings are bounded (a
-    // norm near f64's limit needs about 1 030)
-    let norm = aug.iter().map(|x| x.abs()).fold(0.0, f64::max) * (n + m) as f64;
+    // scaling and squaring with a Taylor series, independent of the Padé approximant: the
+    // matrix scaled by 2^−s to a 1-norm at most 1/2, where the terms after the 16th add less
+    // than 0.5¹⁶/16! < 10⁻¹⁸; the squarings are bounded (a norm near f64's limit needs about
+    // 1 030)
+    let norm = (0..n + m)
+        .map(|j| aug.column(j).iter().map(|x| x.abs()).sum::<f64>())
+        .fold(0.0, f64::max);
     if !norm.is_finite() {
         return Err(overflow());
     }
@@ -472,13 +510,7 @@ fn float_zoh(
     if pade.iter().any(|x| !x.is_finite()) {
         return Err(overflow());
     }
-    let scaled = &aug / 2f64.powi(squarings);
-    let mut term = DMatrix::<f64>::identity(n + m, n + m);
-    let mut taylor = term.clone();
-    for k in 1..30 {
-        term = &term * &scaled / k as f64;
-        taylor += &term;
-    }
+    let mut taylor = taylor_16(&(&aug / 2f64.powi(squarings)));
     for _ in 0..squarings {
         taylor = &taylor * &taylor;
         if taylor.iter().any(|x| !x.is_finite()) {

@@ -145,16 +145,21 @@ fn exact_conditions(
                 .into(),
         });
     }
-    let observed = crate::observability::observability_report(a, c)?;
-    if !observed.observable() && !is_schur(&observed.unobservable_polynomial) {
-        return Err(DiscreteKalmanError::NotDetectable {
-            modes: observed.unobservable_eigenvalues.render(),
-        });
+    // an observable pair is detectable, proved modulo a prime without forming O_n
+    if !crate::linalg::modular::observable_mod_prime(a, c) {
+        let observed = crate::observability::observability_report(a, c)?;
+        if !observed.observable() && !is_schur(&observed.unobservable_polynomial) {
+            return Err(DiscreteKalmanError::NotDetectable {
+                modes: observed.unobservable_eigenvalues.render(),
+            });
+        }
     }
     // the modes the noise does not reach: the unobservable part of (Aᵀ, G Q_n Gᵀ)
     let w = g.mul(qn)?.mul(&g.transpose())?;
     // a nonsingular G Q_n Gᵀ reaches every mode (its columns alone span the space)
-    if crate::linalg::modular::has_full_rank(&w) {
+    if crate::linalg::modular::has_full_rank(&w)
+        || crate::linalg::modular::observable_mod_prime(&a.transpose(), &w)
+    {
         return Ok(true);
     }
     let reached = crate::observability::observability_report(&a.transpose(), &w)?;

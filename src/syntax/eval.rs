@@ -759,7 +759,23 @@ impl FromExpr for Rational {
         }
     }
     fn divide(&self, divisor: &Self) -> Result<Self, DivisionRefused> {
-        self.checked_div(divisor).ok_or(DivisionRefused::ByZero)
+        if divisor.is_zero() {
+            return Err(DivisionRefused::ByZero);
+        }
+        // `8/50` as typed: two machine-word integers reduced by one word gcd
+        if let (true, true, Some(n), Some(d)) = (
+            self.is_integer(),
+            divisor.is_integer(),
+            num_traits::ToPrimitive::to_i64(self.numer()),
+            num_traits::ToPrimitive::to_i64(divisor.numer()),
+        ) {
+            return Ok(crate::algebra::small_ratio(i128::from(n), i128::from(d)));
+        }
+        let (a, b) = (
+            self.numer() * divisor.denom(),
+            self.denom() * divisor.numer(),
+        );
+        Ok(crate::algebra::fraction(a, b))
     }
     fn power_of(self, k: u64) -> Self {
         rational_power(self, k)

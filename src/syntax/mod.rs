@@ -14,6 +14,7 @@
 mod eval;
 mod lexer;
 mod parser;
+mod plain;
 
 pub use eval::{
     evaluate_with, rational_function_with, DivisionRefused, Environment, FromExpr, ParseValue,
@@ -210,6 +211,19 @@ pub fn parse_matrix<T: FromExpr>(input: &str) -> Result<Matrix<T>, SyntaxError> 
         what: e.to_string(),
         limit: crate::linalg::MAX_EXACT_ORDER,
     })
+}
+
+/// Parses a matrix of exact rationals: [`parse_matrix`], with the common case of integer
+/// fractions (`[8/50 -2/50; 0 1]`) scanned directly instead of built as expression trees (the
+/// same matrix; anything else goes through the full parser, errors included).
+///
+/// # Errors
+/// [`SyntaxError`] naming the column.
+pub fn parse_rational_matrix(input: &str) -> Result<Matrix<crate::algebra::Rational>, SyntaxError> {
+    match plain::rational_matrix(input) {
+        Some(m) => Ok(m),
+        None => parse_matrix(input),
+    }
 }
 
 /// Parses a matrix whose entries may use named values from `env` (`[a 0; 0 -k/m]`).

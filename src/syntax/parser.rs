@@ -579,6 +579,12 @@ fn is_function(name: &str) -> bool {
 
 /// `123.456e-7` read exactly as a rational.
 fn parse_decimal(text: &str, column: usize) -> Result<Rational, SyntaxError> {
+    // the common case, a short integer, read as a machine word (19 digits stay below 2⁶⁴)
+    if text.len() <= 19 && text.bytes().all(|b| b.is_ascii_digit()) {
+        if let Ok(n) = text.parse::<u64>() {
+            return Ok(Rational::from_integer(BigInt::from(n)));
+        }
+    }
     let (mantissa, exponent) = match text.find(['e', 'E']) {
         Some(k) => (&text[..k], &text[k + 1..]),
         None => (text, "0"),

@@ -33,12 +33,30 @@ both threads of its multimodular characteristic polynomial counted), less owb's 
   * detectable: the rank of O_n (an observable plant), then the gain and its check.
 `--only feedback,reduced` restricts the commands (by their first word).
 Best of five (min CPU time each side). The load average is printed with the table.
+
+    python3 tests/bench/flint_compare.py --float [--only zoh,kalman,dlqe] [n …]
+
+The float commands against SciPy and python-control (slycot), same CPU-time accounting. The plant
+is the same dense matrix divided by n (A/n, so its spectral radius stays near 3 for every n);
+B = e1 for zoh; for the filters the noise enters every state (B = G = I) and the first n/2 states
+are measured (C = [I 0]), with unit noise intensities — with one output the Riccati equation of a
+dense plant of order 50 is singular to working precision for slycot too. NumPy's BLAS runs on one
+thread (its spare threads would otherwise be counted as CPU time):
+  * zoh (T = 1/10): `scipy.linalg.expm` of the augmented matrix [A B; 0 0]·T, Φ and Γ compared;
+  * kalman: `control.lqe(A, I, C, I, I)` (slycot's Riccati solver), the poles of A − LC and the
+    Lyapunov equation of the error covariance (`scipy.linalg.solve_continuous_lyapunov`) — what
+    owb's report holds besides the filter; the gains compared;
+  * dlqe: `control.dlqe(A, I, C, I, I)` (slycot), P compared.
+Values agree to a relative 1e-8 or the script stops.
 """
 import json, os, resource, subprocess, sys, time
 from math import comb
 from pathlib import Path
 
-import flint
+try:
+    import flint
+except ImportError:  # --float needs only SciPy and python-control
+    flint = None
 
 ROOT = Path(__file__).resolve().parents[2]
 OWB = ROOT / "target" / "release" / "owb"
@@ -98,7 +116,10 @@ def matrix_text(a):
 def owb_cpu(args):
     """CPU seconds (user + system) of one owb process, and its standard output."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    out = subprocess.run([str(OWB), *args], check=True, capture_output=True, text=True).stdout
+    run = subprocess.run([str(OWB), *args], capture_output=True, text=True)
+    if run.returncode != 0:
+        sys.exit(f"owb {args[0]} exited with {run.returncode}: {run.stderr.strip()[-400:]}")
+    out = run.stdout
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), out
 
@@ -269,7 +290,104 @@ def same_work(orders, only=()):
                   f"{own / t_fl:.1f}× |", flush=True)
 
 
+def float_cases(n):
+    """The float commands' plant and the peers' work, as (name, owb args, peer, compare)."""
+    import numpy as np
+    import scipy.linalg
+    import control
+    a_int = dense_random(n)
+    a = np.array(a_int, dtype=float) / n
+    at = matrix_text([[f"{x}/{n}" if x else "0" for x in r] for r in a_int])
+    b_text = "[" + "; ".join(["1"] + ["0"] * (n - 1)) + "]"
+    k = n // 2
+    identity = lambda r, c: "[" + "; ".join(
+        " ".join("1" if i == j else "0" for j in range(c)) for i in range(r)) + "]"
+    eye, eye_k, c_text = identity(n, n), identity(k, k), identity(k, n)
+    b = np.zeros((n, 1)); b[0, 0] = 1.0
+    c = np.eye(n)[:k]
+
+    def zoh_peer():
+        aug = np.zeros((n + 1, n + 1))
+        aug[:n, :n], aug[:n, n:] = a / 10, b / 10
+        e = scipy.linalg.expm(aug)
+        return e[:n, :n], e[:n, n:]
+
+    def zoh_compare(out, got):
+        d = json.loads(out)
+        phi = np.array([[float(x) for x in r] for r in d["phi"]])
+        gamma = np.array([[float(x) for x in r] for r in d["gamma"]])
+        return max(np.abs(phi - got[0]).max(), np.abs(gamma - got[1]).max())
+
+    def kalman_peer():
+        l, p, e = control.lqe(a, np.eye(n), c, np.eye(n), np.eye(k))
+        f = a - l @ c
+        poles = np.linalg.eigvals(f)
+        # the error covariance under the filter's own noise: F X + X Fᵀ + G Gᵀ + L Lᵀ = 0
+        x = scipy.linalg.solve_continuous_lyapunov(f, -(np.eye(n) + l @ l.T))
+        return l, poles, x
+
+    def kalman_compare(out, got):
+        l = np.array(json.loads(out)["kalman"]["gain"], dtype=float)
+        return np.abs(l - got[0]).max() / max(1.0, np.abs(got[0]).max())
+
+    def dlqe_peer():
+        return control.dlqe(a, np.eye(n), c, np.eye(n), np.eye(k))
+
+    def dlqe_compare(out, got):
+        d = json.loads(out)["p"]
+        p = np.array([[float(x) for x in r] for r in d])
+        return np.abs(p - got[1]).max() / max(1.0, np.abs(got[1]).max())
+
+    return [
+        ("zoh", ["zoh", "--a", at, "--b", b_text, "--period", "1/10", "--json"], zoh_peer,
+         zoh_compare),
+        ("kalman", ["kalman", "--a", at, "--b", eye, "--c", c_text, "--input-noise", eye,
+                    "--output-noise", eye_k, "--json"], kalman_peer, kalman_compare),
+        ("dlqe", ["dlqe", "--a", at, "--c", c_text, "--qn", eye, "--rn", eye_k, "--json"],
+         dlqe_peer, dlqe_compare),
+    ]
+
+
+def float_table(orders, only=()):
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[var] = "1"
+    import scipy, control
+    try:
+        import slycot
+        slycot_version = slycot.__version__
+    except ImportError:
+        slycot_version = "not installed"
+    floor, _ = best_cpu(lambda: owb_cpu(["--version"]), runs=20)
+    load = os.getloadavg()
+    print(f"owb's process floor (owb --version): {floor * 1e3:.2f} ms CPU; "
+          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; SciPy {scipy.__version__}, "
+          f"python-control {control.__version__}, slycot {slycot_version}; "
+          f"{os.cpu_count()} cores")
+    print()
+    print("| command | n | owb CPU − floor | peer (CPU) | ratio | difference |")
+    print("|---|---|---|---|---|---|")
+    for n in orders:
+        cases = float_cases(n)
+        if only:
+            cases = [k for k in cases if k[0] in only]
+        for name, args, peer, compare in cases:
+            t_owb, out = best_cpu(lambda: owb_cpu(args))
+            t_peer, got = best_cpu(in_process(peer))
+            diff = compare(out, got)
+            assert diff < 1e-8, f"{name} at n = {n}: owb and the peer differ by {diff:.2e}"
+            own = max(t_owb - floor, 0.0)
+            print(f"| `{name}` | {n} | {own * 1e3:.2f} ms | {t_peer * 1e3:.2f} ms | "
+                  f"{own / t_peer:.1f}× | {diff:.1e} |", flush=True)
+
+
 def main():
+    if sys.argv[1:2] == ["--float"]:
+        rest = sys.argv[2:]
+        only = ()
+        if rest[:1] == ["--only"]:
+            only, rest = tuple(rest[1].split(",")), rest[2:]
+        float_table([int(x) for x in rest] or [10, 20, 50, 100], only)
+        return
     if sys.argv[1:2] == ["--same-work"]:
         # --same-work [--only gain,observe,…] [n …]
         rest = sys.argv[2:]
