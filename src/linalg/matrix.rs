@@ -1,7 +1,7 @@
 //! The dense matrix container.
 
 use super::{LinalgError, MAX_EXACT_ORDER};
-use crate::algebra::Ring;
+use crate::algebra::{Rational, Ring};
 use std::fmt;
 
 /// A dense row-major matrix over a ring.
@@ -199,6 +199,10 @@ impl<T: Ring> Matrix<T> {
                 return Ok(r);
             }
         }
+        if let Some(r) = self.rational_in_quadratic(other, |x, y| super::rational::add(x, y, false))
+        {
+            return Ok(r);
+        }
         Ok(Matrix::from_fn(self.rows, self.cols, |i, j| {
             self.get(i, j).clone() + other.get(i, j).clone()
         }))
@@ -211,9 +215,26 @@ impl<T: Ring> Matrix<T> {
                 return Ok(r);
             }
         }
+        if let Some(r) = self.rational_in_quadratic(other, |x, y| super::rational::add(x, y, true))
+        {
+            return Ok(r);
+        }
         Ok(Matrix::from_fn(self.rows, self.cols, |i, j| {
             self.get(i, j).clone() - other.get(i, j).clone()
         }))
+    }
+    /// `op` on the rational path when both are Q(√d) matrices whose entries are all rational
+    /// (a rational design carried over Q(√d) because a desired polynomial may bring √d): the
+    /// fraction-free kernels, without a gcd per Q(√d) operation; `None` otherwise.
+    fn rational_in_quadratic(
+        &self,
+        other: &Self,
+        op: impl Fn(&Matrix<Rational>, &Matrix<Rational>) -> Matrix<Rational>,
+    ) -> Option<Self> {
+        let (x, y) = (super::as_quadratic(self)?, super::as_quadratic(other)?);
+        let (qx, qy) = (super::rational_entries(x)?, super::rational_entries(y)?);
+        let result = op(&qx, &qy).map(|r| crate::algebra::Quadratic::rational(r.clone()));
+        crate::algebra::from_concrete(result)
     }
     /// `−self`.
     pub fn neg(&self) -> Self {
@@ -232,14 +253,8 @@ impl<T: Ring> Matrix<T> {
         // Q(√d) matrices whose entries are all rational (a rational design checked over Q(√d)
         // because a desired polynomial may bring √d): the same fraction-free product, without
         // a gcd per Q(√d) operation
-        if let (Some(x), Some(y)) = (super::as_quadratic(self), super::as_quadratic(other)) {
-            if let (Some(qx), Some(qy)) = (super::rational_entries(x), super::rational_entries(y)) {
-                let product = super::rational::mul(&qx, &qy)
-                    .map(|r| crate::algebra::Quadratic::rational(r.clone()));
-                if let Some(r) = crate::algebra::from_concrete(product) {
-                    return Ok(r);
-                }
-            }
+        if let Some(r) = self.rational_in_quadratic(other, super::rational::mul) {
+            return Ok(r);
         }
         let mut out = Matrix::<T>::zeros(self.rows, other.cols);
         for i in 0..self.rows {
@@ -341,6 +356,11 @@ impl<T: Ring> Matrix<T> {
                 layout_latex(self.rows, self.cols, &latex),
                 layout_input(self.rows, self.cols, &text),
             );
+        }
+        // a Q(√d) matrix with rational entries (the reduced-order observer's F, G, …) renders
+        // as its rational matrix: each entry converted to decimal once, not once per format
+        if let Some(r) = super::as_quadratic(self).and_then(super::rational_entries) {
+            return r.renderings();
         }
         (self.render(), self.to_latex(), self.to_input())
     }

@@ -55,6 +55,15 @@ use crate::algebra::gcd::integer_numerators as scale;
 /// `a · b` (shapes checked by the caller).
 pub(crate) fn mul(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Matrix<Rational> {
     let (n, k, m) = (a.rows(), a.cols(), b.cols());
+    if k == 1 {
+        // an outer product (a single output's L·C, L·A₁₂): each entry one product of reduced
+        // fractions, reduced by cross-cancellation — gcd(n₁, d₂)·gcd(n₂, d₁), where one side is
+        // usually a small entry of the plant — instead of a gcd of the full numerator and
+        // denominator
+        return Matrix::from_fn(n, m, |i, j| {
+            crate::algebra::gcd::mul(a.get(i, 0), b.get(0, j))
+        });
+    }
     // rows of a and columns of b, each scaled to integers
     let rows: Vec<(Vec<BigInt>, BigInt)> = (0..n).map(|i| scale(a.row(i))).collect();
     let cols: Vec<(Vec<BigInt>, BigInt)> = (0..m).map(|j| scale(&b.col(j))).collect();
@@ -84,6 +93,14 @@ fn add_entry(x: &Rational, y: &Rational, negate: bool) -> Rational {
     }
     if x.denom() == y.denom() {
         return fraction(x.numer() + y_num, x.denom().clone());
+    }
+    // an integer plus a reduced fraction n/d is (integer·d + n)/d, reduced already:
+    // gcd(integer·d + n, d) = gcd(n, d) = 1
+    if x.denom().is_one() {
+        return Rational::new_raw(x.numer() * y.denom() + y_num, y.denom().clone());
+    }
+    if y.denom().is_one() {
+        return Rational::new_raw(x.numer() + y_num * x.denom(), x.denom().clone());
     }
     fraction(
         x.numer() * y.denom() + y_num * x.denom(),

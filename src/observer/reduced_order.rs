@@ -212,10 +212,10 @@ where
     let from_w = q_inv.mul(&Matrix::zeros(p, m).vstack(&Matrix::identity(m))?)?;
     d.push("D_y", "Q⁻¹ [I; L]: y straight into x̂", &direct);
     d.push("M", "Q⁻¹ [0; I]: w into x̂", &from_w);
-    let noise_gain = direct
-        .entries()
-        .iter()
-        .fold(F::zero(), |acc, x| acc + x.clone() * x.clone());
+    // Σ of the squared entries, as the trace of D_yᵀ D_y: each diagonal entry one dot product
+    // on the fraction-free path, reduced once, instead of a reduction per term
+    let gram = direct.transpose().mul(&direct)?;
+    let noise_gain = (0..p).fold(F::zero(), |acc, i| acc + gram.get(i, i).clone());
     Ok(Assembled {
         f,
         g,
