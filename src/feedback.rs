@@ -11,7 +11,7 @@
 use crate::algebra::{Quadratic, Rational};
 use crate::derivation::{Derivation, Words};
 use crate::linalg::{self, Matrix};
-use crate::observability::observability_report;
+use crate::observability::observability_rank_report;
 use crate::observer::{
     design_with, Convention, DesignError, DesiredPolynomial, Detail, GainMethod,
 };
@@ -196,7 +196,7 @@ pub fn design_feedback(
     let n = single_input(a, b)?;
     let (at, bt) = (a.transpose(), b.transpose());
     let mut d = titled(convention);
-    let dual = observability_report(&at, &bt)?;
+    let dual = observability_rank_report(&at, &bt)?;
     d.push(
         "controllability matrix C_n",
         "[B, AB, …, A^(n−1)B]",

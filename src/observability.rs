@@ -190,10 +190,31 @@ pub fn observability_report(
     a: &Matrix<Rational>,
     c: &Matrix<Rational>,
 ) -> Result<ObservabilityReport, LinalgError> {
+    report(a, c, true)
+}
+
+/// [`observability_report`] without `det O_n` (`determinant` is `None`), for the designs that
+/// show `O_n` and its rank only: the determinant of an order-40 `O_n` costs as much as the
+/// design's own solve.
+///
+/// # Errors
+/// [`LinalgError`] for mismatched dimensions.
+pub fn observability_rank_report(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+) -> Result<ObservabilityReport, LinalgError> {
+    report(a, c, false)
+}
+
+fn report(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    with_determinant: bool,
+) -> Result<ObservabilityReport, LinalgError> {
     let o = observability_matrix(a, c)?;
     let n = a.rows();
     let rank = linalg::rank(&o);
-    let determinant = if o.is_square() {
+    let determinant = if with_determinant && o.is_square() {
         Some(linalg::determinant(&o)?)
     } else {
         None
@@ -299,7 +320,7 @@ pub fn require_detectable(
     if a.is_square() && c.cols() == a.rows() && linalg::modular::observable_mod_prime(a, c) {
         return Ok(());
     }
-    let report = observability_report(a, c)?;
+    let report = observability_rank_report(a, c)?;
     if report.observable() || crate::poly::is_hurwitz(&report.unobservable_polynomial) {
         return Ok(());
     }

@@ -303,7 +303,7 @@ pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
         super::args::gain_method(&args.method)?,
         super::args::observer_convention(&args.convention)?,
     );
-    let report = crate::observability::observability_report(&a, &c)?;
+    let report = crate::observability::observability_rank_report(&a, &c)?;
     let rank = report.rank;
     if rank == 0 {
         anyhow::bail!(

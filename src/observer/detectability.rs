@@ -17,7 +17,7 @@ use super::{design_with, Convention, DesignError, Detail, GainMethod, ObserverDe
 use crate::algebra::{Fraction, Quadratic, Rational};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
-use crate::observability::{observability_report, ObservabilityError, ObservabilityReport};
+use crate::observability::{observability_rank_report, ObservabilityError, ObservabilityReport};
 use crate::poly::{is_hurwitz, Poly};
 
 /// Why no observer could be designed for the observable part.
@@ -117,7 +117,7 @@ pub fn detectable_design(
     method: GainMethod,
     convention: Convention,
 ) -> Result<DetectableDesign, DetectabilityError> {
-    let report = observability_report(a, c)?;
+    let report = observability_rank_report(a, c)?;
     let n = a.rows();
     let r = report.rank;
     if r == 0 {

@@ -147,7 +147,7 @@ fn exact_conditions(
     }
     // an observable pair is detectable, proved modulo a prime without forming O_n
     if !crate::linalg::modular::observable_mod_prime(a, c) {
-        let observed = crate::observability::observability_report(a, c)?;
+        let observed = crate::observability::observability_rank_report(a, c)?;
         if !observed.observable() && !is_schur(&observed.unobservable_polynomial) {
             return Err(DiscreteKalmanError::NotDetectable {
                 modes: observed.unobservable_eigenvalues.render(),
@@ -162,7 +162,7 @@ fn exact_conditions(
     {
         return Ok(true);
     }
-    let reached = crate::observability::observability_report(&a.transpose(), &w)?;
+    let reached = crate::observability::observability_rank_report(&a.transpose(), &w)?;
     if reached.observable() {
         return Ok(true);
     }

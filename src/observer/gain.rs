@@ -195,6 +195,15 @@ pub(crate) fn observer_polynomial<F: Field>(
     k: &Matrix<F>,
 ) -> Result<Poly<F>, LinalgError> {
     let m = o.mul(k)?;
+    let rational = (
+        (&m as &dyn std::any::Any).downcast_ref::<Matrix<Rational>>(),
+        (open_loop as &dyn std::any::Any).downcast_ref::<Poly<Rational>>(),
+    );
+    if let (Some(m), Some(open_loop)) = rational {
+        if let Some(p) = crate::algebra::from_concrete(rank_one_update_rational(m, open_loop)) {
+            return Ok(p);
+        }
+    }
     let a = open_loop.coeffs();
     let n = a.len().saturating_sub(1);
     let mut coeffs = a.to_vec();
@@ -209,6 +218,31 @@ pub(crate) fn observer_polynomial<F: Field>(
         }
     }
     Ok(Poly::new(coeffs, "s"))
+}
+
+/// [`observer_polynomial`]'s sums over the rationals on integers: with `m = O_n K = M/δ` and the
+/// open-loop coefficients `a = α/d`, coefficient `e` is `(δ α_e + Σ_j M_j α_(j+e+1)) / (d δ)`,
+/// reduced once — n reductions instead of one per term.
+fn rank_one_update_rational(m: &Matrix<Rational>, open_loop: &Poly<Rational>) -> Poly<Rational> {
+    let (mm, delta) = crate::algebra::gcd::integer_numerators(m.entries());
+    let (alpha, d) = crate::algebra::gcd::integer_numerators(open_loop.coeffs());
+    let n = alpha.len().saturating_sub(1);
+    let terms = n.min(m.rows());
+    let denominator = &d * &delta;
+    let coeffs = (0..alpha.len())
+        .map(|e| {
+            let mut numerator = &alpha[e] * &delta;
+            for (j, mj) in mm.iter().enumerate().take(terms) {
+                if let Some(a) = alpha.get(j + e + 1) {
+                    if !crate::algebra::Zero::is_zero(mj) && !crate::algebra::Zero::is_zero(a) {
+                        numerator += mj * a;
+                    }
+                }
+            }
+            crate::algebra::fraction(numerator, denominator.clone())
+        })
+        .collect();
+    Poly::new(coeffs, "s")
 }
 
 /// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC), for one output row `c`.
