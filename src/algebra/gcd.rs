@@ -77,6 +77,25 @@ fn gcd_unsigned(a: &BigUint, b: &BigUint) -> BigUint {
     }
 }
 
+/// `a.div_euclid(b)`, with the common small quotients of Euclid's algorithm (0 to 3: about
+/// four in five by the Gauss–Kuzmin law) found by subtraction — a 128-bit division is a call
+/// into software, the most expensive step of a Lehmer iteration.
+#[inline]
+fn quotient(a: i128, b: i128) -> i128 {
+    if a >= 0 && b > 0 {
+        let mut r = a;
+        for q in 0..4 {
+            if r < b {
+                return q;
+            }
+            r -= b;
+        }
+        a / b
+    } else {
+        a.div_euclid(b)
+    }
+}
+
 /// The cofactor matrix `[s t; u v]` of the Euclidean steps that the leading digits `x ≥ y`
 /// determine for sure (Knuth's test on `(x + s)/(y + u)` and `(x + t)/(y + v)`), or `None` when
 /// not even one step is certain.
@@ -94,8 +113,8 @@ fn lehmer_cofactors(x: u128, y: u128) -> Option<[i128; 4]> {
         if du == 0 || dv == 0 {
             break;
         }
-        let q = xs.div_euclid(du);
-        if q != xt.div_euclid(dv) || q < 0 {
+        let q = quotient(xs, du);
+        if q != quotient(xt, dv) || q < 0 {
             break;
         }
         let (Some(qu), Some(qv), Some(qy)) = (q.checked_mul(u), q.checked_mul(v), q.checked_mul(y))
