@@ -303,12 +303,19 @@ fn kalman_filter_with(
     let mut sign_iterations = 0;
     for _ in 0..100 {
         sign_iterations += 1;
-        let inv = z.clone().try_inverse().ok_or_else(|| {
+        // one LU factorisation for both the inverse and the determinant; nalgebra inverts
+        // matrices up to 4×4 (a plant of order 2) by cofactors, kept for them
+        let (inv, det) = if 2 * n > 4 {
+            let lu = z.clone().lu();
+            (lu.try_inverse(), lu.determinant().abs())
+        } else {
+            (z.clone().try_inverse(), z.clone().lu().determinant().abs())
+        };
+        let inv = inv.ok_or_else(|| {
             KalmanError::NoConvergence(
                 "the Hamiltonian has an eigenvalue on the imaginary axis".into(),
             )
         })?;
-        let det = z.clone().lu().determinant().abs();
         let scale = if det.is_finite() && det > 0.0 {
             det.powf(-1.0 / (2 * n) as f64)
         } else {
