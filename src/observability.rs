@@ -106,22 +106,41 @@ fn integer_observability(a: &Matrix<Rational>, c: &Matrix<Rational>) -> Option<M
         if k + 1 == n {
             break;
         }
-        // the next block: row · A, column by column
+        // the next block: row · A, column by column — in 128-bit words while the row's
+        // entries fit (the first rows of a plant with small entries), on big integers after
         block = block
             .iter()
             .map(|r| {
-                (0..n)
-                    .map(|j| {
-                        let mut acc = BigInt::from(0);
-                        for (i, x) in r.iter().enumerate() {
-                            let w = small[i * n + j];
-                            if w != 0 && !num_traits::Zero::is_zero(x) {
-                                acc += x * w;
+                let words: Option<Vec<i128>> = r.iter().map(ToPrimitive::to_i128).collect();
+                let next_words = words.and_then(|words| {
+                    (0..n)
+                        .map(|j| {
+                            let mut acc: i128 = 0;
+                            for (i, &x) in words.iter().enumerate() {
+                                let w = small[i * n + j];
+                                if w != 0 && x != 0 {
+                                    acc = acc.checked_add(x.checked_mul(i128::from(w))?)?;
+                                }
                             }
-                        }
-                        acc
-                    })
-                    .collect()
+                            Some(acc)
+                        })
+                        .collect::<Option<Vec<i128>>>()
+                });
+                match next_words {
+                    Some(words) => words.into_iter().map(BigInt::from).collect(),
+                    None => (0..n)
+                        .map(|j| {
+                            let mut acc = BigInt::from(0);
+                            for (i, x) in r.iter().enumerate() {
+                                let w = small[i * n + j];
+                                if w != 0 && !num_traits::Zero::is_zero(x) {
+                                    acc += x * w;
+                                }
+                            }
+                            acc
+                        })
+                        .collect(),
+                }
             })
             .collect();
     }
