@@ -108,7 +108,7 @@ fn forms_json<F: Field>(di: &CanonicalForm<F>, st: &CanonicalForm<F>) -> serde_j
 fn render<F: Field>(rep: &mut Report, json: bool, di: &CanonicalForm<F>, st: &CanonicalForm<F>) {
     let same = di.t == st.t;
     if json {
-        rep.json(&forms_json(di, st));
+        rep.json(forms_json(di, st));
     } else {
         out!(
             rep,

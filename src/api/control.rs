@@ -108,7 +108,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let plant = StateSpace::new(a, Some(b), c, None)?;
     let r = observer_based_control(&plant, &f, &l)?;
     if args.json {
-        rep.json(&control_json(&f, &l, &r)?);
+        rep.json(control_json(&f, &l, &r)?);
     } else {
         control_text(rep, &f, &l, &r, "");
     }

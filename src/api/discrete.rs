@@ -229,7 +229,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         if let Some(l) = &d.current_gain {
             out["current_gain"] = json_matrix(l);
         }
-        rep.json(&out);
+        rep.json(out);
         return Ok(Outcome::Ok);
     }
     rep.derivation(&d.derivation);
@@ -496,7 +496,7 @@ fn float_only(
         .map(|x| convention.sign() * x)
         .collect();
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "convention": convention.flag(),
             "exact": false,
             "z_poles": z.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
@@ -598,7 +598,7 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
             .collect()
     };
     match (&s, args.json) {
-        (Sampled::Exact { phi, gamma, index }, true) => rep.json(&json!({
+        (Sampled::Exact { phi, gamma, index }, true) => rep.json(json!({
             "exact": true, "phi": json_matrix(phi), "gamma": json_matrix(gamma), "nilpotent_index": index,
         })),
         (
@@ -608,7 +608,7 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
                 error_estimate,
             },
             true,
-        ) => rep.json(&json!({
+        ) => rep.json(json!({
             "exact": false, "phi": rows(phi), "gamma": rows(gamma), "error_estimate": error_estimate,
         })),
         (Sampled::Exact { phi, gamma, index }, false) => {
@@ -727,7 +727,7 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
             out["exact_p"] = json_matrix(p);
             out["exact_gain"] = json_matrix(l);
         }
-        rep.json(&out);
+        rep.json(out);
         return Ok(Outcome::Ok);
     }
     let show = |m: &nalgebra::DMatrix<f64>| {

@@ -248,7 +248,7 @@ pub fn check(args: CheckArgs, rep: &mut Report) -> Result<Outcome> {
         &student_name(&args.answers, answers.student.as_deref()),
     );
     if args.json {
-        rep.json(&serde_json::to_value(&report)?);
+        rep.json(serde_json::to_value(&report)?);
     } else {
         out!(rep, "{}", report.text());
     }
@@ -561,7 +561,7 @@ pub fn grade(args: GradeArgs, rep: &mut Report) -> Result<Outcome> {
         ),
     };
     if args.json {
-        rep.json(&serde_json::json!({
+        rep.json(serde_json::json!({
             "exercise": what,
             "submissions": students,
             "fully_correct": perfect,
@@ -615,7 +615,7 @@ pub fn exercise(args: ExerciseArgs, rep: &mut Report) -> Result<Outcome> {
                     .map_err(|e| anyhow!("in --out: {e}"))?;
             }
             if a.json {
-                rep.json(&serde_json::json!({
+                rep.json(serde_json::json!({
                     "id": ex.id,
                     "exercise": text,
                     "out": a.out.as_ref().map(|p| p.display().to_string()),

@@ -102,7 +102,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         },
     )?;
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "gain": json_matrix(&d.gain),
             "convention": convention.flag(),
             "method": method.flag(),

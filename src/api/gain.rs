@@ -278,7 +278,7 @@ fn render_json(
     if let Some(f) = check {
         out["float"] = float_json(f);
     }
-    rep.json(&out);
+    rep.json(out);
     Ok(())
 }
 
@@ -346,7 +346,7 @@ fn multi_output(
                 e => e.into(),
             })?;
         if args.json {
-            rep.json(&json!({
+            rep.json(json!({
                 "gain": json_matrix(&gain),
                 "convention": convention.flag(),
                 "method": method.flag(),
@@ -378,7 +378,7 @@ fn multi_output(
         .map(|row| row.iter().map(|x| format!("{x:e}")).collect())
         .collect();
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "gain": gain,
             "convention": convention.flag(),
             "method": "knv-robust",

@@ -339,7 +339,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         ));
     }
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "convention": "a-lc",
             "kalman": k,
             "comparison": json_rows,

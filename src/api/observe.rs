@@ -37,7 +37,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     };
     let r = observability_report(&a, &c)?;
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "observability_matrix": json_matrix(&r.matrix),
             "rank": r.rank,
             "order": r.order,

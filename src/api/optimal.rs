@@ -427,7 +427,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         out["check"] = check_gain(gtext, &r, &mut text)?;
     }
     if args.json {
-        rep.json(&out);
+        rep.json(out);
     } else {
         out!(rep, "{text}");
     }

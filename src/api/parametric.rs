@@ -106,7 +106,7 @@ impl Parametric {
     ) {
         if let Some(mut out) = json {
             self.add_json(&mut out);
-            rep.json(&out);
+            rep.json(out);
         } else {
             self.describe(rep);
             text(rep);

@@ -90,7 +90,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     };
     let fits = fit.as_ref().map(|(ra, rb)| ra.is_zero() && rb.is_zero());
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "E": json_matrix(&p.e),
             "F": json_matrix(&p.f),
             "G_u": json_matrix(&p.input_matrix),

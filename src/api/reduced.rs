@@ -96,7 +96,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         if let Some(h) = &r.h {
             out["h"] = json_matrix(h);
         }
-        rep.json(&out);
+        rep.json(out);
         return Ok(Outcome::Ok);
     }
     rep.derivation(&r.derivation);
@@ -318,7 +318,7 @@ pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
     let d = detectable_design(&a, &c, &desired, method, convention)?;
     let fixed = d.report.unobservable_eigenvalues.render();
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "convention": convention.flag(),
             "method": method.flag(),
             "rank": rank,

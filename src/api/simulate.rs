@@ -152,7 +152,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         .collect();
     let failed = shown_checks.iter().any(|c| !c.holds);
     if args.json {
-        rep.json(&json!({
+        rep.json(json!({
             "example": ex.id,
             "scenarios": chosen.iter().map(|r| json!({
                 "name": r.name,

@@ -103,7 +103,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
                 "claims": sum(|t| t.claims),
             });
         }
-        rep.json(&out);
+        rep.json(out);
     } else {
         for r in &reports {
             outln!(rep, "{}", render_table(r));
