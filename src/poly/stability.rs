@@ -5,7 +5,7 @@
 
 use crate::algebra::Rational;
 use crate::poly::Poly;
-use num_traits::Zero;
+use num_traits::{Signed, Zero};
 
 /// Whether every root of `p` has a strictly negative real part (Routh–Hurwitz, exact).
 /// Constants are Hurwitz (no roots); the zero polynomial is not.
@@ -71,6 +71,16 @@ pub fn is_schur(p: &Poly<Rational>) -> bool {
     let Some(n) = p.degree() else {
         return false;
     };
+    // two exact shortcuts before the transform: |a_n| > Σ_(i<n) |a_i| puts every root inside
+    // (Rouché's theorem on |z| = 1: dead-beat's zⁿ is decided at once), and |a_0| ≥ |a_n|
+    // puts one outside or on the circle (the product of the roots' moduli is |a_0/a_n|)
+    let lead = p.coeff(n).abs();
+    if (0..n).fold(Rational::zero(), |acc, i| acc + p.coeff(i).abs()) < lead {
+        return true;
+    }
+    if p.coeff(0).abs() >= lead {
+        return false;
+    }
     let var = p.var().to_string();
     let one_plus = Poly::new(vec![Rational::from_integer(1.into()); 2], &var);
     let one_minus = Poly::new(
