@@ -90,10 +90,14 @@ fn decompose<F: crate::algebra::Field>(
     let completed = super::reduced_order::complete_with_unit_rows(&v_u.transpose()).transpose();
     let v_o = completed.block(0, n, n - r, n);
     let t = v_o.hstack(&v_u)?;
-    let t_inv = linalg::inverse(&t)?;
     d.push("T", "[V_o V_u], V_u a basis of ker O_n", &t);
-    let a_decomposed = t_inv.mul(a)?.mul(&t)?;
-    let c_dec = c.mul(&t)?;
+    // an observable pair needs no change of basis: T = I (two products of order n saved)
+    let (a_decomposed, c_dec) = if t == Matrix::identity(n) {
+        (a.clone(), c.clone())
+    } else {
+        let t_inv = linalg::inverse(&t)?;
+        (t_inv.mul(a)?.mul(&t)?, c.mul(&t)?)
+    };
     d.push("T⁻¹ A T", "[A_oo 0; A_uo A_uu]", &a_decomposed);
     d.push("C T", "[C_o 0]", &c_dec);
     Ok(Decomposition {
@@ -151,7 +155,11 @@ pub fn detectable_design(
     d.extend(observable_part.derivation.clone());
     let k_o = observable_part.gain.matrix.clone();
     let padded = k_o.vstack(&Matrix::zeros(n - r, 1))?;
-    let k = t.map(|x| Quadratic::rational(x.clone())).mul(&padded)?;
+    let k = if t == Matrix::identity(n) {
+        padded
+    } else {
+        t.map(|x| Quadratic::rational(x.clone())).mul(&padded)?
+    };
     let shown = convention.from_a_minus_kc(&k);
     d.push("K", "T [K_o; 0]", &k);
     // det(sI − (A − KC)) recomputed from K by the rank-one update det(sI − A) +
