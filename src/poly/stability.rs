@@ -90,10 +90,16 @@ pub fn is_schur(p: &Poly<Rational>) -> bool {
         ],
         &var,
     );
-    let mut q = Poly::zero(&var);
-    for k in 0..=n {
-        let term = (one_plus.pow(k as u32) * one_minus.pow((n - k) as u32)).scale(&p.coeff(k));
-        q = q + term;
+    // q(s) = Σ_k a_k (1 + s)^k (1 − s)^(n−k) by Horner's rule in (1 + s), with the powers of
+    // (1 − s) formed once: O(n²) coefficient operations instead of a product per term
+    let mut minus_powers = vec![Poly::new(vec![Rational::from_integer(1.into())], &var)];
+    for j in 1..=n {
+        let next = minus_powers[j - 1].clone() * one_minus.clone();
+        minus_powers.push(next);
+    }
+    let mut q = minus_powers[0].scale(&p.coeff(n));
+    for k in (0..n).rev() {
+        q = q * one_plus.clone() + minus_powers[n - k].scale(&p.coeff(k));
     }
     q.degree() == Some(n) && is_hurwitz(&q)
 }
