@@ -243,15 +243,23 @@ def flint_canonical_same_work(a, n):
     return a_o, c_o
 
 
-def same_work(orders, only=()):
+def table_header(peers, columns):
+    """owb's process floor (CPU time of `owb --version`), printed with the load, the peers'
+    versions and the table's header; returns the floor."""
     floor, _ = best_cpu(lambda: owb_cpu(["--version"]), runs=20)
     load = os.getloadavg()
     print(f"owb's process floor (owb --version): {floor * 1e3:.2f} ms CPU; "
-          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; "
-          f"python-flint {flint.__version__}; {os.cpu_count()} cores")
+          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; {peers}; "
+          f"{os.cpu_count()} cores")
     print()
-    print("| command | n | owb CPU − floor | FLINT same work (CPU) | ratio |")
-    print("|---|---|---|---|---|")
+    print("| " + " | ".join(columns) + " |")
+    print("|" + "---|" * len(columns))
+    return floor
+
+
+def same_work(orders, only=()):
+    floor = table_header(f"python-flint {flint.__version__}",
+                         ["command", "n", "owb CPU − floor", "FLINT same work (CPU)", "ratio"])
     for n in orders:
         a = dense_random(n)
         at, c = matrix_text(a), "[" + " ".join(["1"] + ["0"] * (n - 1)) + "]"
@@ -357,15 +365,9 @@ def float_table(orders, only=()):
         slycot_version = slycot.__version__
     except ImportError:
         slycot_version = "not installed"
-    floor, _ = best_cpu(lambda: owb_cpu(["--version"]), runs=20)
-    load = os.getloadavg()
-    print(f"owb's process floor (owb --version): {floor * 1e3:.2f} ms CPU; "
-          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; SciPy {scipy.__version__}, "
-          f"python-control {control.__version__}, slycot {slycot_version}; "
-          f"{os.cpu_count()} cores")
-    print()
-    print("| command | n | owb CPU − floor | peer (CPU) | ratio | difference |")
-    print("|---|---|---|---|---|---|")
+    floor = table_header(f"SciPy {scipy.__version__}, python-control {control.__version__}, "
+                         f"slycot {slycot_version}",
+                         ["command", "n", "owb CPU − floor", "peer (CPU)", "ratio", "difference"])
     for n in orders:
         cases = float_cases(n)
         if only:
@@ -381,20 +383,15 @@ def float_table(orders, only=()):
 
 
 def main():
-    if sys.argv[1:2] == ["--float"]:
-        rest = sys.argv[2:]
-        only = ()
+    # --same-work | --float [--only gain,observe,…] [n …]
+    tables = {"--same-work": (same_work, [10, 20, 30, 40, 60, 80]),
+              "--float": (float_table, [10, 20, 50, 100])}
+    if sys.argv[1:2] and sys.argv[1] in tables:
+        table, default = tables[sys.argv[1]]
+        rest, only = sys.argv[2:], ()
         if rest[:1] == ["--only"]:
             only, rest = tuple(rest[1].split(",")), rest[2:]
-        float_table([int(x) for x in rest] or [10, 20, 50, 100], only)
-        return
-    if sys.argv[1:2] == ["--same-work"]:
-        # --same-work [--only gain,observe,…] [n …]
-        rest = sys.argv[2:]
-        only = ()
-        if rest[:1] == ["--only"]:
-            only, rest = tuple(rest[1].split(",")), rest[2:]
-        same_work([int(x) for x in rest] or [10, 20, 30, 40, 60, 80], only)
+        table([int(x) for x in rest] or default, only)
         return
     orders = [int(x) for x in sys.argv[1:]] or [20, 30, 60, 80]
     print("| n | owb gain --json (whole process) | with --summary | python-flint bare gain "
