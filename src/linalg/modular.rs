@@ -414,6 +414,28 @@ fn scaled_rows(a: &Matrix<Rational>) -> (IntMatrix, BigInt) {
     (IntMatrix::new(a.rows(), a.cols(), big), scale)
 }
 
+/// `a` times one common denominator of all its entries: an integer matrix with the same
+/// eigenvectors, Krylov spaces and row spaces (its eigenvalues scaled by that denominator).
+fn scaled_whole(a: &Matrix<Rational>) -> IntMatrix {
+    let d = Rational::common_denominator(a.entries());
+    IntMatrix::new(
+        a.rows(),
+        a.cols(),
+        a.entries().iter().map(|x| x.scale_to_integer(&d)).collect(),
+    )
+}
+
+/// Swaps rows `a` and `b` of the row-major `n`-column matrix `m` and of the `k`-column
+/// right-hand sides `rhs` (a pivot brought up).
+fn swap_rows(m: &mut [u64], rhs: &mut [u64], n: usize, k: usize, a: usize, b: usize) {
+    for j in 0..n {
+        m.swap(a * n + j, b * n + j);
+    }
+    for j in 0..k {
+        rhs.swap(a * k + j, b * k + j);
+    }
+}
+
 /// `u64` dot product mod p with one reduction per 4 terms (products of residues < 2⁶²).
 #[inline]
 pub(crate) fn dot(x: &[u64], y: &[u64], p: u64) -> u64 {
@@ -449,12 +471,7 @@ pub(crate) fn det_and_solve_mod(
         }
         let piv = (col..n).find(|&i| m[i * n + col] != 0)?;
         if piv != col {
-            for j in 0..n {
-                m.swap(piv * n + j, col * n + j);
-            }
-            for j in 0..k {
-                rhs.swap(piv * k + j, col * k + j);
-            }
+            swap_rows(&mut m, &mut rhs, n, k, piv, col);
             det = (p - det) % p;
         }
         if pending > 0 {
@@ -605,12 +622,7 @@ pub fn observable_mod_prime(a: &Matrix<Rational>, c: &Matrix<Rational>) -> bool 
     if n == 0 || a.cols() != n || c.cols() != n {
         return false;
     }
-    let d = Rational::common_denominator(a.entries());
-    let scaled_a = IntMatrix::new(
-        n,
-        n,
-        a.entries().iter().map(|x| x.scale_to_integer(&d)).collect(),
-    );
+    let scaled_a = scaled_whole(a);
     let (scaled_c, _) = scaled_rows(c);
     primes().take(3).any(|p| {
         let br = Barrett::new(p);
@@ -688,12 +700,7 @@ pub fn surely_not_nilpotent(a: &Matrix<Rational>) -> bool {
     {
         return true;
     }
-    let d = Rational::common_denominator(a.entries());
-    let scaled = IntMatrix::new(
-        n,
-        n,
-        a.entries().iter().map(|x| x.scale_to_integer(&d)).collect(),
-    );
+    let scaled = scaled_whole(a);
     let Some(p) = primes().next() else {
         return false;
     };
@@ -712,12 +719,7 @@ pub fn is_cyclic(a: &Matrix<Rational>) -> bool {
     if n == 0 || a.cols() != n {
         return false;
     }
-    let d = Rational::common_denominator(a.entries());
-    let scaled = IntMatrix::new(
-        n,
-        n,
-        a.entries().iter().map(|x| x.scale_to_integer(&d)).collect(),
-    );
+    let scaled = scaled_whole(a);
     let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
     primes().take(3).any(|p| {
         let m = scaled.residues(p);
@@ -897,12 +899,7 @@ mod tests {
             for col in 0..n {
                 let piv = (col..n).find(|&i| m[i * n + col] != 0)?;
                 if piv != col {
-                    for j in 0..n {
-                        m.swap(piv * n + j, col * n + j);
-                    }
-                    for j in 0..k {
-                        rhs.swap(piv * k + j, col * k + j);
-                    }
+                    super::swap_rows(&mut m, &mut rhs, n, k, piv, col);
                     det = (p - det) % p;
                 }
                 det = mul(det, m[col * n + col]);

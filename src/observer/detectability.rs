@@ -62,6 +62,8 @@ pub struct DetectableDesign {
 struct Decomposition<F> {
     /// T = [V_o V_u].
     t: Matrix<F>,
+    /// Whether T = I (an observable pair): no change of basis to apply.
+    identity: bool,
     /// T⁻¹ A T = [A_oo 0; A_uo A_uu].
     a_decomposed: Matrix<F>,
     /// The observable part's A_oo (r × r).
@@ -92,7 +94,8 @@ fn decompose<F: crate::algebra::Field>(
     let t = v_o.hstack(&v_u)?;
     d.push("T", "[V_o V_u], V_u a basis of ker O_n", &t);
     // an observable pair needs no change of basis: T = I (two products of order n saved)
-    let (a_decomposed, c_dec) = if t == Matrix::identity(n) {
+    let identity = t == Matrix::identity(n);
+    let (a_decomposed, c_dec) = if identity {
         (a.clone(), c.clone())
     } else {
         let t_inv = linalg::inverse(&t)?;
@@ -104,6 +107,7 @@ fn decompose<F: crate::algebra::Field>(
         a_oo: a_decomposed.block(0, r, 0, r),
         c_o: c_dec.block(0, c.rows(), 0, r),
         t,
+        identity,
         a_decomposed,
     })
 }
@@ -133,6 +137,7 @@ pub fn detectable_design(
     let mut d = Derivation::new("Observer for the observable part (Kalman decomposition)");
     let Decomposition {
         t,
+        identity,
         a_decomposed: a_dec,
         a_oo,
         c_o,
@@ -155,7 +160,7 @@ pub fn detectable_design(
     d.extend(observable_part.derivation.clone());
     let k_o = observable_part.gain.matrix.clone();
     let padded = k_o.vstack(&Matrix::zeros(n - r, 1))?;
-    let k = if t == Matrix::identity(n) {
+    let k = if identity {
         padded
     } else {
         t.map(|x| Quadratic::rational(x.clone())).mul(&padded)?
@@ -263,6 +268,7 @@ pub fn detectable_symbolic(
         a_decomposed: a_dec,
         a_oo,
         c_o,
+        ..
     } = decompose(a, c, &o, &basis, r, &mut d)?;
     let observable_part = super::gain::design_symbolic(
         &a_oo,

@@ -196,7 +196,7 @@ pub(crate) fn observer_polynomial<F: Field>(
 ) -> Result<Poly<F>, LinalgError> {
     let m = o.mul(k)?;
     let rational = (
-        (&m as &dyn std::any::Any).downcast_ref::<Matrix<Rational>>(),
+        linalg::as_rational(&m),
         (open_loop as &dyn std::any::Any).downcast_ref::<Poly<Rational>>(),
     );
     if let (Some(m), Some(open_loop)) = rational {

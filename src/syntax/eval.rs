@@ -771,11 +771,7 @@ impl FromExpr for Rational {
         ) {
             return Ok(crate::algebra::small_ratio(i128::from(n), i128::from(d)));
         }
-        let (a, b) = (
-            self.numer() * divisor.denom(),
-            self.denom() * divisor.numer(),
-        );
-        Ok(crate::algebra::fraction(a, b))
+        Ok(crate::algebra::gcd::mul(self, &divisor.recip()))
     }
     fn power_of(self, k: u64) -> Self {
         rational_power(self, k)
