@@ -15,7 +15,7 @@
 use super::Rational;
 use num_bigint::{BigInt, BigUint, Sign};
 use num_integer::Integer;
-use num_traits::{One, Signed, ToPrimitive, Zero};
+use num_traits::{One, Signed, Zero};
 
 /// `gcd(a, b) ≥ 0` of two integers (0 when both are 0).
 ///
@@ -31,57 +31,130 @@ pub fn gcd(a: &BigInt, b: &BigInt) -> BigInt {
     BigInt::from_biguint(Sign::Plus, gcd_unsigned(a.magnitude(), b.magnitude()))
 }
 
-/// `gcd` of two naturals by Lehmer's algorithm.
+/// `gcd` of two naturals by Lehmer's algorithm, on the numbers' 64-bit limbs in place: each
+/// step reads the leading 126 bits, finds the cofactor matrix of the Euclidean steps they
+/// determine, and applies it to both numbers in one pass with 128-bit carries — no number is
+/// allocated inside the loop (num-bigint would allocate four products and two sums per step).
 fn gcd_unsigned(a: &BigUint, b: &BigUint) -> BigUint {
-    let (mut a, mut b) = if a >= b {
-        (a.clone(), b.clone())
-    } else {
-        (b.clone(), a.clone())
-    };
+    let mut a = a.to_u64_digits();
+    let mut b = b.to_u64_digits();
     loop {
-        if b.is_zero() {
-            return a;
+        trim(&mut a);
+        trim(&mut b);
+        if less_than(&a, &b) {
+            std::mem::swap(&mut a, &mut b);
         }
-        let bits = a.bits();
-        if bits <= 126 {
-            let (x, y) = (a.to_u128().unwrap_or(0), b.to_u128().unwrap_or(0));
-            return BigUint::from(x.gcd(&y));
+        if b.is_empty() {
+            return from_limbs(&a);
         }
-        // the leading 126 bits, so that x + s stays inside i128
-        let shift = bits - 126;
-        if b.bits() <= shift {
-            // Very different sizes: one division does what Lehmer's steps cannot.
-            let r = &a % &b;
-            a = std::mem::replace(&mut b, r);
-            continue;
+        if a.len() <= 2 {
+            return BigUint::from(u128_of(&a).gcd(&u128_of(&b)));
         }
-        let x = (&a >> shift).to_u128().unwrap_or(0);
-        let y = (&b >> shift).to_u128().unwrap_or(0);
-        match lehmer_cofactors(x, y) {
-            Some([s, t, u, v]) => {
-                let (ai, bi) = (BigInt::from(a), BigInt::from(b));
-                let na = &ai * s + &bi * t;
-                let nb = &ai * u + &bi * v;
-                // The matrix is unimodular, so the gcd is unchanged whatever the signs.
-                a = na.into_parts().1;
-                b = nb.into_parts().1;
-                if a < b {
-                    std::mem::swap(&mut a, &mut b);
-                }
-            }
+        // the leading 62 bits, so that x + s and q·u stay inside i64
+        let shift = bit_length(&a) - LEADING_BITS;
+        let step = (bit_length(&b) > shift)
+            .then(|| lehmer_cofactors(leading_bits(&a, shift), leading_bits(&b, shift)))
+            .flatten();
+        match step {
+            Some(m) => apply_cofactors(&mut a, &mut b, m),
             None => {
-                let r = &a % &b;
-                a = std::mem::replace(&mut b, r);
+                // very different sizes, or not one certain step: one division
+                let r = from_limbs(&a) % from_limbs(&b);
+                a = std::mem::replace(&mut b, r.to_u64_digits());
             }
         }
     }
 }
 
-/// `a.div_euclid(b)`, with the common small quotients of Euclid's algorithm (0 to 3: about
-/// four in five by the Gauss–Kuzmin law) found by subtraction — a 128-bit division is a call
-/// into software, the most expensive step of a Lehmer iteration.
+/// `c · x` for a signed word and an unsigned limb.
 #[inline]
-fn quotient(a: i128, b: i128) -> i128 {
+fn mixed(c: i64, x: u64) -> i128 {
+    i128::from(c) * i128::from(x)
+}
+
+fn trim(x: &mut Vec<u64>) {
+    while x.last() == Some(&0) {
+        x.pop();
+    }
+}
+
+/// `x < y` for trimmed limbs.
+fn less_than(x: &[u64], y: &[u64]) -> bool {
+    x.len() < y.len() || (x.len() == y.len() && x.iter().rev().lt(y.iter().rev()))
+}
+
+fn bit_length(x: &[u64]) -> u64 {
+    x.last().map_or(0, |top| {
+        64 * x.len() as u64 - u64::from(top.leading_zeros())
+    })
+}
+
+fn u128_of(x: &[u64]) -> u128 {
+    x.iter()
+        .rev()
+        .fold(0, |acc, &l| (acc << 64) | u128::from(l))
+}
+
+fn from_limbs(x: &[u64]) -> BigUint {
+    BigUint::new(
+        x.iter()
+            .flat_map(|&l| [l as u32, (l >> 32) as u32])
+            .collect(),
+    )
+}
+
+/// `⌊x / 2^shift⌋` for a trimmed `x` below `2^(shift + 128)`.
+fn leading_bits(x: &[u64], shift: u64) -> u128 {
+    let (k, r) = ((shift / 64) as usize, (shift % 64) as u32);
+    let limb = |i: usize| u128::from(x.get(i).copied().unwrap_or(0));
+    let low = limb(k) | (limb(k + 1) << 64);
+    if r == 0 {
+        low
+    } else {
+        (low >> r) | (limb(k + 2) << (128 - r))
+    }
+}
+
+/// `(a, b) ← (s·a + t·b, u·a + v·b)` in place; `|s|, |t|, |u|, |v| ≤ 2^61` keeps each limb's
+/// sum and carry in an i128.
+fn apply_cofactors(a: &mut Vec<u64>, b: &mut Vec<u64>, [s, t, u, v]: [i64; 4]) {
+    b.resize(a.len(), 0);
+    let (mut ca, mut cb) = (0i128, 0i128);
+    for (al, bl) in a.iter_mut().zip(b.iter_mut()) {
+        let (x, y) = (*al, *bl);
+        let ra = mixed(s, x) + mixed(t, y) + ca;
+        let rb = mixed(u, x) + mixed(v, y) + cb;
+        *al = ra as u64;
+        *bl = rb as u64;
+        ca = ra >> 64;
+        cb = rb >> 64;
+    }
+    // Knuth's test makes both results the true remainders (natural, no longer than a); the
+    // matrix is unimodular whatever happens, so a carry or a sign would be kept, not lost
+    settle(a, ca);
+    settle(b, cb);
+}
+
+/// The natural number `|x + carry·2^(64·len)|` in `x`.
+fn settle(x: &mut Vec<u64>, carry: i128) {
+    if carry == 0 {
+        return;
+    }
+    x.extend([carry as u64, (carry >> 64) as u64]);
+    if carry < 0 {
+        let mut one = true;
+        for limb in x.iter_mut() {
+            let (w, c) = (!*limb).overflowing_add(u64::from(one));
+            *limb = w;
+            one = c;
+        }
+    }
+}
+
+/// `a.div_euclid(b)`, with the common small quotients of Euclid's algorithm (0 to 3: about
+/// four in five by the Gauss–Kuzmin law) found by subtraction, the rest by one word division.
+#[inline]
+fn quotient(a: i64, b: i64) -> i64 {
     if a >= 0 && b > 0 {
         let mut r = a;
         for q in 0..4 {
@@ -96,14 +169,22 @@ fn quotient(a: i128, b: i128) -> i128 {
     }
 }
 
+/// How many leading bits of the larger number one Lehmer step reads.
+const LEADING_BITS: u64 = 62;
+
+/// Cofactors stay at or below this, so a limb times a cofactor, summed twice with a carry, fits
+/// an i128 ([`apply_cofactors`]).
+const COFACTOR_LIMIT: i64 = 1 << 61;
+
 /// The cofactor matrix `[s t; u v]` of the Euclidean steps that the leading digits `x ≥ y`
-/// determine for sure (Knuth's test on `(x + s)/(y + u)` and `(x + t)/(y + v)`), or `None` when
-/// not even one step is certain.
-fn lehmer_cofactors(x: u128, y: u128) -> Option<[i128; 4]> {
-    let (Ok(mut x), Ok(mut y)) = (i128::try_from(x), i128::try_from(y)) else {
+/// (below `2^62`) determine for sure (Knuth's test on `(x + s)/(y + u)` and `(x + t)/(y + v)`),
+/// or `None` when not even one step is certain. All in machine words: about 31 bits of
+/// quotients per call.
+fn lehmer_cofactors(x: u128, y: u128) -> Option<[i64; 4]> {
+    let (Ok(mut x), Ok(mut y)) = (i64::try_from(x), i64::try_from(y)) else {
         return None;
     };
-    let (mut s, mut t, mut u, mut v) = (1i128, 0i128, 0i128, 1i128);
+    let (mut s, mut t, mut u, mut v) = (1i64, 0i64, 0i64, 1i64);
     while let (Some(du), Some(dv), Some(xs), Some(xt)) = (
         y.checked_add(u),
         y.checked_add(v),
@@ -121,8 +202,12 @@ fn lehmer_cofactors(x: u128, y: u128) -> Option<[i128; 4]> {
         else {
             break;
         };
-        (s, u) = (u, s - qu);
-        (t, v) = (v, t - qv);
+        let (nu, nv) = (s - qu, t - qv);
+        if nu.abs() > COFACTOR_LIMIT || nv.abs() > COFACTOR_LIMIT {
+            break;
+        }
+        (s, u) = (u, nu);
+        (t, v) = (v, nv);
         (x, y) = (y, x - qy);
     }
     (t != 0).then_some([s, t, u, v])
@@ -275,6 +360,43 @@ mod tests {
                 }
             }
         }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+        /// The limb-level Lehmer gcd is num-integer's on multi-limb operands with a shared
+        /// factor, of equal and of very different lengths, and near limb boundaries.
+        #[test]
+        fn lehmer_on_limbs_agrees_with_num_integer(
+            x in proptest::collection::vec(proptest::prelude::any::<u64>(), 1..40),
+            y in proptest::collection::vec(proptest::prelude::any::<u64>(), 1..40),
+            g in proptest::collection::vec(proptest::prelude::any::<u64>(), 1..6),
+            edge in 0u32..4,
+        ) {
+            let limbs = |v: &[u64]| from_limbs(v).into();
+            let common: BigInt = limbs(&g);
+            let (mut a, mut b): (BigInt, BigInt) = (limbs(&x) * &common, limbs(&y) * &common);
+            match edge {
+                1 => a = (BigInt::one() << (64 * x.len() as u32)) - 1,
+                2 => b = &a + &common,
+                3 => b = -b,
+                _ => {}
+            }
+            proptest::prop_assert_eq!(gcd(&a, &b), a.gcd(&b));
+            proptest::prop_assert_eq!(gcd(&b, &a), a.gcd(&b));
+        }
+    }
+
+    #[test]
+    fn a_carry_or_a_sign_is_settled_exactly() {
+        let mut x = vec![5u64, 0];
+        settle(&mut x, 1);
+        assert_eq!(from_limbs(&x), BigUint::from(5u32) + (BigUint::one() << 128u32));
+        // x + (−1)·2^128 = 5 − 2^128, whose magnitude is 2^128 − 5
+        let mut y = vec![5u64, 0];
+        settle(&mut y, -1);
+        trim(&mut y);
+        assert_eq!(from_limbs(&y), (BigUint::one() << 128u32) - 5u32);
     }
 
     #[test]

@@ -16,6 +16,7 @@ pub mod definiteness;
 pub mod elimination;
 pub mod float;
 pub mod kronecker;
+mod limbs;
 pub mod lyapunov;
 mod matrix;
 pub mod modular;

@@ -136,6 +136,28 @@ pub(crate) fn polynomial_times_vector(
         dpow *= &d;
     }
     let (q, f) = scale(&scaled);
+    let words = match &a_int {
+        Scaled::Small(words) => super::limbs::horner(words, n, &q, &y, k),
+        Scaled::Big(_) => None,
+    };
+    let acc = words.unwrap_or_else(|| horner_on_bigints(&a_int, n, &q, &y, k));
+    // divide by f·d^deg·δ (dpow is d^(deg+1) now)
+    let denominator = f * (dpow / &d) * delta;
+    let mut entries = acc.into_iter();
+    Matrix::from_fn(n, k, |_, _| {
+        fraction(entries.next().unwrap_or_default(), denominator.clone())
+    })
+}
+
+/// `Q(Ã)·Y` on num-bigint, one allocated product per term: the path for plants whose scaled
+/// entries are not machine words (the word path is [`super::limbs::horner`]).
+fn horner_on_bigints(
+    a_int: &Scaled,
+    n: usize,
+    q: &[BigInt],
+    y: &[BigInt],
+    k: usize,
+) -> Vec<BigInt> {
     let mut acc = vec![BigInt::zero(); n * k];
     for qj in q.iter().rev() {
         let mut next = vec![BigInt::zero(); n * k];
@@ -156,10 +178,5 @@ pub(crate) fn polynomial_times_vector(
         }
         acc = next;
     }
-    // divide by f·d^deg·δ (dpow is d^(deg+1) now)
-    let denominator = f * (dpow / &d) * delta;
-    let mut entries = acc.into_iter();
-    Matrix::from_fn(n, k, |_, _| {
-        fraction(entries.next().unwrap_or_default(), denominator.clone())
-    })
+    acc
 }

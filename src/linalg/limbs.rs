@@ -1,0 +1,342 @@
+//! `Q(A)·Y` by Horner's rule for a matrix `A` of machine-word integers and big integers `Y`, on
+//! fixed-width two's complement limbs: the inner loop of every exact gain (`K = P(A)·q_n`).
+//!
+//! **Algorithm.** Horner's rule, `acc ← A·acc + q_j·Y` for `j = deg, …, 0`. A bound on every
+//! value the loop will hold is found first (below), and each integer is stored in that many
+//! 64-bit limbs, two's complement. An entry of `A·acc` is summed limb column by limb column: for
+//! limb `l < w − 1` the terms `a_t·x_t[l]` with `a_t ≥ 0` go to one `u128` and the others (as
+//! `|a_t|·x_t[l]`) to a second; the top limb, read as signed, goes to an `i128`. One carry pass
+//! turns the columns into limbs. Nothing is allocated and nothing is normalised inside the loop,
+//! where num-bigint allocates a product per term.
+//!
+//! **Identity.** With `x_t = Σ_(l<w−1) x_t[l]·2^(64l) + s_t·2^(64(w−1))` (`s_t` the top limb as
+//! a signed word), `Σ_t a_t x_t = Σ_l 2^(64l) · Σ_t a_t x_t[l]`: the columns are independent
+//! and are carried once at the end.
+//!
+//! **Bound.** `|A·x|∞ ≤ ‖A‖∞·|x|∞` with `‖A‖∞` the largest row sum of `|a|`, so with
+//! `‖A‖∞ < 2^α`, `|q_j| < 2^(β_j)` and `|Y| < 2^γ`, every value after the step for `q_j` is
+//! below `2^(b_j)`, `b_j = max(b_(j+1) + α, β_j + γ) + 1`; the last `b` gives the width. The
+//! row sums are kept below `2^61` (and a coefficient used as a multiplier below `2^61`), so a
+//! column sum stays below `2^126`. A value that would leave the width anyway is detected in the
+//! carry pass and the caller takes num-bigint's path.
+//!
+//! **Cost.** `(deg + 1)·n²·w` word products for `n × n` `A` and `w` limbs, plus one conversion
+//! of `Y` in and of the result out.
+
+use crate::algebra::BigInt;
+use num_bigint::Sign;
+use num_traits::{Signed, ToPrimitive, Zero};
+
+/// Below this, a row sum of `|a|` or a coefficient keeps every column sum below `2^126`.
+const WORD_LIMIT: u128 = 1 << 61;
+
+/// `n·k` integers of `width` limbs each, two's complement, least significant limb first.
+struct Limbs {
+    width: usize,
+    data: Vec<u64>,
+}
+
+impl Limbs {
+    fn zeros(len: usize, width: usize) -> Self {
+        Limbs {
+            width,
+            data: vec![0; len * width],
+        }
+    }
+
+    /// The integers, `None` when one needs more than `64·width − 1` bits of magnitude.
+    fn from_bigints<'a>(
+        values: impl ExactSizeIterator<Item = &'a BigInt>,
+        width: usize,
+    ) -> Option<Self> {
+        let mut out = Limbs::zeros(values.len(), width);
+        for (i, x) in values.enumerate() {
+            if x.bits() + 1 > 64 * width as u64 {
+                return None;
+            }
+            let cell = &mut out.data[i * width..(i + 1) * width];
+            for (limb, digit) in cell.iter_mut().zip(x.iter_u64_digits()) {
+                *limb = digit;
+            }
+            if x.is_negative() {
+                negate(cell);
+            }
+        }
+        Some(out)
+    }
+
+    fn cell(&self, i: usize) -> &[u64] {
+        &self.data[i * self.width..(i + 1) * self.width]
+    }
+
+    fn to_bigints(&self) -> Vec<BigInt> {
+        (0..self.data.len() / self.width)
+            .map(|i| {
+                let mut cell = self.cell(i).to_vec();
+                let negative = cell.last().is_some_and(|&top| (top as i64) < 0);
+                if negative {
+                    negate(&mut cell);
+                }
+                let digits: Vec<u32> = cell
+                    .iter()
+                    .flat_map(|&limb| [limb as u32, (limb >> 32) as u32])
+                    .collect();
+                let sign = if negative { Sign::Minus } else { Sign::Plus };
+                BigInt::from_slice(sign, &digits)
+            })
+            .collect()
+    }
+}
+
+/// Two's complement negation in place.
+fn negate(cell: &mut [u64]) {
+    let mut carry = true;
+    for limb in cell.iter_mut() {
+        let (v, c) = (!*limb).overflowing_add(u64::from(carry));
+        *limb = v;
+        carry = c;
+    }
+}
+
+/// One entry `Σ_t m_t·x_t` as limb columns: `pos`/`neg` for the limbs below the top, `top` for
+/// the top limb read as signed.
+struct Columns {
+    pos: Vec<u128>,
+    neg: Vec<u128>,
+    top: i128,
+}
+
+impl Columns {
+    fn new(width: usize) -> Self {
+        Columns {
+            pos: vec![0; width - 1],
+            neg: vec![0; width - 1],
+            top: 0,
+        }
+    }
+
+    /// `self += m·x` for one integer `x` in limbs.
+    #[inline]
+    fn add(&mut self, m: i64, x: &[u64]) {
+        let (low, top) = x.split_at(x.len() - 1);
+        let side = if m >= 0 { &mut self.pos } else { &mut self.neg };
+        let factor = u128::from(m.unsigned_abs());
+        for (column, &limb) in side.iter_mut().zip(low) {
+            *column += factor * u128::from(limb);
+        }
+        self.top += i128::from(m) * i128::from(top[0] as i64);
+    }
+
+    /// The carried limbs written to `out`, the columns cleared; `false` when the value does not
+    /// fit the width (never, under the module's bound).
+    fn carry_into(&mut self, out: &mut [u64]) -> bool {
+        let mut carry: i128 = 0;
+        for ((limb, p), n) in out
+            .iter_mut()
+            .zip(self.pos.iter_mut())
+            .zip(self.neg.iter_mut())
+        {
+            // p, n < 2^126: the difference and the carry fit an i128
+            let v = (*p as i128) - (*n as i128) + carry;
+            *limb = v as u64;
+            carry = v >> 64;
+            *p = 0;
+            *n = 0;
+        }
+        let v = self.top + carry;
+        self.top = 0;
+        match i64::try_from(v) {
+            Ok(top) => {
+                if let Some(last) = out.last_mut() {
+                    *last = top as u64;
+                }
+                true
+            }
+            Err(_) => false,
+        }
+    }
+}
+
+/// The term `q_j·Y` of one Horner step.
+enum Term {
+    Zero,
+    /// `q_j` a word below `2^61`: multiplied in the column sums.
+    Word(i64),
+    /// `q_j` long: `q_j·Y` formed once on num-bigint.
+    Long(Limbs),
+}
+
+impl Term {
+    fn new(qj: &BigInt, y: &[BigInt], width: usize) -> Option<Self> {
+        if qj.is_zero() {
+            return Some(Term::Zero);
+        }
+        match qj
+            .to_i64()
+            .filter(|m| u128::from(m.unsigned_abs()) < WORD_LIMIT)
+        {
+            Some(m) => Some(Term::Word(m)),
+            None => {
+                let products: Vec<BigInt> = y.iter().map(|v| v * qj).collect();
+                Limbs::from_bigints(products.iter(), width).map(Term::Long)
+            }
+        }
+    }
+}
+
+/// `Q(A)·Y = Σ_j q_j A^j Y` for the `n × n` matrix `a` (row-major machine words) and the `n × k`
+/// integer matrix `y` (row-major), `q` lowest power first. `None` when `A`'s row sums are not
+/// below `2^61` (the caller multiplies on num-bigint instead).
+pub(crate) fn horner(
+    a: &[i64],
+    n: usize,
+    q: &[BigInt],
+    y: &[BigInt],
+    k: usize,
+) -> Option<Vec<BigInt>> {
+    debug_assert_eq!(a.len(), n * n);
+    debug_assert_eq!(y.len(), n * k);
+    let norm = (0..n)
+        .map(|i| {
+            a[i * n..(i + 1) * n]
+                .iter()
+                .map(|x| u128::from(x.unsigned_abs()))
+                .sum::<u128>()
+        })
+        .max()
+        .unwrap_or(0);
+    if norm >= WORD_LIMIT {
+        return None;
+    }
+    // the bound: every value below 2^bits
+    let alpha = u64::from(128 - norm.leading_zeros());
+    let gamma = y.iter().map(BigInt::bits).max().unwrap_or(0);
+    let mut bits: Option<u64> = None;
+    for qj in q.iter().rev() {
+        let from_acc = bits.map(|b| b + alpha);
+        let from_y = (!qj.is_zero() && gamma > 0).then(|| qj.bits() + gamma);
+        bits = from_acc.max(from_y).map(|b| b + 1);
+    }
+    let Some(bits) = bits else {
+        return Some(vec![BigInt::zero(); n * k]);
+    };
+    let width = usize::try_from(bits / 64 + 1).ok()?;
+    let y_limbs = Limbs::from_bigints(y.iter(), width)?;
+    let mut acc = Limbs::zeros(n * k, width);
+    let mut next = Limbs::zeros(n * k, width);
+    let mut columns = Columns::new(width);
+    let mut started = false;
+    for qj in q.iter().rev() {
+        if !started && qj.is_zero() {
+            continue;
+        }
+        let term = Term::new(qj, y, width)?;
+        for i in 0..n {
+            for c in 0..k {
+                if started {
+                    for (t, &m) in a[i * n..(i + 1) * n].iter().enumerate() {
+                        if m != 0 {
+                            columns.add(m, acc.cell(t * k + c));
+                        }
+                    }
+                }
+                match &term {
+                    Term::Zero => {}
+                    Term::Word(m) => columns.add(*m, y_limbs.cell(i * k + c)),
+                    Term::Long(z) => columns.add(1, z.cell(i * k + c)),
+                }
+                let w = next.width;
+                if !columns.carry_into(&mut next.data[(i * k + c) * w..(i * k + c + 1) * w]) {
+                    return None;
+                }
+            }
+        }
+        std::mem::swap(&mut acc, &mut next);
+        started = true;
+    }
+    Some(acc.to_bigints())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Horner on num-bigint, the oracle.
+    fn reference(a: &[i64], n: usize, q: &[BigInt], y: &[BigInt], k: usize) -> Vec<BigInt> {
+        let mut acc = vec![BigInt::zero(); n * k];
+        for qj in q.iter().rev() {
+            let mut next = vec![BigInt::zero(); n * k];
+            for i in 0..n {
+                for c in 0..k {
+                    let mut s = qj * &y[i * k + c];
+                    for t in 0..n {
+                        s += &acc[t * k + c] * a[i * n + t];
+                    }
+                    next[i * k + c] = s;
+                }
+            }
+            acc = next;
+        }
+        acc
+    }
+
+    fn big(digits: &[i64], shift: u32) -> BigInt {
+        digits
+            .iter()
+            .fold(BigInt::zero(), |acc, &d| (acc << shift) + BigInt::from(d))
+    }
+
+    #[test]
+    fn limbs_round_trip_signs_and_widths() {
+        let values = [
+            BigInt::zero(),
+            BigInt::from(-1),
+            BigInt::from(i64::MIN),
+            BigInt::from(u64::MAX),
+            -(BigInt::from(u64::MAX)),
+            (BigInt::from(1) << 190u32) - 1,
+            -(BigInt::from(1) << 190u32),
+        ];
+        let limbs = Limbs::from_bigints(values.iter(), 4).expect("fits 255 bits");
+        assert_eq!(limbs.to_bigints(), values);
+        // 2^191 needs 192 bits and a sign: not in three limbs
+        assert!(Limbs::from_bigints([BigInt::from(1) << 191u32].iter(), 3).is_none());
+    }
+
+    #[test]
+    fn a_row_sum_at_the_limit_is_refused() {
+        let q = [BigInt::from(1), BigInt::from(1)];
+        let y = [BigInt::from(1)];
+        assert_eq!(
+            horner(&[1 << 60], 1, &q, &y, 1),
+            Some(vec![(BigInt::from(1) << 60u32) + 1])
+        );
+        assert!(horner(&[1 << 61], 1, &q, &y, 1).is_none());
+        assert!(horner(&[i64::MIN], 1, &q, &y, 1).is_none());
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+        #[test]
+        fn agrees_with_num_bigint(
+            n in 1usize..6,
+            k in 1usize..3,
+            seed in proptest::collection::vec(-1_000_000_000_i64..1_000_000_000, 64),
+            shift in 0u32..90,
+            deg in 0usize..8,
+            extreme in any::<bool>(),
+        ) {
+            let pick = |i: usize| seed[i % seed.len()];
+            let a: Vec<i64> = (0..n * n)
+                .map(|i| if extreme && i % 3 == 0 { (1 << 58) * pick(i).signum() } else { pick(i) % 20 })
+                .collect();
+            let y: Vec<BigInt> = (0..n * k).map(|i| big(&[pick(i + 7), pick(i + 11)], shift)).collect();
+            let q: Vec<BigInt> = (0..=deg)
+                .map(|j| if j % 3 == 1 { big(&[pick(j + 3), pick(j + 5), pick(j)], 64) } else { BigInt::from(pick(j + 13) % 7) })
+                .collect();
+            let got = horner(&a, n, &q, &y, k);
+            prop_assert_eq!(got, Some(reference(&a, n, &q, &y, k)));
+        }
+    }
+}
