@@ -128,6 +128,19 @@ impl Step {
     }
 }
 
+impl Step {
+    /// The same value under another label and formula: a matrix that two formulas give is
+    /// rendered once (a reduced-order observer's F is the observer matrix of its gain design,
+    /// and at order 40 rendering it costs more than computing it).
+    pub fn renamed(&self, label: &str, formula: &str) -> Step {
+        Step {
+            label: label.into(),
+            formula: formula.into(),
+            ..self.clone()
+        }
+    }
+}
+
 /// A titled list of steps.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct Derivation {
@@ -148,6 +161,14 @@ impl Derivation {
     /// Appends a step.
     pub fn push(&mut self, label: &str, formula: &str, value: &dyn Show) {
         self.steps.push(Step::new(label, formula, value));
+    }
+    /// Appends a step already rendered (a value shown before under another name).
+    pub fn push_step(&mut self, step: Step) {
+        self.steps.push(step);
+    }
+    /// The first step with this label.
+    pub fn step(&self, label: &str) -> Option<&Step> {
+        self.steps.iter().find(|s| s.label == label)
     }
     /// Appends all steps of another derivation.
     pub fn extend(&mut self, other: Derivation) {

@@ -73,6 +73,9 @@ proptest! {
         let desired = DesiredPolynomial::from_poles(&integers(&[p.0, p.1])).unwrap();
         let r = reduced_order_observer(&a, None, &c, &desired, GainMethod::Ackermann).unwrap();
         prop_assert_eq!(r.error_polynomial.coeffs().to_vec(), desired.exact.clone().unwrap().coeffs().to_vec());
+        // the F step shows the design's observer matrix: it must be F's own rendering
+        let step = r.derivation.step("F").unwrap();
+        prop_assert_eq!((step.text.clone(), step.latex.clone(), step.input.clone()), r.f.renderings());
         let lift = |m: &Matrix<Rational>| m.map(|v| Quadratic::rational(v.clone()));
         let y = lift(&c).mul(&lift(&x)).unwrap();
         let z2 = lift(&r.q).mul(&lift(&x)).unwrap().block(1, 3, 0, 1);

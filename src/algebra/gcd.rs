@@ -391,7 +391,10 @@ mod tests {
     fn a_carry_or_a_sign_is_settled_exactly() {
         let mut x = vec![5u64, 0];
         settle(&mut x, 1);
-        assert_eq!(from_limbs(&x), BigUint::from(5u32) + (BigUint::one() << 128u32));
+        assert_eq!(
+            from_limbs(&x),
+            BigUint::from(5u32) + (BigUint::one() << 128u32)
+        );
         // x + (−1)·2^128 = 5 − 2^128, whose magnitude is 2^128 − 5
         let mut y = vec![5u64, 0];
         settle(&mut y, -1);

@@ -120,13 +120,23 @@ pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
 /// multimodular paths on large entries).
 pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     debug_assert!(p < 1 << 32);
-    let r = x
-        .magnitude()
-        .iter_u32_digits()
-        .rev()
-        .fold(0u64, |r, d| ((r << 32) | u64::from(d)) % p);
-    if r != 0 && x.sign() == num_bigint::Sign::Minus {
-        p - r
+    let digits: Vec<u32> = x.magnitude().iter_u32_digits().rev().collect();
+    residue(
+        x.sign() == num_bigint::Sign::Minus,
+        &digits,
+        Barrett::new(p),
+    )
+}
+
+/// `±digits mod p` for 32-bit digits, most significant first: each step `(r·2³² + d) mod p`
+/// stays below `2⁶⁴` for `p < 2³²`, so Barrett's reduction takes it, with no division.
+#[inline]
+fn residue(negative: bool, digits: &[u32], br: Barrett) -> u64 {
+    let r = digits
+        .iter()
+        .fold(0u64, |r, &d| br.reduce((r << 32) | u64::from(d)));
+    if r != 0 && negative {
+        br.p - r
     } else {
         r
     }
@@ -373,25 +383,48 @@ fn map_primes<T: Send>(primes: &[u64], f: impl Fn(u64) -> T + Sync) -> Vec<T> {
 pub(crate) struct IntMatrix {
     rows: usize,
     cols: usize,
-    small: Option<Vec<i64>>,
+    words: Words,
     big: Vec<BigInt>,
+}
+
+/// How an integer matrix is reduced modulo each prime: every entry a machine word, or every
+/// entry's sign and 32-bit digits (most significant first), taken from num-bigint once rather
+/// than once per prime.
+enum Words {
+    Small(Vec<i64>),
+    Digits(Vec<(bool, Vec<u32>)>),
 }
 
 impl IntMatrix {
     pub(crate) fn new(rows: usize, cols: usize, big: Vec<BigInt>) -> Self {
-        let small = big.iter().map(ToPrimitive::to_i64).collect();
+        let words = match big.iter().map(ToPrimitive::to_i64).collect() {
+            Some(small) => Words::Small(small),
+            None => Words::Digits(
+                big.iter()
+                    .map(|x| {
+                        let digits = x.magnitude().iter_u32_digits().rev().collect();
+                        (x.sign() == num_bigint::Sign::Minus, digits)
+                    })
+                    .collect(),
+            ),
+        };
         IntMatrix {
             rows,
             cols,
-            small,
+            words,
             big,
         }
     }
     /// Row-major residues.
     pub(crate) fn residues(&self, p: u64) -> Vec<u64> {
-        match &self.small {
-            Some(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
-            None => self.big.iter().map(|x| int_mod(x, p)).collect(),
+        match &self.words {
+            Words::Small(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
+            Words::Digits(v) => {
+                let br = Barrett::new(p);
+                v.iter()
+                    .map(|(negative, d)| residue(*negative, d, br))
+                    .collect()
+            }
         }
     }
     /// log2 of the Frobenius norm (an upper bound).
@@ -499,8 +532,11 @@ pub(crate) fn det_and_solve_mod(
             let neg_u = p - u;
             let (top, below) = m.split_at_mut(i * n);
             let pivot_row = &top[col * n + col + 1..col * n + n];
+            // both factors are below p < 2^31: as 32-bit words the product is one
+            // 32 × 32 → 64-bit multiply, which the compiler vectorises (two to four lanes)
+            let factor = neg_u as u32;
             for (x, &y) in below[col + 1..n].iter_mut().zip(pivot_row) {
-                *x += neg_u * y;
+                *x += u64::from(factor) * u64::from(y as u32);
             }
             // the pivot column's entry is eliminated: exactly zero
             below[col] = 0;

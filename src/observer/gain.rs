@@ -515,6 +515,9 @@ pub fn design_symbolic(
     })
 }
 
+/// The label of a full design's step showing the observer matrix `A − KC`.
+pub(crate) const OBSERVER_MATRIX_STEP: &str = "A − KC";
+
 /// A derivation that records a step only when the detail asks for it.
 struct Steps {
     d: Derivation,
@@ -580,7 +583,7 @@ fn design_in<F: Field>(
     };
     if d.full {
         let observer = a.sub(&k.mul(c)?)?;
-        d.push("A − KC", "observer matrix", &observer);
+        d.push(OBSERVER_MATRIX_STEP, "observer matrix", &observer);
     }
     let achieved = s.observer_polynomial(&k)?;
     d.push("det(sI − (A − KC))", "check", &achieved);

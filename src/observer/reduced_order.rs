@@ -185,10 +185,14 @@ fn gain_matrix<F: crate::algebra::Field>(column: &Matrix<F>, k: usize, p: usize)
     })
 }
 
+/// `shown_f`: the gain design's step showing its observer matrix `A₂₂ − K a₁₂ₖ`, which is F
+/// (L is K in column k and zeros elsewhere, so `L A₁₂ = K a₁₂ₖ`): F's step reuses its
+/// rendering.
 fn assemble<F: crate::algebra::Field>(
     blocks: &Blocks<F>,
     q_inv: &Matrix<F>,
     l: &Matrix<F>,
+    shown_f: Option<&crate::derivation::Step>,
     d: &mut Derivation,
 ) -> Result<Assembled<F>, LinalgError>
 where
@@ -198,7 +202,10 @@ where
     let f = blocks.a22.sub(&l.mul(&blocks.a12)?)?;
     let g = f.mul(l)?.add(&blocks.a21)?.sub(&l.mul(&blocks.a11)?)?;
     d.push("L", "gain for the pair (A₂₂, A₁₂)", l);
-    d.push("F", "A₂₂ − L A₁₂", &f);
+    match shown_f {
+        Some(step) => d.push_step(step.renamed("F", "A₂₂ − L A₁₂")),
+        None => d.push("F", "A₂₂ − L A₁₂", &f),
+    }
     d.push("G", "F L + A₂₁ − L A₁₁", &g);
     let h = match &blocks.b {
         Some((b1, b2)) => {
@@ -286,7 +293,13 @@ pub fn reduced_order_observer(
         direct,
         from_w,
         noise_gain,
-    } = assemble(&lifted, &lift(&q_inv), &l, &mut d)?;
+    } = assemble(
+        &lifted,
+        &lift(&q_inv),
+        &l,
+        design.derivation.step(super::gain::OBSERVER_MATRIX_STEP),
+        &mut d,
+    )?;
     // F = A₂₂ − l a₁₂ₖ with l the one nonzero column k of L: a rank-one update of A₂₂, so
     // det(sI − F) is the polynomial the design recomputed from its gain for the pair
     // (A₂₂, a₁₂ₖ) by the rank-one update (det(sI − A₂₂) + a₁₂ₖ adj(sI − A₂₂) l), whatever the
@@ -392,7 +405,13 @@ pub fn reduced_order_symbolic(
         direct,
         from_w,
         noise_gain,
-    } = assemble(&blocks, &lift(&q_inv), &l, &mut d)?;
+    } = assemble(
+        &blocks,
+        &lift(&q_inv),
+        &l,
+        design.derivation.step(super::gain::OBSERVER_MATRIX_STEP),
+        &mut d,
+    )?;
     // as in the numeric design: F is the rank-one update of A₂₂ the design checked
     let error_polynomial = design.achieved.clone();
     d.push(
@@ -417,4 +436,40 @@ pub fn reduced_order_symbolic(
         reduced_pair: (blocks.a22.clone(), blocks.a12.block(k, k + 1, 0, m)),
         derivation: d,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::Fraction;
+    use crate::derivation::Show;
+    use crate::syntax::parse_matrix;
+
+    /// F's step reuses the gain design's rendering of its observer matrix: it must be F's
+    /// own rendering, with two outputs (L zero outside column k) and with parameters.
+    #[test]
+    fn the_f_step_shows_f() {
+        let a = parse_matrix::<Rational>("[1 2 0 3; -1 0 2 1; 0 1 -2 4; 2 0 1 -1]").unwrap();
+        let c = parse_matrix::<Rational>("[1 0 0 0; 0 1 0 0]").unwrap();
+        let pole = |x: i64| Quadratic::rational(Rational::from_integer(x.into()));
+        let desired = DesiredPolynomial::from_poles(&[pole(-1), pole(-2)]).unwrap();
+        let r = reduced_order_observer(&a, None, &c, &desired, GainMethod::Ackermann).unwrap();
+        let step = r.derivation.step("F").unwrap();
+        assert_eq!(
+            (step.text.clone(), step.latex.clone(), step.input.clone()),
+            r.f.all()
+        );
+
+        let a = parse_matrix::<Fraction>("[0 1 0; 0 0 1; -a0 -a1 -a2]").unwrap();
+        let c = parse_matrix::<Rational>("[1 0 0]").unwrap();
+        // (s + p)(s + 2p), lowest power first
+        let coeffs = parse_matrix::<Fraction>("[2*p^2 3*p 1]").unwrap();
+        let p = crate::poly::Poly::new(coeffs.entries().to_vec(), "s");
+        let r = reduced_order_symbolic(&a, None, &c, &p, GainMethod::Ackermann).unwrap();
+        let step = r.derivation.step("F").unwrap();
+        assert_eq!(
+            (step.text.clone(), step.latex.clone(), step.input.clone()),
+            r.f.all()
+        );
+    }
 }
