@@ -6,7 +6,7 @@ use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
 use crate::algebra::{Fraction, Rational, Ring};
 use crate::linalg::Matrix;
-use crate::observer::detectability::detectable_design;
+use crate::observer::detectability::detectable_design_from;
 use crate::observer::reduced_order::{reduced_order_observer, reduced_order_symbolic};
 use crate::observer::Convention;
 use anyhow::{anyhow, bail, Result};
@@ -315,7 +315,7 @@ pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
         .desired
         .parse_at(rank, &args.system.values()?)
         .map_err(|e| anyhow!("{e} (here: the observable part, rank O_n = {rank})"))?;
-    let d = detectable_design(&a, &c, &desired, method, convention)?;
+    let d = detectable_design_from(report, &a, &c, &desired, method, convention)?;
     let fixed = d.report.unobservable_eigenvalues.render();
     if args.json {
         rep.json(json!({

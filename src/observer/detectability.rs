@@ -126,6 +126,22 @@ pub fn detectable_design(
     convention: Convention,
 ) -> Result<DetectableDesign, DetectabilityError> {
     let report = observability_rank_report(a, c)?;
+    detectable_design_from(report, a, c, desired, method, convention)
+}
+
+/// [`detectable_design`] from the pair's observability report, when the caller has it
+/// already (the command reads the desired polynomial's degree, rank O_n, from it).
+///
+/// # Errors
+/// As [`detectable_design`].
+pub fn detectable_design_from(
+    report: ObservabilityReport,
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &DesiredPolynomial,
+    method: GainMethod,
+    convention: Convention,
+) -> Result<DetectableDesign, DetectabilityError> {
     let n = a.rows();
     let r = report.rank;
     if r == 0 {
@@ -170,9 +186,15 @@ pub fn detectable_design(
     // det(sI − (A − KC)) recomputed from K by the rank-one update det(sI − A) +
     // C adj(sI − A) K (only O_n K and det(sI − A) enter, whatever the size of K's numbers):
     // the check `gain` makes, here on the whole plant, so it tests the decomposition too
-    let lift = |x: &Rational| Quadratic::rational(x.clone());
-    let open_loop = linalg::characteristic_polynomial(&a.map(lift), "s")?;
-    let observer_polynomial = super::observer_polynomial(&report.matrix.map(lift), &open_loop, &k)?;
+    // — except when the pair is observable and T = I: the observable part is then the plant,
+    // and the design's own rank-one check computed this very polynomial from the same K
+    let observer_polynomial = if identity && r == n {
+        observable_part.achieved.clone()
+    } else {
+        let lift = |x: &Rational| Quadratic::rational(x.clone());
+        let open_loop = linalg::characteristic_polynomial(&a.map(lift), "s")?;
+        super::observer_polynomial(&report.matrix.map(lift), &open_loop, &k)?
+    };
     d.push(
         "det(sI − (A − KC))",
         "P(s) · det(sI − A_uu)",

@@ -95,8 +95,35 @@ fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
     m.map(|x| Quadratic::rational(x.clone()))
 }
 
-/// `rows` completed with unit rows eₖᵀ (in order) to an invertible n × n matrix.
+/// `rows` completed with unit rows eₖᵀ (in order) to an invertible n × n matrix: eₖ joins
+/// when it is independent of the rows and of the units taken before it.
+///
+/// That greedy choice is decided by one elimination: eₖ depends on the rows and e₀ … eₖ₋₁
+/// exactly when some combination of the rows has its last nonzero entry in column k, so the
+/// units taken are the columns that are not pivots of the rows' echelon form built from the
+/// right — p²n field operations for p independent rows, where testing each candidate's rank
+/// costs n of them (at order 20 the tests were a tenth of `detectable`). Dependent rows keep
+/// the tests (no unit makes them independent).
 pub(crate) fn complete_with_unit_rows<F: crate::algebra::Field>(rows: &Matrix<F>) -> Matrix<F> {
+    let n = rows.cols();
+    if let Some(pivots) = pivots_from_the_right(rows) {
+        let units: Vec<usize> = (0..n).filter(|k| !pivots.contains(k)).collect();
+        let unit_rows = Matrix::from_fn(units.len(), n, |i, j| {
+            if j == units[i] {
+                F::one()
+            } else {
+                F::zero()
+            }
+        });
+        if let Ok(q) = rows.vstack(&unit_rows) {
+            return q;
+        }
+    }
+    complete_by_rank_tests(rows)
+}
+
+/// The greedy completion by testing each candidate's rank.
+fn complete_by_rank_tests<F: crate::algebra::Field>(rows: &Matrix<F>) -> Matrix<F> {
     let n = rows.cols();
     let mut q = rows.clone();
     for k in 0..n {
@@ -111,6 +138,31 @@ pub(crate) fn complete_with_unit_rows<F: crate::algebra::Field>(rows: &Matrix<F>
         }
     }
     q
+}
+
+/// The pivot columns of `rows`' echelon form eliminated from the last column to the first
+/// (each pivot the last nonzero entry of a combination of the rows), or `None` when the rows
+/// are dependent.
+fn pivots_from_the_right<F: crate::algebra::Field>(rows: &Matrix<F>) -> Option<Vec<usize>> {
+    let n = rows.cols();
+    let mut remaining: Vec<Vec<F>> = (0..rows.rows()).map(|i| rows.row(i).to_vec()).collect();
+    let mut pivots = Vec::with_capacity(remaining.len());
+    for col in (0..n).rev() {
+        let Some(at) = remaining.iter().position(|r| !r[col].is_zero()) else {
+            continue;
+        };
+        let pivot = remaining.swap_remove(at);
+        for r in &mut remaining {
+            if !r[col].is_zero() {
+                let factor = r[col].checked_div(&pivot[col])?;
+                for (x, y) in r.iter_mut().zip(&pivot) {
+                    *x = x.clone() - factor.clone() * y.clone();
+                }
+            }
+        }
+        pivots.push(col);
+    }
+    remaining.is_empty().then_some(pivots)
 }
 
 /// The gain for (A₂₂, one row of A₁₂): the first output whose row observes A₂₂, with its
@@ -444,6 +496,23 @@ mod tests {
     use crate::algebra::Fraction;
     use crate::derivation::Show;
     use crate::syntax::parse_matrix;
+
+    proptest::proptest! {
+        /// The completion by one elimination from the right takes the units the rank tests
+        /// take, for independent and dependent rows alike.
+        #[test]
+        fn completion_by_pivots_is_the_greedy_one(
+            entries in proptest::collection::vec(-2i64..=2, 1..=20),
+            p in 1usize..4,
+            n in 1usize..6,
+        ) {
+            let p = p.min(n);
+            let rows = Matrix::from_fn(p, n, |i, j| {
+                Rational::from_integer(entries[(i * n + j) % entries.len()].into())
+            });
+            proptest::prop_assert_eq!(complete_with_unit_rows(&rows), complete_by_rank_tests(&rows));
+        }
+    }
 
     /// F's step reuses the gain design's rendering of its observer matrix: it must be F's
     /// own rendering, with two outputs (L zero outside column k) and with parameters.
