@@ -19,6 +19,13 @@ pub trait Show {
     fn all(&self) -> (String, String, String) {
         (self.text(), self.latex(), self.input())
     }
+    /// [`Show::all`] and, for a matrix, its entries in input syntax (row-major) when the
+    /// renderings produced them on the way: what `--json` lists, so a large matrix shown in a
+    /// step is converted to decimal once.
+    fn all_with_cells(&self) -> (String, String, String, Option<Vec<String>>) {
+        let (text, latex, input) = self.all();
+        (text, latex, input, None)
+    }
 }
 
 impl<T: Ring> Show for Matrix<T> {
@@ -33,6 +40,9 @@ impl<T: Ring> Show for Matrix<T> {
     }
     fn all(&self) -> (String, String, String) {
         self.renderings()
+    }
+    fn all_with_cells(&self) -> (String, String, String, Option<Vec<String>>) {
+        self.renderings_with_cells()
     }
 }
 
@@ -100,7 +110,7 @@ impl Show for Words {
 }
 
 /// One step: a label, the formula it evaluates, and the value.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Step {
     /// Short name, e.g. `"O_n"` or `"K = T_o K_o"`.
     pub label: String,
@@ -112,19 +122,47 @@ pub struct Step {
     pub latex: String,
     /// The value in input syntax.
     pub input: String,
+    /// A matrix value's entries in input syntax, row-major, when its rendering produced them
+    /// (not serialised: the text above already shows them).
+    #[serde(skip)]
+    cells: Option<std::sync::Arc<Vec<String>>>,
+}
+
+/// Steps are equal when they show the same thing (the kept cells are a by-product of the text).
+impl PartialEq for Step {
+    fn eq(&self, other: &Self) -> bool {
+        (
+            &self.label,
+            &self.formula,
+            &self.text,
+            &self.latex,
+            &self.input,
+        ) == (
+            &other.label,
+            &other.formula,
+            &other.text,
+            &other.latex,
+            &other.input,
+        )
+    }
 }
 
 impl Step {
     /// A step showing `value`.
     pub fn new(label: &str, formula: &str, value: &dyn Show) -> Self {
-        let (text, latex, input) = value.all();
+        let (text, latex, input, cells) = value.all_with_cells();
         Step {
             label: label.into(),
             formula: formula.into(),
             text,
             latex,
             input,
+            cells: cells.map(std::sync::Arc::new),
         }
+    }
+    /// A matrix value's entries in input syntax, row-major, when the step kept them.
+    pub fn cells(&self) -> Option<&[String]> {
+        self.cells.as_deref().map(Vec::as_slice)
     }
 }
 

@@ -76,6 +76,29 @@ pub fn rational(flag: &str, text: &str) -> Result<Rational> {
         .with_context(|| format!("in {flag}"))
 }
 
+/// [`json_matrix`] of a matrix a derivation step shows, from the entries the step kept (each
+/// converted to decimal once) when it kept them.
+pub fn json_matrix_shown<T: crate::algebra::Ring>(
+    m: &Matrix<T>,
+    step: Option<&crate::derivation::Step>,
+) -> serde_json::Value {
+    match step.and_then(crate::derivation::Step::cells) {
+        Some(cells) if cells.len() == m.rows() * m.cols() && m.cols() > 0 => {
+            serde_json::Value::Array(
+                cells
+                    .chunks(m.cols())
+                    .map(|row| {
+                        serde_json::Value::Array(
+                            row.iter().cloned().map(serde_json::Value::String).collect(),
+                        )
+                    })
+                    .collect(),
+            )
+        }
+        _ => json_matrix(m),
+    }
+}
+
 /// A matrix as a JSON list of rows of strings in input syntax.
 pub fn json_matrix<T: crate::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value {
     serde_json::Value::Array(

@@ -1,7 +1,7 @@
 //! `owb reduced` (a reduced-order observer, Gopinath's construction) and `owb detectable` (an
 //! observer for the observable part of an unobservable pair, with the fixed modes named).
 
-use super::args::{json_matrix, Plant, SystemPair};
+use super::args::{json_matrix, json_matrix_shown, Plant, SystemPair};
 use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
 use crate::algebra::{Fraction, Rational, Ring};
@@ -84,7 +84,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             "method": method.flag(),
             "q": json_matrix(&r.q),
             "gain": json_matrix(&r.gain(convention)),
-            "f": json_matrix(&r.f),
+            "f": json_matrix_shown(&r.f, r.derivation.step("F")),
             "g": json_matrix(&r.g),
             "direct": json_matrix(&r.direct),
             "from_w": json_matrix(&r.from_w),
@@ -185,7 +185,7 @@ fn symbolic(
                 "method": method.flag(),
                 "q": json_matrix(&r.q),
                 "gain": json_matrix(&gain),
-                "f": json_matrix(&r.f),
+                "f": json_matrix_shown(&r.f, r.derivation.step("F")),
                 "g": json_matrix(&r.g),
                 "direct": json_matrix(&r.direct),
                 "from_w": json_matrix(&r.from_w),

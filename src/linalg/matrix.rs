@@ -338,6 +338,12 @@ impl<T: Ring> Matrix<T> {
     /// once and shared by the three forms (a large exact result has millions of digits, and
     /// decimal conversion is then most of the cost of showing it).
     pub fn renderings(&self) -> (String, String, String) {
+        let (text, latex, input, _) = self.renderings_with_cells();
+        (text, latex, input)
+    }
+    /// [`Matrix::renderings`] and, when they were produced on the way (rational entries), the
+    /// entries in input syntax, row-major.
+    pub fn renderings_with_cells(&self) -> (String, String, String, Option<Vec<String>>) {
         if let Some(q) = super::as_rational(self) {
             let mut text = Vec::with_capacity(self.data.len());
             let mut latex = Vec::with_capacity(self.data.len());
@@ -355,14 +361,15 @@ impl<T: Ring> Matrix<T> {
                 layout_text(self.rows, self.cols, &text),
                 layout_latex(self.rows, self.cols, &latex),
                 layout_input(self.rows, self.cols, &text),
+                Some(text),
             );
         }
         // a Q(√d) matrix with rational entries (the reduced-order observer's F, G, …) renders
         // as its rational matrix: each entry converted to decimal once, not once per format
         if let Some(r) = super::as_quadratic(self).and_then(super::rational_entries) {
-            return r.renderings();
+            return r.renderings_with_cells();
         }
-        (self.render(), self.to_latex(), self.to_input())
+        (self.render(), self.to_latex(), self.to_input(), None)
     }
 }
 

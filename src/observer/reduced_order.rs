@@ -528,6 +528,12 @@ mod tests {
             (step.text.clone(), step.latex.clone(), step.input.clone()),
             r.f.all()
         );
+        // and `--json`'s F from the step's kept entries is F's own
+        assert!(step.cells().is_some());
+        assert_eq!(
+            crate::api::args::json_matrix_shown(&r.f, Some(step)),
+            crate::api::args::json_matrix(&r.f)
+        );
 
         let a = parse_matrix::<Fraction>("[0 1 0; 0 0 1; -a0 -a1 -a2]").unwrap();
         let c = parse_matrix::<Rational>("[1 0 0]").unwrap();
