@@ -232,11 +232,15 @@ fn report(
 ) -> Result<ObservabilityReport, LinalgError> {
     let o = observability_matrix(a, c)?;
     let n = a.rows();
-    let rank = linalg::rank(&o);
     let determinant = if with_determinant && o.is_square() {
         Some(linalg::determinant(&o)?)
     } else {
         None
+    };
+    // a nonzero det O_n is full rank already: the rank test only when it is zero or not shown
+    let rank = match &determinant {
+        Some(d) if !num_traits::Zero::is_zero(d) => n,
+        _ => linalg::rank(&o),
     };
     let (basis, unobservable_polynomial) = unobservable_part(a, &o, rank)?;
     let unobservable_eigenvalues = exact_roots(&unobservable_polynomial);

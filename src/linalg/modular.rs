@@ -113,6 +113,24 @@ pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
     (a % p != 0).then(|| pow_mod(a, p - 2, p))
 }
 
+/// [`inv_mod`] by Fermat with Barrett's products: the eliminations' pivots, n per prime,
+/// without the sixty divisions of [`pow_mod`] each.
+fn inv_mod_with(a: u64, br: Barrett) -> Option<u64> {
+    let a = br.reduce(a);
+    if a == 0 {
+        return None;
+    }
+    let (mut base, mut e, mut r) = (a, br.p - 2, 1u64);
+    while e > 0 {
+        if e & 1 == 1 {
+            r = br.mul(r, base);
+        }
+        base = br.mul(base, base);
+        e >>= 1;
+    }
+    Some(r)
+}
+
 /// `x mod p` in `0..p` for a prime of [`primes`] (below 2³¹): Horner over the magnitude's
 /// 32-bit halves from the most significant, each step `(r · 2³² + half) mod p` in one `u64`
 /// division (no allocation: num-bigint's `BigInt % u64` goes through its general long
@@ -156,7 +174,7 @@ fn charpoly_mod(mut h: Vec<Vec<u64>>, p: u64) -> Vec<u64> {
                 row.swap(piv, m);
             }
         }
-        let inv = inv_mod(h[m][m - 1], p).expect("nonzero pivot");
+        let inv = inv_mod_with(h[m][m - 1], br).expect("nonzero pivot");
         for i in m + 1..n {
             let u = br.mul(h[i][m - 1], inv);
             if u == 0 {
@@ -516,13 +534,13 @@ pub(crate) fn det_and_solve_mod(
             }
         }
         let pv = m[col * n + col];
-        det = det * pv % p;
-        let inv = inv_mod(pv, p)?;
+        det = br.mul(det, pv);
+        let inv = inv_mod_with(pv, br)?;
         for j in col..n {
-            m[col * n + j] = m[col * n + j] * inv % p;
+            m[col * n + j] = br.mul(m[col * n + j], inv);
         }
         for j in 0..k {
-            rhs[col * k + j] = rhs[col * k + j] * inv % p;
+            rhs[col * k + j] = br.mul(rhs[col * k + j], inv);
         }
         for i in col + 1..n {
             let u = m[i * n + col];
@@ -619,7 +637,7 @@ fn rank_mod(mut m: Vec<u64>, rows: usize, cols: usize, p: u64) -> usize {
         for j in 0..cols {
             m.swap(piv * cols + j, rank * cols + j);
         }
-        let inv = inv_mod(m[rank * cols + col], p).unwrap_or(0);
+        let inv = inv_mod_with(m[rank * cols + col], br).unwrap_or(0);
         for i in rank + 1..rows {
             let u = br.mul(m[i * cols + col], inv);
             if u == 0 {
@@ -684,7 +702,7 @@ pub fn observable_mod_prime(a: &Matrix<Rational>, c: &Matrix<Rational>) -> bool 
                     }
                 }
                 if let Some(col) = r.iter().position(|&x| x != 0) {
-                    let inv = inv_mod(r[col], p).unwrap_or(0);
+                    let inv = inv_mod_with(r[col], br).unwrap_or(0);
                     for x in r.iter_mut() {
                         *x = br.mul(*x, inv);
                     }
@@ -848,6 +866,31 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn barrett_inverse_is_fermat_inverse() {
+        for p in super::primes().take(3).chain([2, 3, 65_537]) {
+            let br = super::Barrett::new(p);
+            for a in [
+                0,
+                1,
+                2,
+                p - 1,
+                p,
+                p + 1,
+                3 * p,
+                123_456_789,
+                u64::from(u32::MAX),
+                1 << 62,
+            ] {
+                let expected = super::inv_mod(a % p, p);
+                assert_eq!(super::inv_mod_with(a, br), expected, "{a} mod {p}");
+                if let Some(i) = expected {
+                    assert_eq!(u128::from(a % p) * u128::from(i) % u128::from(p), 1);
+                }
+            }
+        }
+    }
+
     #[test]
     fn int_mod_agrees_with_bigint_remainder() {
         use num_bigint::BigInt;
