@@ -203,7 +203,12 @@ pub fn discrete_observer(
         );
     }
     let stable = rational_poly(&error_polynomial).map(|p| is_schur(&p));
-    let nilpotent_index = nilpotent_index_with(&a_minus_kc, &error_polynomial)?;
+    // the design is single-output and proved (A, C) observable, so (A − KC, C) is observable
+    // too (O_n of the pair is T·O_n(A, C), T unit lower triangular) and C's row makes
+    // A − KC cyclic: one Jordan block per eigenvalue, so when its polynomial is zⁿ it is
+    // nilpotent of index exactly n — no power formed, no cyclicity test needed
+    let n = a_minus_kc.require_square("nilpotency")?;
+    let nilpotent_index = nilpotent_index_of_cyclic(&error_polynomial, n);
     if let Some(k) = nilpotent_index {
         // `nilpotent_index` found this power zero (on integers); it is recorded, not recomputed
         let n = error_matrix.rows();
@@ -252,6 +257,12 @@ pub fn nilpotent_index(m: &Matrix<Quadratic>) -> Result<Option<usize>, LinalgErr
     }
     let chi = linalg::characteristic_polynomial(m, "z")?;
     nilpotent_index_with(m, &chi)
+}
+
+/// The nilpotency index of a cyclic n × n matrix with characteristic polynomial `chi`: n when
+/// `chi = zⁿ` (a single Jordan block), none otherwise.
+fn nilpotent_index_of_cyclic(chi: &Poly<Quadratic>, n: usize) -> Option<usize> {
+    (chi.degree() == Some(n) && (0..n).all(|k| chi.coeff(k).is_zero())).then_some(n)
 }
 
 /// [`nilpotent_index`] for a matrix whose characteristic polynomial `chi` is known exactly.
@@ -529,4 +540,34 @@ fn float_zoh(
         .map(|i| (0..m).map(|j| pade[(i, n + j)]).collect())
         .collect();
     Ok((phi, gamma, error))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    proptest::proptest! {
+        /// The dead-beat design's index, taken from cyclicity, is the one the powers of the
+        /// error matrix show, for both estimators.
+        #[test]
+        fn deadbeat_index_is_the_powers_index(
+            entries in proptest::collection::vec(-3i64..=3, 9),
+            c in proptest::collection::vec(-2i64..=2, 3),
+            current in proptest::prelude::any::<bool>(),
+        ) {
+            let q = |x: i64| Rational::from_integer(x.into());
+            let a = Matrix::from_fn(3, 3, |i, j| q(entries[3 * i + j]));
+            let c = Matrix::from_fn(1, 3, |_, j| q(c[j]));
+            let estimator = if current { Estimator::Current } else { Estimator::Prediction };
+            let Ok(d) = discrete_observer(
+                &a, &c, &deadbeat_polynomial(3), GainMethod::Ackermann, Convention::AMinusKC,
+                estimator, Detail::Full,
+            ) else {
+                return Ok(()); // unobservable, or A singular for the current estimator
+            };
+            let by_powers = nilpotent_index_with(&d.error_matrix, &d.error_polynomial).unwrap();
+            proptest::prop_assert_eq!(d.nilpotent_index, by_powers);
+            proptest::prop_assert_eq!(d.nilpotent_index, Some(3));
+        }
+    }
 }
