@@ -15,16 +15,12 @@ pub trait Show {
     fn latex(&self) -> String;
     /// The workbench's input syntax.
     fn input(&self) -> String;
-    /// `(text, latex, input)` together, for values that can share the work.
-    fn all(&self) -> (String, String, String) {
-        (self.text(), self.latex(), self.input())
-    }
-    /// [`Show::all`] and, for a matrix, its entries in input syntax (row-major) when the
-    /// renderings produced them on the way: what `--json` lists, so a large matrix shown in a
-    /// step is converted to decimal once.
-    fn all_with_cells(&self) -> (String, String, String, Option<Vec<String>>) {
-        let (text, latex, input) = self.all();
-        (text, latex, input, None)
+    /// `(text, latex, input)` together, for values that can share the work, and — for a
+    /// matrix, when the renderings produced them on the way — its entries in input syntax
+    /// (row-major): what `--json` lists, so a large matrix shown in a step is converted to
+    /// decimal once.
+    fn all(&self) -> (String, String, String, Option<Vec<String>>) {
+        (self.text(), self.latex(), self.input(), None)
     }
 }
 
@@ -38,10 +34,7 @@ impl<T: Ring> Show for Matrix<T> {
     fn input(&self) -> String {
         self.to_input()
     }
-    fn all(&self) -> (String, String, String) {
-        self.renderings()
-    }
-    fn all_with_cells(&self) -> (String, String, String, Option<Vec<String>>) {
+    fn all(&self) -> (String, String, String, Option<Vec<String>>) {
         self.renderings_with_cells()
     }
 }
@@ -150,7 +143,7 @@ impl PartialEq for Step {
 impl Step {
     /// A step showing `value`.
     pub fn new(label: &str, formula: &str, value: &dyn Show) -> Self {
-        let (text, latex, input, cells) = value.all_with_cells();
+        let (text, latex, input, cells) = value.all();
         Step {
             label: label.into(),
             formula: formula.into(),

@@ -115,8 +115,9 @@ impl Columns {
         }
     }
 
-    /// `self += m·x` for one integer `x` in limbs.
-    #[inline]
+    /// `self += m·x` for one integer `x` in limbs (not inlined: one copy of the loop for its
+    /// three callers keeps the browser module small, and a call per w-limb pass costs nothing).
+    #[inline(never)]
     fn add(&mut self, m: i64, x: &[u64]) {
         let (low, top) = x.split_at(x.len() - 1);
         let side = if m >= 0 { &mut self.pos } else { &mut self.neg };

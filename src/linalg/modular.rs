@@ -113,24 +113,6 @@ pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
     (a % p != 0).then(|| pow_mod(a, p - 2, p))
 }
 
-/// [`inv_mod`] by Fermat with Barrett's products: the eliminations' pivots, n per prime,
-/// without the sixty divisions of [`pow_mod`] each.
-fn inv_mod_with(a: u64, br: Barrett) -> Option<u64> {
-    let a = br.reduce(a);
-    if a == 0 {
-        return None;
-    }
-    let (mut base, mut e, mut r) = (a, br.p - 2, 1u64);
-    while e > 0 {
-        if e & 1 == 1 {
-            r = br.mul(r, base);
-        }
-        base = br.mul(base, base);
-        e >>= 1;
-    }
-    Some(r)
-}
-
 /// `x mod p` in `0..p` for a prime of [`primes`] (below 2³¹): Horner over the magnitude's
 /// 32-bit halves from the most significant, each step `(r · 2³² + half) mod p` in one `u64`
 /// division (no allocation: num-bigint's `BigInt % u64` goes through its general long
@@ -138,23 +120,13 @@ fn inv_mod_with(a: u64, br: Barrett) -> Option<u64> {
 /// multimodular paths on large entries).
 pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     debug_assert!(p < 1 << 32);
-    let digits: Vec<u32> = x.magnitude().iter_u32_digits().rev().collect();
-    residue(
-        x.sign() == num_bigint::Sign::Minus,
-        &digits,
-        Barrett::new(p),
-    )
-}
-
-/// `±digits mod p` for 32-bit digits, most significant first: each step `(r·2³² + d) mod p`
-/// stays below `2⁶⁴` for `p < 2³²`, so Barrett's reduction takes it, with no division.
-#[inline]
-fn residue(negative: bool, digits: &[u32], br: Barrett) -> u64 {
-    let r = digits
-        .iter()
-        .fold(0u64, |r, &d| br.reduce((r << 32) | u64::from(d)));
-    if r != 0 && negative {
-        br.p - r
+    let r = x
+        .magnitude()
+        .iter_u32_digits()
+        .rev()
+        .fold(0u64, |r, d| ((r << 32) | u64::from(d)) % p);
+    if r != 0 && x.sign() == num_bigint::Sign::Minus {
+        p - r
     } else {
         r
     }
@@ -174,7 +146,7 @@ fn charpoly_mod(mut h: Vec<Vec<u64>>, p: u64) -> Vec<u64> {
                 row.swap(piv, m);
             }
         }
-        let inv = inv_mod_with(h[m][m - 1], br).expect("nonzero pivot");
+        let inv = inv_mod(h[m][m - 1], p).expect("nonzero pivot");
         for i in m + 1..n {
             let u = br.mul(h[i][m - 1], inv);
             if u == 0 {
@@ -401,48 +373,25 @@ fn map_primes<T: Send>(primes: &[u64], f: impl Fn(u64) -> T + Sync) -> Vec<T> {
 pub(crate) struct IntMatrix {
     rows: usize,
     cols: usize,
-    words: Words,
+    small: Option<Vec<i64>>,
     big: Vec<BigInt>,
-}
-
-/// How an integer matrix is reduced modulo each prime: every entry a machine word, or every
-/// entry's sign and 32-bit digits (most significant first), taken from num-bigint once rather
-/// than once per prime.
-enum Words {
-    Small(Vec<i64>),
-    Digits(Vec<(bool, Vec<u32>)>),
 }
 
 impl IntMatrix {
     pub(crate) fn new(rows: usize, cols: usize, big: Vec<BigInt>) -> Self {
-        let words = match big.iter().map(ToPrimitive::to_i64).collect() {
-            Some(small) => Words::Small(small),
-            None => Words::Digits(
-                big.iter()
-                    .map(|x| {
-                        let digits = x.magnitude().iter_u32_digits().rev().collect();
-                        (x.sign() == num_bigint::Sign::Minus, digits)
-                    })
-                    .collect(),
-            ),
-        };
+        let small = big.iter().map(ToPrimitive::to_i64).collect();
         IntMatrix {
             rows,
             cols,
-            words,
+            small,
             big,
         }
     }
     /// Row-major residues.
     pub(crate) fn residues(&self, p: u64) -> Vec<u64> {
-        match &self.words {
-            Words::Small(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
-            Words::Digits(v) => {
-                let br = Barrett::new(p);
-                v.iter()
-                    .map(|(negative, d)| residue(*negative, d, br))
-                    .collect()
-            }
+        match &self.small {
+            Some(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
+            None => self.big.iter().map(|x| int_mod(x, p)).collect(),
         }
     }
     /// log2 of the Frobenius norm (an upper bound).
@@ -535,7 +484,7 @@ pub(crate) fn det_and_solve_mod(
         }
         let pv = m[col * n + col];
         det = br.mul(det, pv);
-        let inv = inv_mod_with(pv, br)?;
+        let inv = inv_mod(pv, p)?;
         for j in col..n {
             m[col * n + j] = br.mul(m[col * n + j], inv);
         }
@@ -637,7 +586,7 @@ fn rank_mod(mut m: Vec<u64>, rows: usize, cols: usize, p: u64) -> usize {
         for j in 0..cols {
             m.swap(piv * cols + j, rank * cols + j);
         }
-        let inv = inv_mod_with(m[rank * cols + col], br).unwrap_or(0);
+        let inv = inv_mod(m[rank * cols + col], p).unwrap_or(0);
         for i in rank + 1..rows {
             let u = br.mul(m[i * cols + col], inv);
             if u == 0 {
@@ -702,7 +651,7 @@ pub fn observable_mod_prime(a: &Matrix<Rational>, c: &Matrix<Rational>) -> bool 
                     }
                 }
                 if let Some(col) = r.iter().position(|&x| x != 0) {
-                    let inv = inv_mod_with(r[col], br).unwrap_or(0);
+                    let inv = inv_mod(r[col], p).unwrap_or(0);
                     for x in r.iter_mut() {
                         *x = br.mul(*x, inv);
                     }
@@ -866,31 +815,6 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
 
 #[cfg(test)]
 mod tests {
-    #[test]
-    fn barrett_inverse_is_fermat_inverse() {
-        for p in super::primes().take(3).chain([2, 3, 65_537]) {
-            let br = super::Barrett::new(p);
-            for a in [
-                0,
-                1,
-                2,
-                p - 1,
-                p,
-                p + 1,
-                3 * p,
-                123_456_789,
-                u64::from(u32::MAX),
-                1 << 62,
-            ] {
-                let expected = super::inv_mod(a % p, p);
-                assert_eq!(super::inv_mod_with(a, br), expected, "{a} mod {p}");
-                if let Some(i) = expected {
-                    assert_eq!(u128::from(a % p) * u128::from(i) % u128::from(p), 1);
-                }
-            }
-        }
-    }
-
     #[test]
     fn int_mod_agrees_with_bigint_remainder() {
         use num_bigint::BigInt;

@@ -102,11 +102,13 @@ fn lift(m: &Matrix<Rational>) -> Matrix<Quadratic> {
 /// exactly when some combination of the rows has its last nonzero entry in column k, so the
 /// units taken are the columns that are not pivots of the rows' echelon form built from the
 /// right — p²n field operations for p independent rows, where testing each candidate's rank
-/// costs n of them (at order 20 the tests were a tenth of `detectable`). Dependent rows keep
-/// the tests (no unit makes them independent).
+/// costs n of them (at order 20 the tests were a tenth of `detectable`). Rows with parameters
+/// (few and small) and dependent rows keep the tests.
 pub(crate) fn complete_with_unit_rows<F: crate::algebra::Field>(rows: &Matrix<F>) -> Matrix<F> {
     let n = rows.cols();
-    if let Some(pivots) = pivots_from_the_right(rows) {
+    // on rational rows (the numeric commands; symbolic rows are few and small)
+    let pivots = linalg::as_rational(rows).and_then(pivots_from_the_right);
+    if let Some(pivots) = pivots {
         let units: Vec<usize> = (0..n).filter(|k| !pivots.contains(k)).collect();
         let unit_rows = Matrix::from_fn(units.len(), n, |i, j| {
             if j == units[i] {
@@ -143,18 +145,22 @@ fn complete_by_rank_tests<F: crate::algebra::Field>(rows: &Matrix<F>) -> Matrix<
 /// The pivot columns of `rows`' echelon form eliminated from the last column to the first
 /// (each pivot the last nonzero entry of a combination of the rows), or `None` when the rows
 /// are dependent.
-fn pivots_from_the_right<F: crate::algebra::Field>(rows: &Matrix<F>) -> Option<Vec<usize>> {
+fn pivots_from_the_right(rows: &Matrix<Rational>) -> Option<Vec<usize>> {
     let n = rows.cols();
-    let mut remaining: Vec<Vec<F>> = (0..rows.rows()).map(|i| rows.row(i).to_vec()).collect();
+    let mut remaining: Vec<Vec<Rational>> =
+        (0..rows.rows()).map(|i| rows.row(i).to_vec()).collect();
     let mut pivots = Vec::with_capacity(remaining.len());
     for col in (0..n).rev() {
-        let Some(at) = remaining.iter().position(|r| !r[col].is_zero()) else {
+        let Some(at) = remaining
+            .iter()
+            .position(|r| !num_traits::Zero::is_zero(&r[col]))
+        else {
             continue;
         };
         let pivot = remaining.swap_remove(at);
         for r in &mut remaining {
-            if !r[col].is_zero() {
-                let factor = r[col].checked_div(&pivot[col])?;
+            if !num_traits::Zero::is_zero(&r[col]) {
+                let factor = crate::algebra::Field::checked_div(&r[col], &pivot[col])?;
                 for (x, y) in r.iter_mut().zip(&pivot) {
                     *x = x.clone() - factor.clone() * y.clone();
                 }
@@ -494,7 +500,6 @@ pub fn reduced_order_symbolic(
 mod tests {
     use super::*;
     use crate::algebra::Fraction;
-    use crate::derivation::Show;
     use crate::syntax::parse_matrix;
 
     proptest::proptest! {
@@ -526,7 +531,7 @@ mod tests {
         let step = r.derivation.step("F").unwrap();
         assert_eq!(
             (step.text.clone(), step.latex.clone(), step.input.clone()),
-            r.f.all()
+            r.f.renderings()
         );
         // and `--json`'s F from the step's kept entries is F's own
         assert!(step.cells().is_some());
@@ -544,7 +549,7 @@ mod tests {
         let step = r.derivation.step("F").unwrap();
         assert_eq!(
             (step.text.clone(), step.latex.clone(), step.input.clone()),
-            r.f.all()
+            r.f.renderings()
         );
     }
 }
