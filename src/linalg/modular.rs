@@ -96,14 +96,16 @@ impl Barrett {
     }
 }
 
-fn pow_mod(mut b: u64, mut e: u64, p: u64) -> u64 {
-    let mut r = 1;
-    b %= p;
+/// `b^e mod p` by squaring, with Barrett's products (the eliminations invert a pivot this way,
+/// n per prime: sixty divisions each otherwise).
+fn pow_mod(b: u64, mut e: u64, p: u64) -> u64 {
+    let br = Barrett::new(p);
+    let (mut b, mut r) = (b % p, 1 % p);
     while e > 0 {
         if e & 1 == 1 {
-            r = r * b % p;
+            r = br.mul(r, b);
         }
-        b = b * b % p;
+        b = br.mul(b, b);
         e >>= 1;
     }
     r
@@ -120,11 +122,13 @@ pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
 /// multimodular paths on large entries).
 pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     debug_assert!(p < 1 << 32);
+    // (r·2³² + d) < 2⁶⁴ for r < p < 2³²: Barrett's reduction, not a division per digit
+    let br = Barrett::new(p);
     let r = x
         .magnitude()
         .iter_u32_digits()
         .rev()
-        .fold(0u64, |r, d| ((r << 32) | u64::from(d)) % p);
+        .fold(0u64, |r, d| br.reduce((r << 32) | u64::from(d)));
     if r != 0 && x.sign() == num_bigint::Sign::Minus {
         p - r
     } else {
