@@ -16,6 +16,7 @@ pub mod definiteness;
 pub mod elimination;
 pub mod float;
 pub mod kronecker;
+#[cfg(not(target_arch = "wasm32"))]
 mod limbs;
 pub mod lyapunov;
 mod matrix;
