@@ -99,13 +99,20 @@ impl Barrett {
 /// `b^e mod p` by squaring, with Barrett's products (the eliminations invert a pivot this way,
 /// n per prime: sixty divisions each otherwise).
 fn pow_mod(b: u64, mut e: u64, p: u64) -> u64 {
-    let br = Barrett::new(p);
+    #[cfg(not(target_arch = "wasm32"))]
+    let mul = {
+        let br = Barrett::new(p);
+        move |x: u64, y: u64| br.mul(x, y)
+    };
+    // in WebAssembly the division is one instruction and Barrett's 128-bit product is not
+    #[cfg(target_arch = "wasm32")]
+    let mul = |x: u64, y: u64| x * y % p;
     let (mut b, mut r) = (b % p, 1 % p);
     while e > 0 {
         if e & 1 == 1 {
-            r = br.mul(r, b);
+            r = mul(r, b);
         }
-        b = br.mul(b, b);
+        b = mul(b, b);
         e >>= 1;
     }
     r
@@ -122,13 +129,16 @@ pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
 /// multimodular paths on large entries).
 pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     debug_assert!(p < 1 << 32);
-    // (r·2³² + d) < 2⁶⁴ for r < p < 2³²: Barrett's reduction, not a division per digit
-    let br = Barrett::new(p);
-    let r = x
-        .magnitude()
-        .iter_u32_digits()
-        .rev()
-        .fold(0u64, |r, d| br.reduce((r << 32) | u64::from(d)));
+    // (r·2³² + d) < 2⁶⁴ for r < p < 2³²: Barrett's reduction, not a division per digit (in
+    // WebAssembly the division is one instruction and Barrett's 128-bit product is not)
+    #[cfg(not(target_arch = "wasm32"))]
+    let step = {
+        let br = Barrett::new(p);
+        move |r: u64, d: u32| br.reduce((r << 32) | u64::from(d))
+    };
+    #[cfg(target_arch = "wasm32")]
+    let step = |r: u64, d: u32| ((r << 32) | u64::from(d)) % p;
+    let r = x.magnitude().iter_u32_digits().rev().fold(0u64, step);
     if r != 0 && x.sign() == num_bigint::Sign::Minus {
         p - r
     } else {

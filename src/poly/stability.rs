@@ -3,7 +3,7 @@
 //! part; Routh's array answers that from the coefficients, with no root computed, so the answer
 //! is exact also where floating-point roots scatter (repeated roots, roots near the axis).
 
-use crate::algebra::Rational;
+use crate::algebra::{BigInt, Rational};
 use crate::poly::Poly;
 use num_traits::{Signed, Zero};
 
@@ -22,29 +22,40 @@ pub fn is_hurwitz(p: &Poly<Rational>) -> bool {
     let Some(n) = p.degree() else {
         return false;
     };
-    // descending coefficients, leading one made positive
-    let mut c: Vec<Rational> = p.coeffs().iter().rev().cloned().collect();
-    if c[0] < Rational::zero() {
+    // descending coefficients on integers (times the lcm of the denominators), the leading
+    // one made positive: scaling the polynomial by a nonzero constant keeps its roots
+    let descending: Vec<Rational> = p.coeffs().iter().rev().cloned().collect();
+    let (mut c, _) = crate::algebra::gcd::integer_numerators(&descending);
+    if c[0].is_negative() {
         c.iter_mut().for_each(|x| *x = -x.clone());
     }
-    let mut previous: Vec<Rational> = c.iter().step_by(2).cloned().collect();
-    let mut current: Vec<Rational> = c.iter().skip(1).step_by(2).cloned().collect();
+    // Routh's array fraction-free: row_(k+1)[j] = cur[0]·prev[j+1] − prev[0]·cur[j+1] is the
+    // textbook row (prev[j+1] − prev[0]·cur[j+1]/cur[0]) times the pivot cur[0] > 0, and a row
+    // scaled by a positive number leaves the rows after it unchanged (they depend on its
+    // ratios) and its own first entry's sign; each row is divided by its content, so the
+    // numbers stay the size of the textbook row's numerators
+    let mut previous: Vec<BigInt> = c.iter().step_by(2).cloned().collect();
+    let mut current: Vec<BigInt> = c.iter().skip(1).step_by(2).cloned().collect();
     for _ in 0..n {
         let Some(pivot) = current.first().cloned() else {
             return false;
         };
-        if pivot <= Rational::zero() {
+        if !pivot.is_positive() {
             return false;
         }
-        let at = |v: &[Rational], j: usize| v.get(j).cloned().unwrap_or_else(Rational::zero);
-        let next: Vec<Rational> = (0..previous.len().saturating_sub(1).max(1))
-            .map(|j| {
-                at(&previous, j + 1) - previous[0].clone() * at(&current, j + 1) / pivot.clone()
-            })
+        let at = |v: &[BigInt], j: usize| v.get(j).cloned().unwrap_or_default();
+        let mut next: Vec<BigInt> = (0..previous.len().saturating_sub(1).max(1))
+            .map(|j| &pivot * at(&previous, j + 1) - &previous[0] * at(&current, j + 1))
             .collect();
+        let content = next
+            .iter()
+            .fold(BigInt::zero(), |g, x| crate::algebra::gcd(&g, x));
+        if !content.is_zero() && content != BigInt::from(1) {
+            next.iter_mut().for_each(|x| *x = &*x / &content);
+        }
         previous = std::mem::replace(&mut current, next);
         // the last row of a degree-n array is a single entry; trailing zeros are harmless
-        while current.len() > 1 && current.last().is_some_and(|x| *x == Rational::zero()) {
+        while current.len() > 1 && current.last().is_some_and(Zero::is_zero) {
             current.pop();
         }
     }
@@ -81,26 +92,40 @@ pub fn is_schur(p: &Poly<Rational>) -> bool {
     if p.coeff(0).abs() >= lead {
         return false;
     }
-    let var = p.var().to_string();
-    let one_plus = Poly::new(vec![Rational::from_integer(1.into()); 2], &var);
-    let one_minus = Poly::new(
-        vec![
-            Rational::from_integer(1.into()),
-            Rational::from_integer((-1).into()),
-        ],
-        &var,
-    );
-    // q(s) = Σ_k a_k (1 + s)^k (1 − s)^(n−k) by Horner's rule in (1 + s), with the powers of
-    // (1 − s) formed once: O(n²) coefficient operations instead of a product per term
-    let mut minus_powers = vec![Poly::new(vec![Rational::from_integer(1.into())], &var)];
-    for j in 1..=n {
-        let next = minus_powers[j - 1].clone() * one_minus.clone();
-        minus_powers.push(next);
-    }
-    let mut q = minus_powers[0].scale(&p.coeff(n));
+    // on integers: p times the lcm of its denominators has the same roots
+    let (a, _) = crate::algebra::gcd::integer_numerators(p.coeffs());
+    // q(s) = Σ_k a_k (1 + s)^k (1 − s)^(n−k) by Horner's rule in (1 + s): q ← q·(1 + s) +
+    // a_k (1 − s)^(n−k), with (1 − s)^j's coefficients (−1)^i C(j, i) — O(n²) integer
+    // operations, no fraction reduced
+    let minus_power = |j: usize| -> Vec<BigInt> {
+        let mut row = Vec::with_capacity(j + 1);
+        let mut binomial = BigInt::from(1);
+        for i in 0..=j {
+            row.push(if i % 2 == 0 {
+                binomial.clone()
+            } else {
+                -binomial.clone()
+            });
+            binomial = binomial * BigInt::from(j - i) / BigInt::from(i + 1);
+        }
+        row
+    };
+    let mut q: Vec<BigInt> = vec![a[n].clone()];
     for k in (0..n).rev() {
-        q = q * one_plus.clone() + minus_powers[n - k].scale(&p.coeff(k));
+        // q·(1 + s): coefficient i becomes q_i + q_(i−1)
+        let mut next = vec![BigInt::zero(); q.len() + 1];
+        for (i, x) in q.iter().enumerate() {
+            next[i] += x;
+            next[i + 1] += x;
+        }
+        if !a[k].is_zero() {
+            for (i, m) in minus_power(n - k).into_iter().enumerate() {
+                next[i] += &a[k] * m;
+            }
+        }
+        q = next;
     }
+    let q = Poly::new(q.into_iter().map(Rational::from_integer).collect(), p.var());
     q.degree() == Some(n) && is_hurwitz(&q)
 }
 
