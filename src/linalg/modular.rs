@@ -146,6 +146,23 @@ pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     }
 }
 
+/// `±digits mod p` for 32-bit digits, most significant first: each step `(r·2³² + d) mod p`
+/// stays below `2⁶⁴` for `p < 2³²`, so Barrett's reduction takes it, with no division (in
+/// WebAssembly the division is one instruction and Barrett's 128-bit product is not).
+#[inline]
+fn residue(negative: bool, digits: &[u32], br: Barrett) -> u64 {
+    #[cfg(not(target_arch = "wasm32"))]
+    let step = |r: u64, d: &u32| br.reduce((r << 32) | u64::from(*d));
+    #[cfg(target_arch = "wasm32")]
+    let step = |r: u64, d: &u32| ((r << 32) | u64::from(*d)) % br.p;
+    let r = digits.iter().fold(0u64, step);
+    if r != 0 && negative {
+        br.p - r
+    } else {
+        r
+    }
+}
+
 /// Characteristic polynomial mod p (coefficients ascending, monic) by Hessenberg reduction.
 fn charpoly_mod(mut h: Vec<Vec<u64>>, p: u64) -> Vec<u64> {
     let n = h.len();
@@ -387,25 +404,48 @@ fn map_primes<T: Send>(primes: &[u64], f: impl Fn(u64) -> T + Sync) -> Vec<T> {
 pub(crate) struct IntMatrix {
     rows: usize,
     cols: usize,
-    small: Option<Vec<i64>>,
+    words: Words,
     big: Vec<BigInt>,
+}
+
+/// How an integer matrix is reduced modulo each prime: every entry a machine word, or every
+/// entry's sign and 32-bit digits (most significant first), taken from num-bigint once rather
+/// than once per prime.
+enum Words {
+    Small(Vec<i64>),
+    Digits(Vec<(bool, Vec<u32>)>),
 }
 
 impl IntMatrix {
     pub(crate) fn new(rows: usize, cols: usize, big: Vec<BigInt>) -> Self {
-        let small = big.iter().map(ToPrimitive::to_i64).collect();
+        let words = match big.iter().map(ToPrimitive::to_i64).collect() {
+            Some(small) => Words::Small(small),
+            None => Words::Digits(
+                big.iter()
+                    .map(|x| {
+                        let digits = x.magnitude().iter_u32_digits().rev().collect();
+                        (x.sign() == num_bigint::Sign::Minus, digits)
+                    })
+                    .collect(),
+            ),
+        };
         IntMatrix {
             rows,
             cols,
-            small,
+            words,
             big,
         }
     }
     /// Row-major residues.
     pub(crate) fn residues(&self, p: u64) -> Vec<u64> {
-        match &self.small {
-            Some(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
-            None => self.big.iter().map(|x| int_mod(x, p)).collect(),
+        match &self.words {
+            Words::Small(v) => v.iter().map(|&x| x.rem_euclid(p as i64) as u64).collect(),
+            Words::Digits(v) => {
+                let br = Barrett::new(p);
+                v.iter()
+                    .map(|(negative, d)| residue(*negative, d, br))
+                    .collect()
+            }
         }
     }
     /// log2 of the Frobenius norm (an upper bound).
