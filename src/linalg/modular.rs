@@ -99,14 +99,8 @@ impl Barrett {
 /// `b^e mod p` by squaring, with Barrett's products (the eliminations invert a pivot this way,
 /// n per prime: sixty divisions each otherwise).
 fn pow_mod(b: u64, mut e: u64, p: u64) -> u64 {
-    #[cfg(not(target_arch = "wasm32"))]
-    let mul = {
-        let br = Barrett::new(p);
-        move |x: u64, y: u64| br.mul(x, y)
-    };
-    // in WebAssembly the division is one instruction and Barrett's 128-bit product is not
-    #[cfg(target_arch = "wasm32")]
-    let mul = |x: u64, y: u64| x * y % p;
+    let br = Barrett::new(p);
+    let mul = |x: u64, y: u64| br.mul(x, y);
     let (mut b, mut r) = (b % p, 1 % p);
     while e > 0 {
         if e & 1 == 1 {
@@ -129,16 +123,13 @@ pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
 /// multimodular paths on large entries).
 pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     debug_assert!(p < 1 << 32);
-    // (r·2³² + d) < 2⁶⁴ for r < p < 2³²: Barrett's reduction, not a division per digit (in
-    // WebAssembly the division is one instruction and Barrett's 128-bit product is not)
-    #[cfg(not(target_arch = "wasm32"))]
-    let step = {
-        let br = Barrett::new(p);
-        move |r: u64, d: u32| br.reduce((r << 32) | u64::from(d))
-    };
-    #[cfg(target_arch = "wasm32")]
-    let step = |r: u64, d: u32| ((r << 32) | u64::from(d)) % p;
-    let r = x.magnitude().iter_u32_digits().rev().fold(0u64, step);
+    // (r·2³² + d) < 2⁶⁴ for r < p < 2³²: Barrett's reduction, not a division per digit
+    let br = Barrett::new(p);
+    let r = x
+        .magnitude()
+        .iter_u32_digits()
+        .rev()
+        .fold(0u64, |r, d| br.reduce((r << 32) | u64::from(d)));
     if r != 0 && x.sign() == num_bigint::Sign::Minus {
         p - r
     } else {
@@ -147,15 +138,12 @@ pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
 }
 
 /// `±digits mod p` for 32-bit digits, most significant first: each step `(r·2³² + d) mod p`
-/// stays below `2⁶⁴` for `p < 2³²`, so Barrett's reduction takes it, with no division (in
-/// WebAssembly the division is one instruction and Barrett's 128-bit product is not).
+/// stays below `2⁶⁴` for `p < 2³²`, so Barrett's reduction takes it, with no division.
 #[inline]
 fn residue(negative: bool, digits: &[u32], br: Barrett) -> u64 {
-    #[cfg(not(target_arch = "wasm32"))]
-    let step = |r: u64, d: &u32| br.reduce((r << 32) | u64::from(*d));
-    #[cfg(target_arch = "wasm32")]
-    let step = |r: u64, d: &u32| ((r << 32) | u64::from(*d)) % br.p;
-    let r = digits.iter().fold(0u64, step);
+    let r = digits
+        .iter()
+        .fold(0u64, |r, &d| br.reduce((r << 32) | u64::from(d)));
     if r != 0 && negative {
         br.p - r
     } else {
