@@ -157,9 +157,6 @@ impl Step {
     pub fn cells(&self) -> Option<&[String]> {
         self.cells.as_deref().map(Vec::as_slice)
     }
-}
-
-impl Step {
     /// The same value under another label and formula: a matrix that two formulas give is
     /// rendered once (a reduced-order observer's F is the observer matrix of its gain design,
     /// and at order 40 rendering it costs more than computing it).

@@ -32,7 +32,7 @@ pub fn gcd(a: &BigInt, b: &BigInt) -> BigInt {
 }
 
 /// `gcd` of two naturals by Lehmer's algorithm, on the numbers' 64-bit limbs in place: each
-/// step reads the leading 126 bits, finds the cofactor matrix of the Euclidean steps they
+/// step reads the leading 62 bits, finds the cofactor matrix of the Euclidean steps they
 /// determine, and applies it to both numbers in one pass with 128-bit carries — no number is
 /// allocated inside the loop (num-bigint would allocate four products and two sums per step).
 fn gcd_unsigned(a: &BigUint, b: &BigUint) -> BigUint {
@@ -45,7 +45,7 @@ fn gcd_unsigned(a: &BigUint, b: &BigUint) -> BigUint {
             std::mem::swap(&mut a, &mut b);
         }
         if b.is_empty() {
-            return from_limbs(&a);
+            return natural_from_limbs(&a);
         }
         if a.len() <= 2 {
             return BigUint::from(u128_of(&a).gcd(&u128_of(&b)));
@@ -59,7 +59,7 @@ fn gcd_unsigned(a: &BigUint, b: &BigUint) -> BigUint {
             Some(m) => apply_cofactors(&mut a, &mut b, m),
             None => {
                 // very different sizes, or not one certain step: one division
-                let r = from_limbs(&a) % from_limbs(&b);
+                let r = natural_from_limbs(&a) % natural_from_limbs(&b);
                 a = std::mem::replace(&mut b, r.to_u64_digits());
             }
         }
@@ -95,12 +95,25 @@ fn u128_of(x: &[u64]) -> u128 {
         .fold(0, |acc, &l| (acc << 64) | u128::from(l))
 }
 
-fn from_limbs(x: &[u64]) -> BigUint {
+/// The natural number with these 64-bit limbs, least significant first (num-bigint builds
+/// from 32-bit digits only). Shared with the Horner kernel on limbs.
+pub(crate) fn natural_from_limbs(x: &[u64]) -> BigUint {
     BigUint::new(
         x.iter()
             .flat_map(|&l| [l as u32, (l >> 32) as u32])
             .collect(),
     )
+}
+
+/// Two's complement negation of limbs in place (least significant first). Shared with the
+/// Horner kernel on limbs.
+pub(crate) fn negate_limbs(x: &mut [u64]) {
+    let mut carry = true;
+    for limb in x.iter_mut() {
+        let (v, c) = (!*limb).overflowing_add(u64::from(carry));
+        *limb = v;
+        carry = c;
+    }
 }
 
 /// `⌊x / 2^shift⌋` for a trimmed `x` below `2^(shift + 128)`.
@@ -142,12 +155,7 @@ fn settle(x: &mut Vec<u64>, carry: i128) {
     }
     x.extend([carry as u64, (carry >> 64) as u64]);
     if carry < 0 {
-        let mut one = true;
-        for limb in x.iter_mut() {
-            let (w, c) = (!*limb).overflowing_add(u64::from(one));
-            *limb = w;
-            one = c;
-        }
+        negate_limbs(x);
     }
 }
 
@@ -373,7 +381,7 @@ mod tests {
             g in proptest::collection::vec(proptest::prelude::any::<u64>(), 1..6),
             edge in 0u32..4,
         ) {
-            let limbs = |v: &[u64]| from_limbs(v).into();
+            let limbs = |v: &[u64]| natural_from_limbs(v).into();
             let common: BigInt = limbs(&g);
             let (mut a, mut b): (BigInt, BigInt) = (limbs(&x) * &common, limbs(&y) * &common);
             match edge {
@@ -392,14 +400,14 @@ mod tests {
         let mut x = vec![5u64, 0];
         settle(&mut x, 1);
         assert_eq!(
-            from_limbs(&x),
+            natural_from_limbs(&x),
             BigUint::from(5u32) + (BigUint::one() << 128u32)
         );
         // x + (−1)·2^128 = 5 − 2^128, whose magnitude is 2^128 − 5
         let mut y = vec![5u64, 0];
         settle(&mut y, -1);
         trim(&mut y);
-        assert_eq!(from_limbs(&y), (BigUint::one() << 128u32) - 5u32);
+        assert_eq!(natural_from_limbs(&y), (BigUint::one() << 128u32) - 5u32);
     }
 
     #[test]

@@ -100,13 +100,12 @@ impl Barrett {
 /// n per prime: sixty divisions each otherwise).
 fn pow_mod(b: u64, mut e: u64, p: u64) -> u64 {
     let br = Barrett::new(p);
-    let mul = |x: u64, y: u64| br.mul(x, y);
     let (mut b, mut r) = (b % p, 1 % p);
     while e > 0 {
         if e & 1 == 1 {
-            r = mul(r, b);
+            r = br.mul(r, b);
         }
-        b = mul(b, b);
+        b = br.mul(b, b);
         e >>= 1;
     }
     r
@@ -123,27 +122,18 @@ pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
 /// multimodular paths on large entries).
 pub(crate) fn int_mod(x: &BigInt, p: u64) -> u64 {
     debug_assert!(p < 1 << 32);
-    // (r·2³² + d) < 2⁶⁴ for r < p < 2³²: Barrett's reduction, not a division per digit
-    let br = Barrett::new(p);
-    let r = x
-        .magnitude()
-        .iter_u32_digits()
-        .rev()
-        .fold(0u64, |r, d| br.reduce((r << 32) | u64::from(d)));
-    if r != 0 && x.sign() == num_bigint::Sign::Minus {
-        p - r
-    } else {
-        r
-    }
+    residue(
+        x.sign() == num_bigint::Sign::Minus,
+        x.magnitude().iter_u32_digits().rev(),
+        Barrett::new(p),
+    )
 }
 
 /// `±digits mod p` for 32-bit digits, most significant first: each step `(r·2³² + d) mod p`
 /// stays below `2⁶⁴` for `p < 2³²`, so Barrett's reduction takes it, with no division.
 #[inline]
-fn residue(negative: bool, digits: &[u32], br: Barrett) -> u64 {
-    let r = digits
-        .iter()
-        .fold(0u64, |r, &d| br.reduce((r << 32) | u64::from(d)));
+fn residue(negative: bool, digits: impl Iterator<Item = u32>, br: Barrett) -> u64 {
+    let r = digits.fold(0u64, |r, d| br.reduce((r << 32) | u64::from(d)));
     if r != 0 && negative {
         br.p - r
     } else {
@@ -431,7 +421,7 @@ impl IntMatrix {
             Words::Digits(v) => {
                 let br = Barrett::new(p);
                 v.iter()
-                    .map(|(negative, d)| residue(*negative, d, br))
+                    .map(|(negative, d)| residue(*negative, d.iter().copied(), br))
                     .collect()
             }
         }

@@ -156,7 +156,8 @@ pub(crate) fn polynomial_times_vector(
 }
 
 /// `Q(Ã)·Y` on num-bigint, one allocated product per term: the path for plants whose scaled
-/// entries are not machine words (the word path is [`super::limbs::horner`]).
+/// entries are not machine words, and the browser's (natively, machine-word plants take the
+/// limb kernel, `linalg/limbs.rs`).
 fn horner_on_bigints(
     a_int: &Scaled,
     n: usize,

@@ -208,10 +208,9 @@ pub fn discrete_observer(
     // A − KC cyclic: one Jordan block per eigenvalue, so when its polynomial is zⁿ it is
     // nilpotent of index exactly n — no power formed, no cyclicity test needed
     let n = a_minus_kc.require_square("nilpotency")?;
-    let nilpotent_index = nilpotent_index_of_cyclic(&error_polynomial, n);
+    let nilpotent_index = is_power_of_z(&error_polynomial, n).then_some(n);
     if let Some(k) = nilpotent_index {
-        // `nilpotent_index` found this power zero (on integers); it is recorded, not recomputed
-        let n = error_matrix.rows();
+        // the power is zero by the argument above; it is recorded, not computed
         let power: Matrix<Quadratic> = Matrix::zeros(n, n);
         derivation.push(
             &format!("power {k} of the error matrix"),
@@ -259,10 +258,10 @@ pub fn nilpotent_index(m: &Matrix<Quadratic>) -> Result<Option<usize>, LinalgErr
     nilpotent_index_with(m, &chi)
 }
 
-/// The nilpotency index of a cyclic n × n matrix with characteristic polynomial `chi`: n when
-/// `chi = zⁿ` (a single Jordan block), none otherwise.
-fn nilpotent_index_of_cyclic(chi: &Poly<Quadratic>, n: usize) -> Option<usize> {
-    (chi.degree() == Some(n) && (0..n).all(|k| chi.coeff(k).is_zero())).then_some(n)
+/// Whether `chi` is `zⁿ`: the characteristic polynomial of a nilpotent n × n matrix (of index
+/// n when the matrix is cyclic, a single Jordan block).
+fn is_power_of_z(chi: &Poly<Quadratic>, n: usize) -> bool {
+    chi.degree() == Some(n) && (0..n).all(|k| chi.coeff(k).is_zero())
 }
 
 /// [`nilpotent_index`] for a matrix whose characteristic polynomial `chi` is known exactly.
@@ -274,7 +273,7 @@ pub fn nilpotent_index_with(
     chi: &Poly<Quadratic>,
 ) -> Result<Option<usize>, LinalgError> {
     let n = m.require_square("nilpotency")?;
-    if chi.degree() != Some(n) || (0..n).any(|k| !chi.coeff(k).is_zero()) {
+    if !is_power_of_z(chi, n) {
         return Ok(None);
     }
     if let Some(r) = linalg::rational_entries(m) {
