@@ -3,38 +3,40 @@
 //!
 //! **Algorithm.** Horner's rule, `acc ← A·acc + q_j·Y` for `j = deg, …, 0`. A bound on every
 //! value the loop will hold is found first (below), and each integer is stored in that many
-//! 64-bit limbs, two's complement. An entry of `A·acc` is summed limb column by limb column: for
-//! limb `l < w − 1` the terms `a_t·x_t[l]` with `a_t ≥ 0` go to one `u128` and the others (as
-//! `|a_t|·x_t[l]`) to a second; the top limb, read as signed, goes to an `i128`. One carry pass
+//! 32-bit limbs, two's complement. An entry of `A·acc` is summed limb column by limb column: for
+//! limb `l < w − 1` the terms `a_t·x_t[l]` with `a_t ≥ 0` go to one `u64` and the others (as
+//! `|a_t|·x_t[l]`) to a second; the top limb, read as signed, goes to an `i64`. Limbs of 32 bits
+//! keep every product a machine multiplication in WebAssembly too, which has no 64 × 64 → 128-bit
+//! one. One carry pass
 //! turns the columns into limbs. Nothing is allocated and nothing is normalised inside the loop,
 //! where num-bigint allocates a product per term.
 //!
-//! **Identity.** With `x_t = Σ_(l<w−1) x_t[l]·2^(64l) + s_t·2^(64(w−1))` (`s_t` the top limb as
-//! a signed word), `Σ_t a_t x_t = Σ_l 2^(64l) · Σ_t a_t x_t[l]`: the columns are independent
+//! **Identity.** With `x_t = Σ_(l<w−1) x_t[l]·2^(32l) + s_t·2^(32(w−1))` (`s_t` the top limb as
+//! a signed word), `Σ_t a_t x_t = Σ_l 2^(32l) · Σ_t a_t x_t[l]`: the columns are independent
 //! and are carried once at the end.
 //!
 //! **Bound.** `|A·x|∞ ≤ ‖A‖∞·|x|∞` with `‖A‖∞` the largest row sum of `|a|`, so with
 //! `‖A‖∞ < 2^α`, `|q_j| < 2^(β_j)` and `|Y| < 2^γ`, every value after the step for `q_j` is
 //! below `2^(b_j)`, `b_j = max(b_(j+1) + α, β_j + γ) + 1`; the last `b` gives the width. The
-//! row sums are kept below `2^61` (and a coefficient used as a multiplier below `2^61`), so a
-//! column sum stays below `2^126`. A value that would leave the width anyway is detected in the
+//! row sums are kept below `2^29` (and a coefficient used as a multiplier below `2^29`), so a
+//! column sum stays below `2^62`. A value that would leave the width anyway is detected in the
 //! carry pass and the caller takes num-bigint's path.
 //!
 //! **Cost.** `(deg + 1)·n²·w` word products for `n × n` `A` and `w` limbs, plus one conversion
 //! of `Y` in and of the result out.
 
-use crate::algebra::gcd::{natural_from_limbs, negate_limbs};
+use crate::algebra::gcd::negate_limbs;
 use crate::algebra::BigInt;
-use num_bigint::Sign;
+use num_bigint::{BigUint, Sign};
 use num_traits::{Signed, ToPrimitive, Zero};
 
-/// Below this, a row sum of `|a|` or a coefficient keeps every column sum below `2^126`.
-const WORD_LIMIT: u128 = 1 << 61;
+/// Below this, a row sum of `|a|` or a coefficient keeps every column sum below `2^62`.
+const WORD_LIMIT: u64 = 1 << 29;
 
-/// `n·k` integers of `width` limbs each, two's complement, least significant limb first.
+/// `n·k` integers of `width` 32-bit limbs each, two's complement, least significant limb first.
 struct Limbs {
     width: usize,
-    data: Vec<u64>,
+    data: Vec<u32>,
 }
 
 impl Limbs {
@@ -45,18 +47,18 @@ impl Limbs {
         }
     }
 
-    /// The integers, `None` when one needs more than `64·width − 1` bits of magnitude.
+    /// The integers, `None` when one needs more than `32·width − 1` bits of magnitude.
     fn from_bigints<'a>(
         values: impl ExactSizeIterator<Item = &'a BigInt>,
         width: usize,
     ) -> Option<Self> {
         let mut out = Limbs::zeros(values.len(), width);
         for (i, x) in values.enumerate() {
-            if x.bits() + 1 > 64 * width as u64 {
+            if x.bits() + 1 > 32 * width as u64 {
                 return None;
             }
             let cell = &mut out.data[i * width..(i + 1) * width];
-            for (limb, digit) in cell.iter_mut().zip(x.iter_u64_digits()) {
+            for (limb, digit) in cell.iter_mut().zip(x.iter_u32_digits()) {
                 *limb = digit;
             }
             if x.is_negative() {
@@ -66,7 +68,7 @@ impl Limbs {
         Some(out)
     }
 
-    fn cell(&self, i: usize) -> &[u64] {
+    fn cell(&self, i: usize) -> &[u32] {
         &self.data[i * self.width..(i + 1) * self.width]
     }
 
@@ -74,12 +76,12 @@ impl Limbs {
         (0..self.data.len() / self.width)
             .map(|i| {
                 let mut cell = self.cell(i).to_vec();
-                let negative = cell.last().is_some_and(|&top| (top as i64) < 0);
+                let negative = cell.last().is_some_and(|&top| (top as i32) < 0);
                 if negative {
                     negate_limbs(&mut cell);
                 }
                 let sign = if negative { Sign::Minus } else { Sign::Plus };
-                BigInt::from_biguint(sign, natural_from_limbs(&cell))
+                BigInt::from_biguint(sign, BigUint::new(cell))
             })
             .collect()
     }
@@ -88,9 +90,9 @@ impl Limbs {
 /// One entry `Σ_t m_t·x_t` as limb columns: `pos`/`neg` for the limbs below the top, `top` for
 /// the top limb read as signed.
 struct Columns {
-    pos: Vec<u128>,
-    neg: Vec<u128>,
-    top: i128,
+    pos: Vec<u64>,
+    neg: Vec<u64>,
+    top: i64,
 }
 
 impl Columns {
@@ -105,38 +107,38 @@ impl Columns {
     /// `self += m·x` for one integer `x` in limbs (not inlined: one copy of the loop for its
     /// three callers keeps the browser module small, and a call per w-limb pass costs nothing).
     #[inline(never)]
-    fn add(&mut self, m: i64, x: &[u64]) {
+    fn add(&mut self, m: i64, x: &[u32]) {
         let (low, top) = x.split_at(x.len() - 1);
         let side = if m >= 0 { &mut self.pos } else { &mut self.neg };
-        let factor = u128::from(m.unsigned_abs());
+        let factor = m.unsigned_abs();
         for (column, &limb) in side.iter_mut().zip(low) {
-            *column += factor * u128::from(limb);
+            *column += factor * u64::from(limb);
         }
-        self.top += i128::from(m) * i128::from(top[0] as i64);
+        self.top += m * i64::from(top[0] as i32);
     }
 
     /// The carried limbs written to `out`, the columns cleared; `false` when the value does not
     /// fit the width (never, under the module's bound).
-    fn carry_into(&mut self, out: &mut [u64]) -> bool {
-        let mut carry: i128 = 0;
+    fn carry_into(&mut self, out: &mut [u32]) -> bool {
+        let mut carry: i64 = 0;
         for ((limb, p), n) in out
             .iter_mut()
             .zip(self.pos.iter_mut())
             .zip(self.neg.iter_mut())
         {
-            // p, n < 2^126: the difference and the carry fit an i128
-            let v = (*p as i128) - (*n as i128) + carry;
-            *limb = v as u64;
-            carry = v >> 64;
+            // p, n < 2^62: the difference and the carry fit an i64
+            let v = (*p as i64) - (*n as i64) + carry;
+            *limb = v as u32;
+            carry = v >> 32;
             *p = 0;
             *n = 0;
         }
         let v = self.top + carry;
         self.top = 0;
-        match i64::try_from(v) {
+        match i32::try_from(v) {
             Ok(top) => {
                 if let Some(last) = out.last_mut() {
-                    *last = top as u64;
+                    *last = top as u32;
                 }
                 true
             }
@@ -148,7 +150,7 @@ impl Columns {
 /// The term `q_j·Y` of one Horner step.
 enum Term {
     Zero,
-    /// `q_j` a word below `2^61`: multiplied in the column sums.
+    /// `q_j` a word below `2^29`: multiplied in the column sums.
     Word(i64),
     /// `q_j` long: `q_j·Y` formed once on num-bigint.
     Long(Limbs),
@@ -159,10 +161,7 @@ impl Term {
         if qj.is_zero() {
             return Some(Term::Zero);
         }
-        match qj
-            .to_i64()
-            .filter(|m| u128::from(m.unsigned_abs()) < WORD_LIMIT)
-        {
+        match qj.to_i64().filter(|m| m.unsigned_abs() < WORD_LIMIT) {
             Some(m) => Some(Term::Word(m)),
             None => {
                 let products: Vec<BigInt> = y.iter().map(|v| v * qj).collect();
@@ -174,7 +173,7 @@ impl Term {
 
 /// `Q(A)·Y = Σ_j q_j A^j Y` for the `n × n` matrix `a` (row-major machine words) and the `n × k`
 /// integer matrix `y` (row-major), `q` lowest power first. `None` when `A`'s row sums are not
-/// below `2^61` (the caller multiplies on num-bigint instead).
+/// below `2^29` (the caller multiplies on num-bigint instead).
 pub(crate) fn horner(
     a: &[i64],
     n: usize,
@@ -193,7 +192,7 @@ pub(crate) fn horner(
         })
         .max()
         .unwrap_or(0);
-    if norm >= WORD_LIMIT {
+    if norm >= u128::from(WORD_LIMIT) {
         return None;
     }
     // the bound: every value below 2^bits
@@ -208,7 +207,7 @@ pub(crate) fn horner(
     let Some(bits) = bits else {
         return Some(vec![BigInt::zero(); n * k]);
     };
-    let width = usize::try_from(bits / 64 + 1).ok()?;
+    let width = usize::try_from(bits / 32 + 1).ok()?;
     let y_limbs = Limbs::from_bigints(y.iter(), width)?;
     let mut acc = Limbs::zeros(n * k, width);
     let mut next = Limbs::zeros(n * k, width);
@@ -286,10 +285,10 @@ mod tests {
             (BigInt::from(1) << 190u32) - 1,
             -(BigInt::from(1) << 190u32),
         ];
-        let limbs = Limbs::from_bigints(values.iter(), 4).expect("fits 255 bits");
+        let limbs = Limbs::from_bigints(values.iter(), 8).expect("fits 255 bits");
         assert_eq!(limbs.to_bigints(), values);
-        // 2^191 needs 192 bits and a sign: not in three limbs
-        assert!(Limbs::from_bigints([BigInt::from(1) << 191u32].iter(), 3).is_none());
+        // 2^191 needs 192 bits and a sign: not in six limbs
+        assert!(Limbs::from_bigints([BigInt::from(1) << 191u32].iter(), 6).is_none());
     }
 
     #[test]
@@ -297,10 +296,10 @@ mod tests {
         let q = [BigInt::from(1), BigInt::from(1)];
         let y = [BigInt::from(1)];
         assert_eq!(
-            horner(&[1 << 60], 1, &q, &y, 1),
-            Some(reference(&[1 << 60], 1, &q, &y, 1))
+            horner(&[(1 << 29) - 1], 1, &q, &y, 1),
+            Some(reference(&[(1 << 29) - 1], 1, &q, &y, 1))
         );
-        assert!(horner(&[1 << 61], 1, &q, &y, 1).is_none());
+        assert!(horner(&[1 << 29], 1, &q, &y, 1).is_none());
         assert!(horner(&[i64::MIN], 1, &q, &y, 1).is_none());
     }
 
@@ -317,7 +316,7 @@ mod tests {
         ) {
             let pick = |i: usize| seed[i % seed.len()];
             let a: Vec<i64> = (0..n * n)
-                .map(|i| if extreme && i % 3 == 0 { (1 << 58) * pick(i).signum() } else { pick(i) % 20 })
+                .map(|i| if extreme && i % 3 == 0 { (1 << 27) * pick(i).signum() } else { pick(i) % 20 })
                 .collect();
             let y: Vec<BigInt> = (0..n * k).map(|i| big(&[pick(i + 7), pick(i + 11)], shift)).collect();
             let q: Vec<BigInt> = (0..=deg)

@@ -16,7 +16,6 @@ pub mod definiteness;
 pub mod elimination;
 pub mod float;
 pub mod kronecker;
-#[cfg(not(target_arch = "wasm32"))]
 mod limbs;
 pub mod lyapunov;
 mod matrix;

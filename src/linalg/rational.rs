@@ -136,16 +136,10 @@ pub(crate) fn polynomial_times_vector(
         dpow *= &d;
     }
     let (q, f) = scale(&scaled);
-    // the limb kernel's 64 × 64 → 128-bit products are one instruction natively and a software
-    // routine in WebAssembly, where num-bigint's 32-bit digits are faster (and the module
-    // smaller): the browser keeps num-bigint's loop
-    #[cfg(not(target_arch = "wasm32"))]
     let words = match &a_int {
         Scaled::Small(words) => super::limbs::horner(words, n, &q, &y, k),
         Scaled::Big(_) => None,
     };
-    #[cfg(target_arch = "wasm32")]
-    let words: Option<Vec<BigInt>> = None;
     let acc = words.unwrap_or_else(|| horner_on_bigints(&a_int, n, &q, &y, k));
     // divide by f·d^deg·δ (dpow is d^(deg+1) now)
     let denominator = f * (dpow / &d) * delta;
@@ -156,8 +150,7 @@ pub(crate) fn polynomial_times_vector(
 }
 
 /// `Q(Ã)·Y` on num-bigint, one allocated product per term: the path for plants whose scaled
-/// entries are not machine words, and the browser's (natively, machine-word plants take the
-/// limb kernel, `linalg/limbs.rs`).
+/// entries are not small machine words (the others take the limb kernel, `linalg/limbs.rs`).
 fn horner_on_bigints(
     a_int: &Scaled,
     n: usize,
