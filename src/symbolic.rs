@@ -287,6 +287,15 @@ pub enum DesiredRequest<'a> {
     Family(crate::observer::Family, &'a str),
 }
 
+/// Whether a text is plain numbers — digits, signs, fraction bars, decimal points, brackets and
+/// separators: it names no parameter and is read at the cost of its length, so
+/// [`DesiredRequest::mentions_parameters`] need not read it (at n = 20, reading twenty poles
+/// as rational functions was a twentieth of a dead-beat design).
+fn plainly_numeric(text: &str) -> bool {
+    text.chars()
+        .all(|c| c.is_ascii_digit() || " \t\r\n.,;/+-−()".contains(c))
+}
+
 /// Reads one formula, values of `env` substituted.
 fn formula(text: &str, env: &crate::syntax::Environment) -> Result<Fraction, String> {
     let e = crate::syntax::parse_expression(text).map_err(|e| e.show_in(text))?;
@@ -328,6 +337,12 @@ impl DesiredRequest<'_> {
     /// refuses it naming the limit (found by fuzzing: a `--poly` of degree-25 fractions was read
     /// without a budget to decide which path to take, and ran into the 10 s time budget).
     pub fn mentions_parameters(&self, env: &crate::syntax::Environment) -> bool {
+        let (DesiredRequest::Poles(text)
+        | DesiredRequest::Poly(text)
+        | DesiredRequest::Family(_, text)) = *self;
+        if plainly_numeric(text) {
+            return false;
+        }
         match within_budget(|| self.values(env).map(|v| parameters(&v))) {
             Ok(Ok(names)) => !names.is_empty(),
             Ok(Err(_)) => false,

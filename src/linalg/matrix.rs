@@ -348,8 +348,8 @@ impl<T: Ring> Matrix<T> {
             let mut text = Vec::with_capacity(self.data.len());
             let mut latex = Vec::with_capacity(self.data.len());
             for x in q.entries() {
-                let numer = x.numer().to_string();
-                let denom = x.denom().to_string();
+                let numer = decimal(x.numer());
+                let denom = decimal(x.denom());
                 latex.push(crate::algebra::latex_of_parts(&numer, &denom));
                 text.push(if x.is_integer() {
                     numer
@@ -373,31 +373,46 @@ impl<T: Ring> Matrix<T> {
     }
 }
 
-/// Row-major cells aligned in columns, one row per line.
+/// Row-major cells aligned in columns, one row per line: `[ ` and the row's cells, each padded on
+/// the left to its column's width and separated by two spaces, then ` ]`. Written into one
+/// buffer (a cell is copied once, not formatted into a row and joined again).
 fn layout_text(rows: usize, cols: usize, cells: &[String]) -> String {
     if rows == 0 || cols == 0 {
         return format!("[] ({rows}×{cols})");
     }
+    let counts: Vec<usize> = cells.iter().map(|c| c.chars().count()).collect();
     let widths: Vec<usize> = (0..cols)
-        .map(|j| {
-            (0..rows)
-                .map(|i| cells[i * cols + j].chars().count())
-                .max()
-                .unwrap_or(0)
-        })
+        .map(|j| (0..rows).map(|i| counts[i * cols + j]).max().unwrap_or(0))
         .collect();
-    (0..rows)
-        .map(|i| {
-            let body: Vec<String> = (0..cols)
-                .map(|j| {
-                    let c = &cells[i * cols + j];
-                    format!("{}{c}", " ".repeat(widths[j] - c.chars().count()))
-                })
-                .collect();
-            format!("[ {} ]", body.join("  "))
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+    let bytes: usize = cells.iter().map(String::len).sum();
+    let mut out =
+        String::with_capacity(bytes + rows * (widths.iter().sum::<usize>() + 2 * cols + 4));
+    for i in 0..rows {
+        if i > 0 {
+            out.push('\n');
+        }
+        out.push_str("[ ");
+        for j in 0..cols {
+            if j > 0 {
+                out.push_str("  ");
+            }
+            let k = i * cols + j;
+            out.extend(std::iter::repeat_n(' ', widths[j] - counts[k]));
+            out.push_str(&cells[k]);
+        }
+        out.push_str(" ]");
+    }
+    out
+}
+
+/// An integer in decimal: a machine word through core's formatting, which is several times
+/// faster than num-bigint's general conversion for the small entries most matrices hold.
+fn decimal(x: &crate::algebra::BigInt) -> String {
+    use num_traits::ToPrimitive;
+    match x.to_i64() {
+        Some(v) => v.to_string(),
+        None => x.to_string(),
+    }
 }
 
 /// Row-major cells joined with `col_sep` and `row_sep`.

@@ -224,7 +224,7 @@ impl DesiredPolynomial {
                 }
             }
         }
-        let p = Poly::from_roots(poles, "s");
+        let p = product_of_rational_roots(poles).unwrap_or_else(|| Poly::from_roots(poles, "s"));
         Ok(DesiredPolynomial::exact(
             PolynomialFamily::Poles(poles.to_vec()),
             p,
@@ -462,9 +462,59 @@ fn normalised_butterworth(n: usize) -> Option<Poly<Quadratic>> {
     Some(Poly::from_descending(&desc, "s"))
 }
 
+/// `∏ (s − p_i)` for rational poles `p_i = a_i/b_i`, on integers: `∏ (b_i s − a_i)` divided by
+/// `∏ b_i`, one reduction per coefficient where the product over Q(√d) reduces every term of
+/// every step. `None` when a pole is irrational (the caller multiplies over the field).
+fn product_of_rational_roots(poles: &[Quadratic]) -> Option<Poly<Quadratic>> {
+    let mut coeffs = vec![BigInt::from(1)]; // ascending powers of s
+    let mut denominator = BigInt::from(1);
+    for pole in poles {
+        let r = pole.as_rational()?;
+        let (a, b) = (r.numer(), r.denom());
+        let mut next = vec![BigInt::from(0); coeffs.len() + 1];
+        for (k, c) in coeffs.iter().enumerate() {
+            next[k] -= c * a;
+            next[k + 1] += c * b;
+        }
+        coeffs = next;
+        denominator *= b;
+    }
+    let coeffs = coeffs
+        .into_iter()
+        .map(|c| Quadratic::rational(Rational::new(c, denominator.clone())))
+        .collect();
+    Some(Poly::new(coeffs, "s"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    proptest::proptest! {
+        /// The product on integers is the product over the field.
+        #[test]
+        fn rational_roots_multiply_as_over_the_field(
+            roots in proptest::collection::vec((-40i64..40, 1i64..12), 0..9),
+        ) {
+            let roots: Vec<Quadratic> = roots
+                .iter()
+                .map(|&(a, b)| Quadratic::rational(Rational::new(a.into(), b.into())))
+                .collect();
+            proptest::prop_assert_eq!(
+                product_of_rational_roots(&roots),
+                Some(Poly::from_roots(&roots, "s"))
+            );
+        }
+    }
+
+    #[test]
+    fn irrational_roots_are_left_to_the_field() {
+        let root = Quadratic::new(Rational::from_i64(1), Rational::from_i64(1), 2).unwrap();
+        assert_eq!(
+            product_of_rational_roots(&[Quadratic::from_i64(1), root]),
+            None
+        );
+    }
 
     /// The defining property of the Butterworth polynomial: B(s)·B(−s) = 1 + (−1)ⁿ s²ⁿ.
     #[test]
