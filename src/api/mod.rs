@@ -40,6 +40,7 @@ pub mod discrete;
 pub mod exercise;
 pub mod feedback;
 pub mod gain;
+mod json_text;
 pub mod kalman;
 pub mod observe;
 pub mod optimal;
@@ -109,11 +110,8 @@ impl Report {
     /// The JSON answer: kept, and printed pretty. Its derivation (`"steps"`), if it has one,
     /// is kept for typesetting too.
     pub fn json(&mut self, v: serde_json::Value) {
-        outln!(
-            self,
-            "{}",
-            serde_json::to_string_pretty(&v).unwrap_or_else(|_| "{}".into())
-        );
+        json_text::write_pretty(&mut self.text, &v);
+        self.text.push('\n');
         // read from the value in place: an order-40 reduced observer's steps are 20 MB
         if let Some(steps) = v
             .get("steps")
