@@ -258,7 +258,10 @@ where
 {
     let (p, m) = (l.cols(), l.rows());
     let f = blocks.a22.sub(&l.mul(&blocks.a12)?)?;
-    let g = f.mul(l)?.add(&blocks.a21)?.sub(&l.mul(&blocks.a11)?)?;
+    // G = F L + A₂₁ − L A₁₁ = A₂₂ L + A₂₁ − L (A₁₂ L + A₁₁): the same matrix, without
+    // multiplying F, whose entries carry L's large numbers, by L
+    let a12_l = blocks.a12.mul(l)?.add(&blocks.a11)?;
+    let g = blocks.a22.mul(l)?.add(&blocks.a21)?.sub(&l.mul(&a12_l)?)?;
     d.push("L", "gain for the pair (A₂₂, A₁₂)", l);
     match shown_f {
         Some(step) => d.push_step(step.renamed("F", "A₂₂ − L A₁₂")),
