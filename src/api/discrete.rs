@@ -229,7 +229,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         if let Some(l) = &d.current_gain {
             out["current_gain"] = json_matrix(l);
         }
-        rep.json(out);
+        rep.json_with_steps(out, d.derivation.steps);
         return Ok(Outcome::Ok);
     }
     rep.derivation(&d.derivation);

@@ -102,16 +102,19 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         },
     )?;
     if args.json {
-        rep.json(json!({
-            "gain": json_matrix(&d.gain),
-            "convention": convention.flag(),
-            "method": method.flag(),
-            "desired": desired.family.to_string(),
-            "closed_loop_polynomial": d.achieved.to_input(),
-            "places_exactly": d.places_exactly(),
-            "controllable": true,
-            "steps": serde_json::to_value(&d.derivation.steps)?,
-        }));
+        rep.json_with_steps(
+            json!({
+                "gain": json_matrix(&d.gain),
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "desired": desired.family.to_string(),
+                "closed_loop_polynomial": d.achieved.to_input(),
+                "places_exactly": d.places_exactly(),
+                "controllable": true,
+                "steps": serde_json::to_value(&d.derivation.steps)?,
+            }),
+            d.derivation.steps,
+        );
     } else {
         rep.derivation(&d.derivation);
         outln!(

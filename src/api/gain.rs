@@ -346,17 +346,20 @@ fn multi_output(
                 e => e.into(),
             })?;
         if args.json {
-            rep.json(json!({
-                "gain": json_matrix(&gain),
-                "convention": convention.flag(),
-                "method": method.flag(),
-                "output": k,
-                "exact": true,
-                "observer_polynomial": d.achieved.to_input(),
-                "places_exactly": d.places_exactly(),
-                "observer_stable": observer_stable(&d.achieved),
-                "steps": serde_json::to_value(&d.derivation.steps)?,
-            }));
+            rep.json_with_steps(
+                json!({
+                    "gain": json_matrix(&gain),
+                    "convention": convention.flag(),
+                    "method": method.flag(),
+                    "output": k,
+                    "exact": true,
+                    "observer_polynomial": d.achieved.to_input(),
+                    "places_exactly": d.places_exactly(),
+                    "observer_stable": observer_stable(&d.achieved),
+                    "steps": serde_json::to_value(&d.derivation.steps)?,
+                }),
+                d.derivation.steps,
+            );
         } else {
             rep.derivation(&d.derivation);
             outln!(rep, "Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");

@@ -96,7 +96,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         if let Some(h) = &r.h {
             out["h"] = json_matrix(h);
         }
-        rep.json(out);
+        rep.json_with_steps(out, r.derivation.steps);
         return Ok(Outcome::Ok);
     }
     rep.derivation(&r.derivation);
@@ -318,21 +318,24 @@ pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
     let d = detectable_design_from(report, &a, &c, &desired, method, convention)?;
     let fixed = d.report.unobservable_eigenvalues.render();
     if args.json {
-        rep.json(json!({
-            "convention": convention.flag(),
-            "method": method.flag(),
-            "rank": rank,
-            "order": a.rows(),
-            "detectable": d.detectable,
-            "fixed_poles": fixed,
-            "unobservable_polynomial": d.report.unobservable_polynomial.to_input(),
-            "t": json_matrix(&d.t),
-            "decomposed_a": json_matrix(&d.a_decomposed),
-            "gain": json_matrix(&d.gain),
-            "observer_polynomial": d.observer_polynomial.to_input(),
-            "polynomial_checks": d.polynomial_checks(),
-            "steps": serde_json::to_value(&d.derivation.steps)?,
-        }));
+        rep.json_with_steps(
+            json!({
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "rank": rank,
+                "order": a.rows(),
+                "detectable": d.detectable,
+                "fixed_poles": fixed,
+                "unobservable_polynomial": d.report.unobservable_polynomial.to_input(),
+                "t": json_matrix(&d.t),
+                "decomposed_a": json_matrix(&d.a_decomposed),
+                "gain": json_matrix(&d.gain),
+                "observer_polynomial": d.observer_polynomial.to_input(),
+                "polynomial_checks": d.polynomial_checks(),
+                "steps": serde_json::to_value(&d.derivation.steps)?,
+            }),
+            d.derivation.steps,
+        );
         return Ok(Outcome::Ok);
     }
     rep.derivation(&d.derivation);
