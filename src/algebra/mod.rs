@@ -14,6 +14,7 @@
 //! Exactness is a property of the type ([`Ring::EXACT`]); tolerances never appear in exact code.
 
 pub mod budget;
+pub(crate) mod decimal;
 mod fraction;
 pub(crate) mod gcd;
 mod multigcd;

@@ -4,7 +4,7 @@ use super::{Field, IntegralDomain, Ring, ToF64};
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_rational::BigRational;
-use num_traits::{Signed, ToPrimitive, Zero};
+use num_traits::{One, Signed, ToPrimitive, Zero};
 
 /// Exact rational numbers, the workbench's ground truth.
 pub type Rational = BigRational;
@@ -21,10 +21,10 @@ impl Ring for BigInt {
         }
     }
     fn to_latex(&self) -> String {
-        self.to_string()
+        super::decimal::decimal(self)
     }
     fn to_input(&self) -> String {
-        self.to_string()
+        super::decimal::decimal(self)
     }
 }
 
@@ -50,10 +50,19 @@ impl Ring for BigRational {
         }
     }
     fn to_latex(&self) -> String {
-        latex_of_parts(&self.numer().to_string(), &self.denom().to_string())
+        latex_of_parts(
+            &super::decimal::decimal(self.numer()),
+            &super::decimal::decimal(self.denom()),
+        )
     }
+    /// As `Display` writes it (`n` or `n/d`), the digits by [`super::decimal::decimal`].
     fn to_input(&self) -> String {
-        self.to_string()
+        let numer = super::decimal::decimal(self.numer());
+        if self.denom().is_one() {
+            numer
+        } else {
+            format!("{numer}/{}", super::decimal::decimal(self.denom()))
+        }
     }
 }
 

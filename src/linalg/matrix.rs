@@ -348,8 +348,8 @@ impl<T: Ring> Matrix<T> {
             let mut text = Vec::with_capacity(self.data.len());
             let mut latex = Vec::with_capacity(self.data.len());
             for x in q.entries() {
-                let numer = decimal(x.numer());
-                let denom = decimal(x.denom());
+                let numer = crate::algebra::decimal::decimal(x.numer());
+                let denom = crate::algebra::decimal::decimal(x.denom());
                 latex.push(crate::algebra::latex_of_parts(&numer, &denom));
                 text.push(if x.is_integer() {
                     numer
@@ -403,16 +403,6 @@ fn layout_text(rows: usize, cols: usize, cells: &[String]) -> String {
         out.push_str(" ]");
     }
     out
-}
-
-/// An integer in decimal: a machine word through core's formatting, which is several times
-/// faster than num-bigint's general conversion for the small entries most matrices hold.
-fn decimal(x: &crate::algebra::BigInt) -> String {
-    use num_traits::ToPrimitive;
-    match x.to_i64() {
-        Some(v) => v.to_string(),
-        None => x.to_string(),
-    }
 }
 
 /// Row-major cells joined with `col_sep` and `row_sep`.

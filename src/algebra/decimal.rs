@@ -1,0 +1,154 @@
+//! Big integers in decimal, by division with a precomputed reciprocal.
+//!
+//! **Algorithm.** The magnitude's 64-bit limbs are divided by `D = 10¹⁹` from the top, limb by
+//! limb, each remainder carried into the next; the quotient replaces the number and the last
+//! remainder is the next 19 digits. Each two-limb by one-limb step uses Möller and Granlund's
+//! division by an invariant integer ("Improved division by invariant integers", IEEE Trans.
+//! Computers 60(2), 2011, Algorithm 4): with `v = ⌊(2¹²⁸ − 1)/D⌋ − 2⁶⁴` computed once, a quotient
+//! digit costs one 64 × 64 → 128-bit product, a 64-bit product and two rare corrections, where
+//! num-bigint's loop issues a hardware 128 ÷ 64-bit division per limb (tens of cycles). `D` has
+//! its top bit set (10¹⁹ > 2⁶³), as the algorithm requires, so no normalising shift is needed.
+//!
+//! **Identity.** With `x = q·D + r`, `0 ≤ r < D`, the digits of `x` are those of `q` followed by
+//! `r` padded to 19 digits; the most significant chunk is written without padding.
+//!
+//! **Cost.** `w²/2` two-by-one steps for `w` limbs (quadratic, as num-bigint's loop below its
+//! divide-and-conquer threshold of 64 limbs); above that threshold num-bigint's conversion is
+//! used unchanged. A property test compares every result with num-bigint's.
+
+use num_bigint::{BigInt, Sign};
+use std::fmt::Write;
+
+/// `10¹⁹`, the largest power of ten in a word.
+const D: u64 = 10_000_000_000_000_000_000;
+
+/// Above this many limbs num-bigint's divide and conquer is left to do the work.
+const QUADRATIC_LIMIT: usize = 64;
+
+/// `⌊(2¹²⁸ − 1)/D⌋ − 2⁶⁴`, the reciprocal of `D` (fits a word because `D ≥ 2⁶³`).
+const RECIPROCAL: u64 = (u128::MAX / D as u128 - (1u128 << 64)) as u64;
+
+/// `(⌊(u1·2⁶⁴ + u0)/D⌋, remainder)` for `u1 < D`.
+#[inline]
+fn divide_two_by_one(u1: u64, u0: u64) -> (u64, u64) {
+    // (a software routine in WebAssembly, four word products there: `wide_mul`)
+    let product = super::gcd::wide_mul(RECIPROCAL, u1);
+    let sum = product.wrapping_add((u128::from(u1) << 64) | u128::from(u0));
+    let (mut q1, q0) = ((sum >> 64) as u64, sum as u64);
+    q1 = q1.wrapping_add(1);
+    let mut r = u0.wrapping_sub(q1.wrapping_mul(D));
+    if r > q0 {
+        q1 = q1.wrapping_sub(1);
+        r = r.wrapping_add(D);
+    }
+    if r >= D {
+        q1 += 1;
+        r -= D;
+    }
+    (q1, r)
+}
+
+/// `x` in decimal, as `x.to_string()` writes it: a machine word through core's formatting,
+/// several times faster than num-bigint's general conversion for the small entries most
+/// matrices hold, a longer number by [`long_decimal`].
+pub fn decimal(x: &BigInt) -> String {
+    use num_traits::ToPrimitive;
+    match x.to_i64() {
+        Some(v) => v.to_string(),
+        None => long_decimal(x),
+    }
+}
+
+/// `x` in decimal, as `x.to_string()` writes it, by the reciprocal of 10¹⁹ (module doc).
+fn long_decimal(x: &BigInt) -> String {
+    let mut limbs = x.magnitude().to_u64_digits();
+    if limbs.len() > QUADRATIC_LIMIT {
+        return x.to_string();
+    }
+    // 19-digit chunks, least significant first
+    let mut chunks = Vec::with_capacity(limbs.len() * 64 / 63 + 1);
+    while let Some(&top) = limbs.last() {
+        if limbs.len() == 1 && top < D {
+            chunks.push(top);
+            break;
+        }
+        let mut remainder = 0;
+        for limb in limbs.iter_mut().rev() {
+            let (q, r) = divide_two_by_one(remainder, *limb);
+            *limb = q;
+            remainder = r;
+        }
+        chunks.push(remainder);
+        while limbs.last() == Some(&0) {
+            limbs.pop();
+        }
+    }
+    let mut out = String::with_capacity(chunks.len() * 19 + 1);
+    if x.sign() == Sign::Minus {
+        out.push('-');
+    }
+    match chunks.split_last() {
+        None => out.push('0'),
+        Some((top, rest)) => {
+            let _ = write!(out, "{top}");
+            for chunk in rest.iter().rev() {
+                let _ = write!(out, "{chunk:019}");
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use num_traits::{One, Zero};
+    use proptest::prelude::*;
+
+    #[test]
+    fn edges_of_a_chunk_and_of_the_limit() {
+        let ten = BigInt::from(10);
+        let mut cases = vec![BigInt::zero(), BigInt::one(), -BigInt::one()];
+        for k in [18u32, 19, 20, 37, 38, 39, 57, 1216, 1233, 1234, 1300] {
+            let p = ten.pow(k);
+            cases.extend([p.clone() - 1, p.clone(), p.clone() + 1, -p]);
+        }
+        cases.push((BigInt::one() << (64 * QUADRATIC_LIMIT as u32)) - 1);
+        cases.push(BigInt::from(u64::MAX));
+        for x in cases {
+            assert_eq!(decimal(&x), x.to_string());
+            assert_eq!(long_decimal(&x), x.to_string());
+        }
+    }
+
+    #[test]
+    fn the_reciprocal_divides_at_the_extremes() {
+        for (u1, u0) in [(0, 0), (0, u64::MAX), (D - 1, u64::MAX), (D - 1, 0), (1, 0)] {
+            let u = (u128::from(u1) << 64) | u128::from(u0);
+            let (q, r) = divide_two_by_one(u1, u0);
+            assert_eq!(
+                (u128::from(q), u128::from(r)),
+                (u / u128::from(D), u % u128::from(D))
+            );
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn writes_what_num_bigint_writes(
+            limbs in proptest::collection::vec(any::<u32>(), 0..140),
+            negative in any::<bool>(),
+            u1 in 0..D,
+            u0 in any::<u64>(),
+        ) {
+            let magnitude = num_bigint::BigUint::new(limbs);
+            let sign = if negative { Sign::Minus } else { Sign::Plus };
+            let x = BigInt::from_biguint(sign, magnitude);
+            prop_assert_eq!(decimal(&x), x.to_string());
+            assert_eq!(long_decimal(&x), x.to_string());
+            let u = (u128::from(u1) << 64) | u128::from(u0);
+            let (q, r) = divide_two_by_one(u1, u0);
+            prop_assert_eq!((u128::from(q), u128::from(r)), (u / u128::from(D), u % u128::from(D)));
+        }
+    }
+}
