@@ -55,7 +55,8 @@ impl Ring for BigRational {
             &super::decimal::decimal(self.denom()),
         )
     }
-    /// As `Display` writes it (`n` or `n/d`), the digits by [`super::decimal::decimal`].
+    /// As `Display` writes it (`n` or `n/d`), the digits converted by division with a
+    /// precomputed reciprocal of 10¹⁹.
     fn to_input(&self) -> String {
         let numer = super::decimal::decimal(self.numer());
         if self.denom().is_one() {
