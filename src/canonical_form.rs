@@ -198,13 +198,7 @@ pub fn observer_form_stoustrup<F: Field>(
     let o = require_observable(a, c)?;
     let n = a.rows();
     let open_loop = linalg::characteristic_polynomial(a, "s")?;
-    let mut cols = vec![linalg::solve(&o, &Matrix::unit(n, n - 1))?];
-    for _ in 1..n {
-        let next = a.mul(cols.last().expect("nonempty"))?;
-        cols.push(next);
-    }
-    cols.reverse();
-    let t = Matrix::from_fn(n, n, |i, j| cols[j].get(i, 0).clone());
+    let t = stoustrup_t(a, &o)?;
     let m = toeplitz_m(&open_loop);
     // T⁻¹ should be Mᵀ O_n (Di Ruscio's); a product proves it, far cheaper than inverting T,
     // whose entries run to thousands of digits for large n.
@@ -227,6 +221,76 @@ pub fn observer_form_stoustrup<F: Field>(
             t_inv: Some(t_inv),
         },
     )?)
+}
+
+/// Stoustrup's `T`: `t_n = O_n⁻¹ e_n`, `t_(k−1) = A t_k`.
+fn stoustrup_t<F: Field>(a: &Matrix<F>, o: &Matrix<F>) -> Result<Matrix<F>, LinalgError> {
+    let n = a.rows();
+    let mut cols = vec![linalg::solve(o, &Matrix::unit(n, n - 1))?];
+    for _ in 1..n {
+        let next = a.mul(cols.last().expect("nonempty"))?;
+        cols.push(next);
+    }
+    cols.reverse();
+    Ok(Matrix::from_fn(n, n, |i, j| cols[j].get(i, 0).clone()))
+}
+
+/// Both procedures on one plant, the forms [`observer_form_di_ruscio`] and
+/// [`observer_form_stoustrup`] return, sharing what they have in common: O_n, det(sI − A) and M
+/// are formed once. Each procedure still builds its own T; when Stoustrup's equals Di Ruscio's
+/// (always, in exact arithmetic — they are the same matrix by two routes), its T⁻¹ is Di
+/// Ruscio's `Mᵀ O_n` and the transformed (A, B, C) are Di Ruscio's, which are not formed twice;
+/// otherwise the second form is finished on its own, as [`observer_form_stoustrup`] does.
+///
+/// # Errors
+/// [`CanonicalFormError`] for several outputs or an unobservable pair.
+pub fn observer_forms<F: Field>(
+    a: &Matrix<F>,
+    b: Option<&Matrix<F>>,
+    c: &Matrix<F>,
+) -> Result<(CanonicalForm<F>, CanonicalForm<F>), CanonicalFormError> {
+    single_output(c)?;
+    let o = require_observable(a, c)?;
+    let n = a.rows();
+    let open_loop = linalg::characteristic_polynomial(a, "s")?;
+    let m = toeplitz_m(&open_loop);
+    let t_inv = m.transpose().mul(&o)?;
+    let t = linalg::inverse(&t_inv)?;
+    let t_stoustrup = stoustrup_t(a, &o)?;
+    let working = |t, t_inv| Working {
+        open_loop: open_loop.clone(),
+        test_matrix: o.clone(),
+        toeplitz: m.clone(),
+        t,
+        t_inv: Some(t_inv),
+    };
+    let di = finish(
+        CanonicalProcedure::DiRuscio,
+        a,
+        b,
+        c,
+        working(t, t_inv.clone()),
+    )?;
+    let st = if t_stoustrup == di.t {
+        CanonicalForm {
+            procedure: CanonicalProcedure::Stoustrup,
+            ..di.clone()
+        }
+    } else {
+        let t_inv = if t_stoustrup.mul(&t_inv)? == Matrix::identity(n) {
+            t_inv
+        } else {
+            linalg::inverse(&t_stoustrup)?
+        };
+        finish(
+            CanonicalProcedure::Stoustrup,
+            a,
+            b,
+            c,
+            working(t_stoustrup, t_inv),
+        )?
+    };
+    Ok((di, st))
 }
 
 /// The controller canonical form through `T_c = C_n M` (Di Ruscio §3.2).
@@ -268,4 +332,32 @@ pub fn controller_form<F: Field>(
             t_inv: None,
         },
     )?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::{Quadratic, Rational};
+
+    proptest::proptest! {
+        /// Both forms at once are the forms each procedure gives on its own, errors included
+        /// (unobservable pairs, several outputs).
+        #[test]
+        fn both_forms_at_once_are_each_procedures_forms(
+            entries in proptest::collection::vec(-3i64..=3, 9),
+            c in proptest::collection::vec(-2i64..=2, 6),
+            b in proptest::collection::vec(-2i64..=2, 3),
+            outputs in 1usize..=2,
+            with_b in proptest::prelude::any::<bool>(),
+        ) {
+            let q = |x: i64| Quadratic::rational(Rational::from_integer(x.into()));
+            let a = Matrix::from_fn(3, 3, |i, j| q(entries[3 * i + j]));
+            let c = Matrix::from_fn(outputs, 3, |i, j| q(c[3 * i + j]));
+            let b = Matrix::from_fn(3, 1, |i, _| q(b[i]));
+            let b = with_b.then_some(&b);
+            let separately = observer_form_di_ruscio(&a, b, &c)
+                .and_then(|di| Ok((di, observer_form_stoustrup(&a, b, &c)?)));
+            proptest::prop_assert_eq!(observer_forms(&a, b, &c), separately);
+        }
+    }
 }

@@ -4,7 +4,7 @@ use super::args::json_matrix;
 use super::parametric::Parametric;
 use super::{Outcome, Report};
 use crate::algebra::{Field, Fraction};
-use crate::canonical_form::{observer_form_di_ruscio, observer_form_stoustrup, CanonicalForm};
+use crate::canonical_form::{observer_forms, CanonicalForm};
 use crate::derivation::Derivation;
 use crate::linalg::Matrix;
 use anyhow::Result;
@@ -60,8 +60,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     };
     let b = args.system.input(args.b.as_deref())?;
     super::args::check_plant(&a, b.as_ref(), &c, None)?;
-    let di = observer_form_di_ruscio(&a, b.as_ref(), &c)?;
-    let st = observer_form_stoustrup(&a, b.as_ref(), &c)?;
+    let (di, st) = observer_forms(&a, b.as_ref(), &c)?;
     render(rep, args.json, &di, &st);
     Ok(Outcome::Ok)
 }
@@ -85,12 +84,7 @@ fn symbolic(
     let mut work = Parametric::new(a)?
         .with(c.entries(), "C")?
         .with(b.as_ref().map_or(&[][..], |b| b.entries()), "B")?;
-    let (di, st) = work.run(|| {
-        Ok::<_, anyhow::Error>((
-            observer_form_di_ruscio(a, b.as_ref(), c)?,
-            observer_form_stoustrup(a, b.as_ref(), c)?,
-        ))
-    })??;
+    let (di, st) = work.run(|| Ok::<_, anyhow::Error>(observer_forms(a, b.as_ref(), c)?))??;
     work.observability(a, c)?;
     let json = args.json.then(|| forms_json(&di, &st));
     work.answer(rep, json, |rep| render(rep, false, &di, &st));
