@@ -196,18 +196,10 @@ pub fn observer_form_stoustrup<F: Field>(
 ) -> Result<CanonicalForm<F>, CanonicalFormError> {
     single_output(c)?;
     let o = require_observable(a, c)?;
-    let n = a.rows();
     let open_loop = linalg::characteristic_polynomial(a, "s")?;
     let t = stoustrup_t(a, &o)?;
     let m = toeplitz_m(&open_loop);
-    // T⁻¹ should be Mᵀ O_n (Di Ruscio's); a product proves it, far cheaper than inverting T,
-    // whose entries run to thousands of digits for large n.
-    let candidate = m.transpose().mul(&o)?;
-    let t_inv = if t.mul(&candidate)? == Matrix::identity(n) {
-        candidate
-    } else {
-        linalg::inverse(&t)?
-    };
+    let t_inv = stoustrup_inverse(&t, m.transpose().mul(&o)?)?;
     Ok(finish(
         CanonicalProcedure::Stoustrup,
         a,
@@ -235,9 +227,23 @@ fn stoustrup_t<F: Field>(a: &Matrix<F>, o: &Matrix<F>) -> Result<Matrix<F>, Lina
     Ok(Matrix::from_fn(n, n, |i, j| cols[j].get(i, 0).clone()))
 }
 
+/// The inverse of Stoustrup's T. It should be Di Ruscio's `candidate = Mᵀ O_n`; a product
+/// proves it, far cheaper than inverting T, whose entries run to thousands of digits for large
+/// n.
+fn stoustrup_inverse<F: Field>(
+    t: &Matrix<F>,
+    candidate: Matrix<F>,
+) -> Result<Matrix<F>, LinalgError> {
+    if t.mul(&candidate)? == Matrix::identity(t.rows()) {
+        Ok(candidate)
+    } else {
+        linalg::inverse(t)
+    }
+}
+
 /// Both procedures on one plant, the forms [`observer_form_di_ruscio`] and
-/// [`observer_form_stoustrup`] return, sharing what they have in common: O_n, det(sI − A) and M
-/// are formed once. Each procedure still builds its own T; when Stoustrup's equals Di Ruscio's
+/// [`observer_form_stoustrup`] return, sharing what they have in common: Stoustrup's takes O_n,
+/// det(sI − A) and M from Di Ruscio's form. Each procedure still builds its own T; when Stoustrup's equals Di Ruscio's
 /// (always, in exact arithmetic — they are the same matrix by two routes), its T⁻¹ is Di
 /// Ruscio's `Mᵀ O_n` and the transformed (A, B, C) are Di Ruscio's, which are not formed twice;
 /// otherwise the second form is finished on its own, as [`observer_form_stoustrup`] does.
@@ -249,45 +255,27 @@ pub fn observer_forms<F: Field>(
     b: Option<&Matrix<F>>,
     c: &Matrix<F>,
 ) -> Result<(CanonicalForm<F>, CanonicalForm<F>), CanonicalFormError> {
-    single_output(c)?;
-    let o = require_observable(a, c)?;
-    let n = a.rows();
-    let open_loop = linalg::characteristic_polynomial(a, "s")?;
-    let m = toeplitz_m(&open_loop);
-    let t_inv = m.transpose().mul(&o)?;
-    let t = linalg::inverse(&t_inv)?;
-    let t_stoustrup = stoustrup_t(a, &o)?;
-    let working = |t, t_inv| Working {
-        open_loop: open_loop.clone(),
-        test_matrix: o.clone(),
-        toeplitz: m.clone(),
-        t,
-        t_inv: Some(t_inv),
-    };
-    let di = finish(
-        CanonicalProcedure::DiRuscio,
-        a,
-        b,
-        c,
-        working(t, t_inv.clone()),
-    )?;
+    let di = observer_form_di_ruscio(a, b, c)?;
+    let t_stoustrup = stoustrup_t(a, &di.test_matrix)?;
     let st = if t_stoustrup == di.t {
         CanonicalForm {
             procedure: CanonicalProcedure::Stoustrup,
             ..di.clone()
         }
     } else {
-        let t_inv = if t_stoustrup.mul(&t_inv)? == Matrix::identity(n) {
-            t_inv
-        } else {
-            linalg::inverse(&t_stoustrup)?
-        };
+        let t_inv = stoustrup_inverse(&t_stoustrup, di.t_inv.clone())?;
         finish(
             CanonicalProcedure::Stoustrup,
             a,
             b,
             c,
-            working(t_stoustrup, t_inv),
+            Working {
+                open_loop: di.open_loop.clone(),
+                test_matrix: di.test_matrix.clone(),
+                toeplitz: di.toeplitz.clone(),
+                t: t_stoustrup,
+                t_inv: Some(t_inv),
+            },
         )?
     };
     Ok((di, st))

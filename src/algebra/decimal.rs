@@ -32,7 +32,7 @@ const RECIPROCAL: u64 = (u128::MAX / D as u128 - (1u128 << 64)) as u64;
 #[inline]
 fn divide_two_by_one(u1: u64, u0: u64) -> (u64, u64) {
     // (a software routine in WebAssembly, four word products there: `wide_mul`)
-    let product = super::gcd::wide_mul(RECIPROCAL, u1);
+    let product = super::words::wide_mul(RECIPROCAL, u1);
     let sum = product.wrapping_add((u128::from(u1) << 64) | u128::from(u0));
     let (mut q1, q0) = ((sum >> 64) as u64, sum as u64);
     q1 = q1.wrapping_add(1);

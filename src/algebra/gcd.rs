@@ -12,11 +12,11 @@
 //! The results are the same numbers as num-integer's (a property test compares them); only the
 //! cost differs.
 
+use super::words::{negate_limbs, wide_mul};
 use super::Rational;
 use num_bigint::{BigInt, BigUint, Sign};
 use num_integer::Integer;
-use num_traits::ops::overflowing::OverflowingAdd;
-use num_traits::{One, PrimInt, Signed, Zero};
+use num_traits::{One, Signed, Zero};
 
 /// `gcd(a, b) ≥ 0` of two integers (0 when both are 0).
 ///
@@ -78,32 +78,6 @@ fn mixed(c: i64, x: u64) -> i128 {
     }
 }
 
-/// The full 128-bit product of two words. Natively one instruction; WebAssembly has no such
-/// instruction and its 128-bit multiplication is a general software routine (`__multi3`, a
-/// sixth of the browser's time for a 60-state gain), so there it is four 32 × 32 → 64-bit
-/// products — two to three times cheaper.
-#[inline]
-pub(crate) fn wide_mul(a: u64, b: u64) -> u128 {
-    #[cfg(not(target_arch = "wasm32"))]
-    {
-        u128::from(a) * u128::from(b)
-    }
-    #[cfg(target_arch = "wasm32")]
-    {
-        wide_mul_by_halves(a, b)
-    }
-}
-
-/// [`wide_mul`] from four 32 × 32 → 64-bit products (schoolbook on half-words).
-#[cfg(any(target_arch = "wasm32", test))]
-fn wide_mul_by_halves(a: u64, b: u64) -> u128 {
-    let (a1, a0, b1, b0) = (a >> 32, a & 0xffff_ffff, b >> 32, b & 0xffff_ffff);
-    let (low, m1, m2, high) = (a0 * b0, a1 * b0, a0 * b1, a1 * b1);
-    let mid = (low >> 32) + (m1 & 0xffff_ffff) + (m2 & 0xffff_ffff);
-    let top = high + (m1 >> 32) + (m2 >> 32) + (mid >> 32);
-    (u128::from(top) << 64) | u128::from((mid << 32) | (low & 0xffff_ffff))
-}
-
 fn trim(x: &mut Vec<u64>) {
     while x.last() == Some(&0) {
         x.pop();
@@ -135,18 +109,6 @@ pub(crate) fn natural_from_limbs(x: &[u64]) -> BigUint {
             .flat_map(|&l| [l as u32, (l >> 32) as u32])
             .collect(),
     )
-}
-
-/// Two's complement negation of limbs in place (least significant first), for this gcd's
-/// 64-bit limbs and the Horner kernel's 32-bit ones.
-pub(crate) fn negate_limbs<L: PrimInt + OverflowingAdd>(x: &mut [L]) {
-    let mut carry = true;
-    for limb in x.iter_mut() {
-        let one = if carry { L::one() } else { L::zero() };
-        let (v, c) = (!*limb).overflowing_add(&one);
-        *limb = v;
-        carry = c;
-    }
 }
 
 /// `⌊x / 2^shift⌋` for a trimmed `x` below `2^(shift + 128)`.
@@ -429,14 +391,12 @@ mod tests {
     }
 
     proptest::proptest! {
-        /// The browser's product from half-words is the 128-bit product, at the extremes too.
+        /// The signed product through the wide one is the signed product.
         #[test]
-        fn product_by_halves_is_the_wide_product(a in proptest::prelude::any::<u64>(), b in proptest::prelude::any::<u64>()) {
-            for (x, y) in [(a, b), (u64::MAX, b), (a, u64::MAX), (u64::MAX, u64::MAX)] {
-                proptest::prop_assert_eq!(wide_mul_by_halves(x, y), u128::from(x) * u128::from(y));
+        fn mixed_is_the_signed_product(a in proptest::prelude::any::<i64>(), b in proptest::prelude::any::<u64>()) {
+            for c in [a, i64::MIN, i64::MAX] {
+                proptest::prop_assert_eq!(mixed(c, b), i128::from(c) * i128::from(b));
             }
-            let c = a as i64;
-            proptest::prop_assert_eq!(mixed(c, b), i128::from(c) * i128::from(b));
         }
     }
 

@@ -21,6 +21,7 @@ mod multigcd;
 mod multivariate;
 mod quadratic;
 mod scalars;
+pub(crate) mod words;
 
 pub use fraction::Fraction;
 pub use gcd::{fraction, gcd, lcm_of_denominators, small_ratio};

@@ -224,12 +224,11 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             "schur_stable": d.stable,
             "deadbeat_steps": d.nilpotent_index,
             "error_matrix": json_matrix(&d.error_matrix),
-            "steps": serde_json::to_value(&d.derivation.steps)?,
         });
         if let Some(l) = &d.current_gain {
             out["current_gain"] = json_matrix(l);
         }
-        rep.json_with_steps(out, d.derivation.steps);
+        rep.json_with_steps(out, d.derivation.steps)?;
         return Ok(Outcome::Ok);
     }
     rep.derivation(&d.derivation);

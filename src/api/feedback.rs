@@ -111,10 +111,9 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
                 "closed_loop_polynomial": d.achieved.to_input(),
                 "places_exactly": d.places_exactly(),
                 "controllable": true,
-                "steps": serde_json::to_value(&d.derivation.steps)?,
             }),
             d.derivation.steps,
-        );
+        )?;
     } else {
         rep.derivation(&d.derivation);
         outln!(

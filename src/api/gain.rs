@@ -260,7 +260,6 @@ fn render_json(
             out["observer_polynomial"] = json!(d.achieved.to_input());
             out["places_exactly"] = json!(d.places_exactly());
             out["observer_stable"] = json!(observer_stable(&d.achieved));
-            out["steps"] = serde_json::to_value(&d.derivation.steps)?;
         }
         None => {
             let f = check
@@ -278,7 +277,10 @@ fn render_json(
     if let Some(f) = check {
         out["float"] = float_json(f);
     }
-    rep.json(out);
+    match exact {
+        Some(d) => rep.json_with_steps(out, d.derivation.steps.clone())?,
+        None => rep.json(out),
+    }
     Ok(())
 }
 
@@ -348,18 +350,17 @@ fn multi_output(
         if args.json {
             rep.json_with_steps(
                 json!({
-                    "gain": json_matrix(&gain),
-                    "convention": convention.flag(),
-                    "method": method.flag(),
-                    "output": k,
-                    "exact": true,
-                    "observer_polynomial": d.achieved.to_input(),
-                    "places_exactly": d.places_exactly(),
-                    "observer_stable": observer_stable(&d.achieved),
-                    "steps": serde_json::to_value(&d.derivation.steps)?,
+                "gain": json_matrix(&gain),
+                "convention": convention.flag(),
+                "method": method.flag(),
+                "output": k,
+                "exact": true,
+                "observer_polynomial": d.achieved.to_input(),
+                "places_exactly": d.places_exactly(),
+                "observer_stable": observer_stable(&d.achieved),
                 }),
                 d.derivation.steps,
-            );
+            )?;
         } else {
             rep.derivation(&d.derivation);
             outln!(rep, "Result ({convention} convention, {method} method, output {k} only; the other gain columns are zero):");

@@ -121,13 +121,24 @@ impl Report {
         self.json = Some(v);
     }
 
-    /// [`Report::json`] for an answer whose `"steps"` are `steps`: they are kept as they are
-    /// instead of being read back from the value (at n = 20 a reduced observer spent a twentieth
-    /// of its time reading its own steps back).
-    pub fn json_with_steps(&mut self, v: serde_json::Value, steps: Vec<Step>) {
+    /// [`Report::json`] for an answer with a derivation: `steps` become its `"steps"` and are
+    /// kept as they are, instead of being read back from the value (at n = 20 a reduced
+    /// observer spent a twentieth of its time reading its own steps back).
+    ///
+    /// # Errors
+    /// A step that cannot be serialised (none can: a step is strings).
+    pub fn json_with_steps(
+        &mut self,
+        mut v: serde_json::Value,
+        steps: Vec<Step>,
+    ) -> serde_json::Result<()> {
+        if let Some(answer) = v.as_object_mut() {
+            answer.insert("steps".into(), serde_json::to_value(&steps)?);
+        }
         self.write_json(&v);
         self.steps = steps;
         self.json = Some(v);
+        Ok(())
     }
 
     fn write_json(&mut self, v: &serde_json::Value) {

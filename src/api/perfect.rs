@@ -90,7 +90,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     };
     let fits = fit.as_ref().map(|(ra, rb)| ra.is_zero() && rb.is_zero());
     if args.json {
-        rep.json(json!({
+        rep.json_with_steps(json!({
             "E": json_matrix(&p.e),
             "F": json_matrix(&p.f),
             "G_u": json_matrix(&p.input_matrix),
@@ -101,8 +101,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             "reconstruction": Reconstruction(&p.reconstruction).input(),
             "robustness_conditions": conditions.iter().map(|c| format!("{} = 0", c.to_input())).collect::<Vec<_>>(),
             "changed_plant_fits": fits,
-            "steps": serde_json::to_value(&p.derivation.steps)?,
-        }));
+        }), p.derivation.steps)?;
     } else {
         rep.derivation(&p.derivation);
         outln!(

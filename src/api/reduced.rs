@@ -91,12 +91,11 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             "error_polynomial": r.error_polynomial.to_input(),
             "noise_gain": crate::algebra::Ring::to_input(&r.noise_gain),
             "output": r.output.map(|k| k + 1),
-            "steps": serde_json::to_value(&r.derivation.steps)?,
         });
         if let Some(h) = &r.h {
             out["h"] = json_matrix(h);
         }
-        rep.json_with_steps(out, r.derivation.steps);
+        rep.json_with_steps(out, r.derivation.steps)?;
         return Ok(Outcome::Ok);
     }
     rep.derivation(&r.derivation);
@@ -332,10 +331,9 @@ pub fn detectable(args: DetectableArgs, rep: &mut Report) -> Result<Outcome> {
                 "gain": json_matrix(&d.gain),
                 "observer_polynomial": d.observer_polynomial.to_input(),
                 "polynomial_checks": d.polynomial_checks(),
-                "steps": serde_json::to_value(&d.derivation.steps)?,
             }),
             d.derivation.steps,
-        );
+        )?;
         return Ok(Outcome::Ok);
     }
     rep.derivation(&d.derivation);

@@ -25,7 +25,7 @@
 //! **Cost.** `(deg + 1)·n²·w` word products for `n × n` `A` and `w` limbs, plus one conversion
 //! of `Y` in and of the result out.
 
-use crate::algebra::gcd::negate_limbs;
+use crate::algebra::words::negate_limbs;
 use crate::algebra::BigInt;
 use num_bigint::{BigUint, Sign};
 use num_traits::{Signed, ToPrimitive, Zero};

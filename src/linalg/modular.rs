@@ -82,7 +82,7 @@ impl Barrett {
     }
     #[inline(always)]
     fn reduce(self, x: u64) -> u64 {
-        let q = (crate::algebra::gcd::wide_mul(x, self.m) >> 64) as u64;
+        let q = (crate::algebra::words::wide_mul(x, self.m) >> 64) as u64;
         let r = x - q * self.p;
         if r >= self.p {
             r - self.p
