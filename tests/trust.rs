@@ -1041,10 +1041,66 @@ fn a_computation_past_its_time_budget_stops_with_the_limit_named() {
     assert!(out.contains("K = [6; 0]"), "{out}");
 }
 
+/// Above ten states the exact check of dlqe costs more than the float solution, so it runs only
+/// when asked: on a plant whose Riccati solution is P = I exactly (A = S/2 with S the cyclic
+/// shift, so A Aᵀ = I/4; C = R_n = I and Q_n = I − A Aᵀ/2 = 7/8 I, whence
+/// P = A P (P + I)⁻¹ Aᵀ + Q_n = I/8 + 7/8 I), the default says why it was not tried and
+/// `--exact-check` finds P = I and L = A/2.
+#[test]
+fn dlqe_checks_exactly_above_ten_states_only_when_asked() {
+    let n = 12;
+    let square = |f: &dyn Fn(usize, usize) -> &'static str| {
+        format!(
+            "[{}]",
+            (0..n)
+                .map(|i| (0..n).map(|j| f(i, j)).collect::<Vec<_>>().join(" "))
+                .collect::<Vec<_>>()
+                .join("; ")
+        )
+    };
+    let a = square(&|i, j| if j == (i + 1) % n { "1/2" } else { "0" });
+    let eye = square(&|i, j| if i == j { "1" } else { "0" });
+    let qn = square(&|i, j| if i == j { "7/8" } else { "0" });
+    let run = |extra: &[&str]| {
+        let mut args = vec!["dlqe", "--a", &a, "--c", &eye, "--qn", &qn, "--rn", &eye];
+        args.extend(extra);
+        let (code, out, err, _) = owb_within(&args, Duration::from_secs(30));
+        assert_eq!(code, 0, "{err}");
+        out
+    };
+    let v: serde_json::Value = serde_json::from_str(&run(&["--json"])).unwrap();
+    assert_eq!(v["exact_check"], "order_over_default");
+    assert_eq!(
+        (v["exact"].clone(), v["exact_read_back_tried"].clone()),
+        (false.into(), false.into())
+    );
+    assert!(v.get("exact_p").is_none());
+    let text = run(&[]);
+    assert!(
+        text.contains("12 states is above 10") && text.contains("--exact-check runs it"),
+        "{text}"
+    );
+    let v: serde_json::Value = serde_json::from_str(&run(&["--exact-check", "--json"])).unwrap();
+    assert_eq!(v["exact_check"], "holds");
+    assert_eq!(
+        (v["exact"].clone(), v["exact_read_back_tried"].clone()),
+        (true.into(), true.into())
+    );
+    for i in 0..n {
+        for j in 0..n {
+            let p = if i == j { "1" } else { "0" };
+            let l = if j == (i + 1) % n { "1/4" } else { "0" };
+            assert_eq!(v["exact_p"][i][j], p, "P[{i}][{j}]");
+            assert_eq!(v["exact_gain"][i][j], l, "L[{i}][{j}]");
+        }
+    }
+}
+
 /// dlqe does float work first: the exact read-back of P is tried only within its work budget
 /// (a common denominator of at most 256 bits), and a generic order-50 filter — whose exact
 /// read-back alone took 5.8 s — is solved in a fraction of a second and says the read-back was
-/// not tried; a P with small fractions is still read back and verified exactly.
+/// not tried, even under `--exact-check`; a P with small fractions is still read back and
+/// verified exactly.
 #[test]
 fn dlqe_tries_the_exact_read_back_only_within_its_budget() {
     let n = 50;
@@ -1062,7 +1118,17 @@ fn dlqe_tries_the_exact_read_back_only_within_its_budget() {
     );
     let (code, out, err, took) = owb_within(
         &[
-            "dlqe", "--a", &a, "--c", &c, "--qn", &qn, "--rn", "[1]", "--json",
+            "dlqe",
+            "--a",
+            &a,
+            "--c",
+            &c,
+            "--qn",
+            &qn,
+            "--rn",
+            "[1]",
+            "--exact-check",
+            "--json",
         ],
         Duration::from_secs(30),
     );
@@ -1070,6 +1136,7 @@ fn dlqe_tries_the_exact_read_back_only_within_its_budget() {
     assert!(took < Duration::from_secs(3), "took {took:?}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["exact_read_back_tried"], false);
+    assert_eq!(v["exact_check"], "denominator_over_budget");
     assert_eq!(v["exact"], false);
     assert!(v["residual"].as_f64().is_some_and(|r| r <= 1e-8));
     let (code, out, _, _) = owb_within(

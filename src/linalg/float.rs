@@ -33,13 +33,50 @@ pub fn spectral_radius(a: &DMatrix<f64>) -> f64 {
     max_or_nan(eigenvalues(a).iter().map(|z| z.norm()))
 }
 
+/// An irrational fraction of the largest entry: A + σI has eigenvalues of distinct moduli where
+/// A's had one (see [`eigenvalues`]), and its entries stay of A's size.
+fn stall_shift(a: &DMatrix<f64>) -> f64 {
+    a.amax() * 0.618_033_988_749_894_8
+}
+
+/// The real Schur form `A = Q T Qᵀ` as `(Q, T)`, the QR iteration bounded (30 sweeps per
+/// eigenvalue); when it stalls, from `A + σI = Q (T + σI) Qᵀ` (see [`eigenvalues`]). `None` for a
+/// matrix that is not square or has an infinite or NaN entry, or whose iteration stalls both
+/// times. nalgebra's `Schur::new` iterates without bound.
+pub fn real_schur(a: &DMatrix<f64>) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+    let n = a.nrows();
+    if n != a.ncols() || a.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let budget = 30 * n.max(10);
+    if let Some(s) = Schur::try_new(a.clone(), f64::EPSILON, budget) {
+        return Some(s.unpack());
+    }
+    let shift = stall_shift(a);
+    let identity = DMatrix::<f64>::identity(n, n);
+    let (q, t) = Schur::try_new(a + &identity * shift, f64::EPSILON, budget)?.unpack();
+    Some((q, t - identity * shift))
+}
+
 /// The eigenvalues (real Schur form), sorted by real part then imaginary part.
 ///
 /// The QR iteration is bounded (LAPACK's 30 sweeps per eigenvalue); when it does not converge
-/// the matrix is balanced (Parlett–Reinsch, a diagonal similarity) and tried once more. A matrix
+/// the matrix is balanced (Parlett–Reinsch, a diagonal similarity) and tried once more, and then
+/// shifted: the eigenvalues of A + σI are those of A moved by σ. The shift is what LAPACK's
+/// exceptional shifts do inside the iteration, and nalgebra's iteration lacks: a matrix whose
+/// eigenvalues all have one modulus — a scaled cyclic shift, whose eigenvalues are the roots of
+/// unity — gives the Francis double shift nothing to work on, and the sweeps stall. A matrix
 /// whose eigenvalues still cannot be computed — or one with infinite or NaN entries — gives NaN
 /// eigenvalues, which every comparison downstream treats as "not verified", never as a hang.
 pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
+    let mut ev = eigenvalues_in_schur_order(a);
+    ev.sort_by(|x, y| x.re.total_cmp(&y.re).then(x.im.total_cmp(&y.im)));
+    ev
+}
+
+/// [`eigenvalues`] in the order the real Schur form gives them (nalgebra's
+/// `complex_eigenvalues` order, without its unbounded iteration).
+pub fn eigenvalues_in_schur_order(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
     let n = a.nrows();
     if n == 0 || n != a.ncols() {
         return Vec::new();
@@ -57,12 +94,33 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
         }
         schur(balanced)
     });
+    let (found, shift) = match found {
+        Some(s) => (Some(s), 0.0),
+        None => {
+            let shift = stall_shift(a);
+            let shifted = a + DMatrix::<f64>::identity(n, n) * shift;
+            (schur(shifted), shift)
+        }
+    };
     let Some(s) = found else {
         return unknown;
     };
-    let mut ev: Vec<Complex<f64>> = s.complex_eigenvalues().iter().copied().collect();
-    ev.sort_by(|x, y| x.re.total_cmp(&y.re).then(x.im.total_cmp(&y.im)));
-    ev
+    s.complex_eigenvalues()
+        .iter()
+        .map(|z| Complex::new(z.re - shift, z.im))
+        .collect()
+}
+
+/// The eigenvalues (and eigenvectors) of a symmetric matrix, from its lower triangle; `None`
+/// when an entry is infinite or NaN or the QR iteration does not converge within its bound
+/// (30 sweeps per eigenvalue). nalgebra's own `symmetric_eigen` iterates without bound, and
+/// for ever on a NaN, whose convergence test never holds.
+pub fn symmetric_eigen(a: &DMatrix<f64>) -> Option<nalgebra::SymmetricEigen<f64, nalgebra::Dyn>> {
+    let n = a.nrows();
+    if n != a.ncols() || a.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    nalgebra::SymmetricEigen::try_new(a.clone(), f64::EPSILON, 30 * n.max(10))
 }
 
 /// The singular value decomposition, sorted (largest first), or `None` when it cannot be
@@ -135,5 +193,62 @@ mod tests {
             rank(&DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 4.0]), 1e-12),
             1
         );
+    }
+
+    /// A scaled cyclic shift c·S (n × n) has the eigenvalues c·e^(2πik/n), all of modulus c,
+    /// on which nalgebra's QR iteration stalls: they are found through the shifted matrix.
+    #[test]
+    fn eigenvalues_of_a_scaled_cyclic_shift() {
+        let mut stalled = Vec::new();
+        for n in [3, 4, 5, 7, 12, 25] {
+            let c = 0.25;
+            let a = DMatrix::from_fn(n, n, |i, j| if j == (i + 1) % n { c } else { 0.0 });
+            // the stall itself: the bounded iteration gives up on the matrix as it is
+            if Schur::try_new(a.clone(), f64::EPSILON, 30 * n.max(10)).is_none() {
+                stalled.push(n);
+            }
+            let (q, t) = real_schur(&a).expect("through the shift");
+            assert!((&q * &t * q.transpose() - &a).amax() < 1e-14, "n = {n}");
+            let ev = eigenvalues(&a);
+            assert_eq!(ev.len(), n);
+            for z in &ev {
+                // each is a root of zⁿ = cⁿ
+                let power = z.powu(n as u32);
+                assert!(
+                    (power.re - c.powi(n as i32)).abs() < 1e-12 && power.im.abs() < 1e-12,
+                    "n = {n}: {z}"
+                );
+                assert!((z.norm() - c).abs() < 1e-12, "n = {n}: {z}");
+            }
+            // and they are distinct: n roots, not one found n times
+            for (k, z) in ev.iter().enumerate() {
+                assert!(
+                    ev[k + 1..].iter().all(|w| (w - z).norm() > 1e-6),
+                    "n = {n}: {ev:?}"
+                );
+            }
+            assert!((spectral_radius(&a) - c).abs() < 1e-12);
+        }
+        // (n = 4 and 12 with nalgebra 0.33): the fallback is what the test exercises
+        assert!(
+            !stalled.is_empty(),
+            "no order stalled: the test no longer reaches the shift"
+        );
+    }
+
+    /// The bounded symmetric eigen-decomposition agrees with nalgebra's on a finite matrix and
+    /// refuses, instead of iterating for ever, a NaN or infinite entry.
+    #[test]
+    fn symmetric_eigen_is_bounded() {
+        let a = DMatrix::from_row_slice(3, 3, &[2.0, -1.0, 0.0, -1.0, 2.0, -1.0, 0.0, -1.0, 2.0]);
+        let ours = symmetric_eigen(&a).expect("converges").eigenvalues;
+        let theirs = a.clone().symmetric_eigenvalues();
+        assert_eq!(ours.as_slice(), theirs.as_slice());
+        for bad in [f64::NAN, f64::INFINITY] {
+            let mut b = a.clone();
+            b[(1, 0)] = bad;
+            b[(0, 1)] = bad;
+            assert!(symmetric_eigen(&b).is_none());
+        }
     }
 }

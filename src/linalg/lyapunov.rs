@@ -45,6 +45,9 @@ pub enum LyapunovError {
     /// Non-finite entries in a float problem.
     #[error("Lyapunov equation: F or W has a non-finite entry")]
     NotFinite,
+    /// The real Schur form of `F` could not be computed within its bound.
+    #[error("Lyapunov equation: the QR iteration for the real Schur form of F did not converge")]
+    NoSchurForm,
 }
 
 fn check_shapes(fr: usize, fc: usize, wr: usize, wc: usize) -> Result<(), LyapunovError> {
@@ -138,7 +141,7 @@ pub fn lyapunov_f64(f: &DMatrix<f64>, w: &DMatrix<f64>) -> Result<LyapunovSoluti
             residual: 0.0,
         });
     }
-    let (q, t) = nalgebra::linalg::Schur::new(f.clone()).unpack();
+    let (q, t) = super::float::real_schur(f).ok_or(LyapunovError::NoSchurForm)?;
     lyapunov_from_schur(f, w, &q, &t)
 }
 
@@ -166,7 +169,7 @@ fn spectral_abscissa(t: &DMatrix<f64>) -> f64 {
 /// [`lyapunov_f64`] and the spectral abscissa of `F` (largest real part of its eigenvalues)
 /// from the same real Schur factorisation, for callers that need both (a stability test and
 /// the solution: the J2 cost of a multi-output design, evaluated thousands of times).
-/// Returns `None` when the Schur iteration does not converge within `30·max(n, 10)` sweeps.
+/// Returns `None` when the Schur form cannot be computed ([`super::float::real_schur`]).
 ///
 /// # Errors
 /// As [`lyapunov_f64`].
@@ -175,12 +178,9 @@ pub fn lyapunov_f64_with_abscissa(
     w: &DMatrix<f64>,
 ) -> Result<Option<(LyapunovSolution, f64)>, LyapunovError> {
     check_f64_inputs(f, w)?;
-    let n = f.nrows();
-    let Some(schur) = nalgebra::linalg::Schur::try_new(f.clone(), f64::EPSILON, 30 * n.max(10))
-    else {
+    let Some((q, t)) = super::float::real_schur(f) else {
         return Ok(None);
     };
-    let (q, t) = schur.unpack();
     let abscissa = spectral_abscissa(&t);
     Ok(Some((lyapunov_from_schur(f, w, &q, &t)?, abscissa)))
 }
@@ -416,5 +416,33 @@ mod tests {
         let exact = to_nalgebra(&lyapunov_exact(&f, &w).unwrap());
         let fl = lyapunov_f64(&to_nalgebra(&f), &to_nalgebra(&w)).unwrap();
         assert!((fl.x - exact).norm() < 1e-12);
+    }
+
+    /// F = S/4 (S the 4 × 4 cyclic shift) has the eigenvalues ±1/4, ±i/4, all of one modulus,
+    /// on which nalgebra's unbounded Schur iteration never stopped (the test of
+    /// `float::real_schur` shows the stall): the solver now returns, its Schur form reached
+    /// through the shift. (The equation is singular, 1/4 + (−1/4) = 0, but rounded to
+    /// ±1e-17, not zero: what it returns is the caller's to judge, as for any near-singular
+    /// equation.) Of order 5, where no two eigenvalues sum to zero, the solution agrees with
+    /// the exact one.
+    #[test]
+    fn f64_solver_handles_a_scaled_cyclic_shift() {
+        let f = m("[0 1/4 0 0; 0 0 1/4 0; 0 0 0 1/4; 1/4 0 0 0]");
+        let w = to_nalgebra(&Matrix::<Rational>::identity(4));
+        let started = std::time::Instant::now();
+        let _ = lyapunov_f64(&to_nalgebra(&f), &w);
+        assert!(started.elapsed() < std::time::Duration::from_secs(5));
+        let f = m("[0 1/4 0 0 0; 0 0 1/4 0 0; 0 0 0 1/4 0; 0 0 0 0 1/4; 1/4 0 0 0 0]");
+        let w = Matrix::<Rational>::identity(5);
+        let exact = to_nalgebra(&lyapunov_exact(&f, &w).unwrap());
+        let fl = lyapunov_f64(&to_nalgebra(&f), &to_nalgebra(&w)).unwrap();
+        assert!((&fl.x - &exact).norm() < 1e-12, "{}", (fl.x - exact).norm());
+        let (with_abscissa, abscissa) =
+            lyapunov_f64_with_abscissa(&to_nalgebra(&f), &to_nalgebra(&w))
+                .unwrap()
+                .unwrap();
+        assert!((with_abscissa.x - exact).norm() < 1e-12);
+        // the largest real part: 1/4 (k = 0)
+        assert!((abscissa - 0.25).abs() < 1e-12, "{abscissa}");
     }
 }

@@ -109,7 +109,8 @@ pub fn dynamical_error_cost(
             lyapunov_f64(&ft, weight)?.x
         }
     };
-    let top = h.clone().symmetric_eigenvalues().max();
+    // NaN when it cannot be computed, which every comparison downstream counts as failure
+    let top = crate::linalg::float::symmetric_eigen(&h).map_or(f64::NAN, |e| e.eigenvalues.max());
     Ok((top, h))
 }
 
@@ -327,7 +328,12 @@ fn require_placing_output(
 /// The Hessian's eigenvalues at the minimiser `x`, how many directions are flat there
 /// (eigenvalue below `1e-5` of the largest), and those directions (largest entry positive).
 fn flatness(cost: &impl Fn(&[f64]) -> f64, x: &[f64]) -> (Vec<f64>, usize, Vec<Vec<f64>>) {
-    let eigen = numerical_hessian(cost, x).symmetric_eigen();
+    let hessian = numerical_hessian(cost, x);
+    let Some(eigen) = crate::linalg::float::symmetric_eigen(&hessian) else {
+        // an infinite or NaN second difference (a neighbour outside the stable set): the
+        // curvature is unknown, and no direction is called flat
+        return (vec![f64::NAN; hessian.nrows()], 0, Vec::new());
+    };
     let hessian_eigenvalues: Vec<f64> = eigen.eigenvalues.iter().copied().collect();
     // relative to the largest curvature, or to the cost itself where the Hessian vanishes
     // (a cost constant on the whole constraint set: every direction is flat)

@@ -159,7 +159,9 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, 
             idx.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
             let z = DMatrix::from_fn(m, m - r, |i, j| vt[(idx[j], i)]);
             let reduced = z.transpose() * hl * &z;
-            let min_eig = reduced.symmetric_eigenvalues().min();
+            // NaN when it cannot be computed: not a minimum
+            let min_eig = crate::linalg::float::symmetric_eigen(&reduced)
+                .map_or(f64::NAN, |e| e.eigenvalues.min());
             return (min_eig > 1e-9).then(|| (k.clone(), k.norm_squared()));
         }
         let mut kkt = DMatrix::<f64>::zeros(m + r, m + r);
