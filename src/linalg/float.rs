@@ -127,18 +127,29 @@ pub fn symmetric_eigen(a: &DMatrix<f64>) -> Option<nalgebra::SymmetricEigen<f64,
 /// computed: an entry that is infinite or NaN, singular values that overflow, or the
 /// iteration not converging within its bound. nalgebra's `svd` panics ("Singular value was
 /// NaN") or iterates without bound in those cases; this never does.
-pub fn try_svd(
-    a: &DMatrix<f64>,
+pub fn try_svd<T: nalgebra::ComplexField<RealField = f64>>(
+    a: &DMatrix<T>,
     compute_u: bool,
     compute_v: bool,
-) -> Option<nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>> {
-    if a.iter().any(|x| !x.is_finite()) {
+) -> Option<nalgebra::SVD<T, nalgebra::Dyn, nalgebra::Dyn>> {
+    try_svd_to(a, compute_u, compute_v, f64::EPSILON)
+}
+
+/// [`try_svd`] with `eps` the tolerance below which a value counts as converged to zero
+/// (nalgebra's `svd` uses 5ε).
+pub fn try_svd_to<T: nalgebra::ComplexField<RealField = f64>>(
+    a: &DMatrix<T>,
+    compute_u: bool,
+    compute_v: bool,
+    eps: f64,
+) -> Option<nalgebra::SVD<T, nalgebra::Dyn, nalgebra::Dyn>> {
+    if a.iter().any(|x| !x.clone().is_finite()) {
         return None;
     }
     let budget = 100 * a.nrows().max(a.ncols()).max(10);
     let mut svd = a
         .clone()
-        .try_svd_unordered(compute_u, compute_v, f64::EPSILON, budget)?;
+        .try_svd_unordered(compute_u, compute_v, eps, budget)?;
     if svd.singular_values.iter().any(|x| !x.is_finite()) {
         return None;
     }

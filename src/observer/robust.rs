@@ -78,29 +78,45 @@ type C64 = Complex<f64>;
 
 /// An orthonormal basis of the null space of `m` (r × n), `dim` vectors: the right singular
 /// vectors of the smallest singular values (the matrix is padded to square for a full basis).
-fn null_basis(m: &DMatrix<C64>, dim: usize) -> DMatrix<C64> {
+fn null_basis(m: &DMatrix<C64>, dim: usize) -> Result<DMatrix<C64>, RobustError> {
     let n = m.ncols();
     let mut padded = DMatrix::zeros(n.max(m.nrows()), n);
     padded.view_mut((0, 0), (m.nrows(), n)).copy_from(m);
-    let svd = padded.svd(false, true);
-    let vt = svd.v_t.expect("requested");
+    let svd = svd(&padded, false, true)?;
+    let vt = svd.v_t.ok_or_else(no_svd)?;
     let mut idx: Vec<usize> = (0..svd.singular_values.len()).collect();
     idx.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
     // rows of Vᴴ are conjugated right singular vectors
-    DMatrix::from_fn(n, dim, |i, j| vt[(idx[j], i)].conj())
+    Ok(DMatrix::from_fn(n, dim, |i, j| vt[(idx[j], i)].conj()))
+}
+
+/// The singular value decomposition, bounded ([`crate::linalg::float::try_svd_to`]) at the
+/// tolerance of nalgebra's own `svd` (5ε), which this method has always used.
+fn svd<T: nalgebra::ComplexField<RealField = f64>>(
+    m: &DMatrix<T>,
+    compute_u: bool,
+    compute_v: bool,
+) -> Result<nalgebra::SVD<T, nalgebra::Dyn, nalgebra::Dyn>, RobustError> {
+    crate::linalg::float::try_svd_to(m, compute_u, compute_v, 5.0 * f64::EPSILON).ok_or_else(no_svd)
+}
+
+/// A singular value decomposition that could not be computed (an entry not finite, or the
+/// iteration not converging within its bound).
+fn no_svd() -> RobustError {
+    RobustError::Failed("a singular value decomposition did not converge".into())
 }
 
 /// A unit vector orthogonal to the columns of `x` (n × (n − 1)).
-fn orthogonal_to(x: &DMatrix<C64>) -> DVector<C64> {
+fn orthogonal_to(x: &DMatrix<C64>) -> Result<DVector<C64>, RobustError> {
     let n = x.nrows();
     let mut padded = DMatrix::zeros(n, n);
     padded.view_mut((0, 0), (n, x.ncols())).copy_from(x);
-    let svd = padded.svd(true, false);
-    let u = svd.u.expect("requested");
+    let svd = svd(&padded, true, false)?;
+    let u = svd.u.ok_or_else(no_svd)?;
     let k = (0..n)
         .min_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]))
         .unwrap_or(0);
-    u.column(k).into_owned()
+    Ok(u.column(k).into_owned())
 }
 
 /// For each pole, the index of its conjugate partner (itself when real).
@@ -165,7 +181,11 @@ fn check_request(
 /// Kautsky–Nichols–Van Dooren sweeps: each eigenvector in turn made as orthogonal to the
 /// others as its allowable subspace (`bases[j]`) permits, conjugate partners kept conjugate;
 /// returns the sweeps made (at most 30).
-fn orthogonalise(x: &mut DMatrix<C64>, bases: &[DMatrix<C64>], partner: &[usize]) -> usize {
+fn orthogonalise(
+    x: &mut DMatrix<C64>,
+    bases: &[DMatrix<C64>],
+    partner: &[usize],
+) -> Result<usize, RobustError> {
     let n = x.ncols();
     let mut sweeps = 0;
     for _ in 0..30 {
@@ -177,7 +197,7 @@ fn orthogonalise(x: &mut DMatrix<C64>, bases: &[DMatrix<C64>], partner: &[usize]
             }
             let others = x.clone().remove_column(j);
             let y = if n > 1 {
-                orthogonal_to(&others)
+                orthogonal_to(&others)?
             } else {
                 x.column(j).into_owned()
             };
@@ -197,7 +217,7 @@ fn orthogonalise(x: &mut DMatrix<C64>, bases: &[DMatrix<C64>], partner: &[usize]
             break;
         }
     }
-    sweeps
+    Ok(sweeps)
 }
 
 /// The largest distance from a computed eigenvalue to the requested pole it is matched with
@@ -255,8 +275,8 @@ pub fn robust_observer_gain(
     }
     let u1 = if m < n {
         let proj = DMatrix::<f64>::identity(n, n) - &u0 * u0.transpose();
-        let svd = proj.svd(true, false);
-        let u = svd.u.expect("requested");
+        let svd = svd(&proj, true, false)?;
+        let u = svd.u.ok_or_else(no_svd)?;
         let mut idx: Vec<usize> = (0..n).collect();
         idx.sort_by(|&x, &y| svd.singular_values[y].total_cmp(&svd.singular_values[x]));
         DMatrix::from_fn(n, n - m, |i, j| u[(i, idx[j])])
@@ -272,10 +292,10 @@ pub fn robust_observer_gain(
             if m < n {
                 null_basis(&(cx(&u1.transpose()) * shifted), m)
             } else {
-                DMatrix::<C64>::identity(n, n)
+                Ok(DMatrix::<C64>::identity(n, n))
             }
         })
-        .collect();
+        .collect::<Result<_, _>>()?;
     let mut x = DMatrix::from_fn(n, n, |i, j| bases[j][(i, j % bases[j].ncols())]);
     for j in 0..n {
         if partner[j] < j {
@@ -287,7 +307,7 @@ pub fn robust_observer_gain(
             x.column_mut(j).scale_mut(1.0 / nrm);
         }
     }
-    let sweeps = orthogonalise(&mut x, &bases, &partner);
+    let sweeps = orthogonalise(&mut x, &bases, &partner)?;
     let x_inv = x
         .clone()
         .try_inverse()
@@ -312,7 +332,7 @@ pub fn robust_observer_gain(
     let residual = farthest_pole(&ev, &lambdas);
     let relative_residual =
         (&observer - target.transpose()).norm() / a.norm().max(f64::MIN_POSITIVE);
-    let svd = x.clone().svd(false, false);
+    let svd = svd(&x, false, false)?;
     let (hi, lo) = (svd.singular_values.max(), svd.singular_values.min());
     Ok(RobustPlacement {
         gain: (0..n)
