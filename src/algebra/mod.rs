@@ -15,6 +15,7 @@
 
 pub mod budget;
 pub(crate) mod decimal;
+pub mod float_text;
 mod fraction;
 pub(crate) mod gcd;
 mod multigcd;

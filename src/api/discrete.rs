@@ -500,7 +500,7 @@ fn float_only(
             "exact": false,
             "z_poles": z.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
             "error_polynomial": desired.float.to_input(),
-            "gain": gain.iter().map(|x| vec![format!("{x:e}")]).collect::<Vec<_>>(),
+            "gain": gain.iter().map(|x| vec![crate::algebra::float_text::exp(*x)]).collect::<Vec<_>>(),
             "inexact_reason": desired.inexact_reason,
             "float": serde_json::to_value(&check)?,
         }));
@@ -593,7 +593,11 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
     let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
     let rows = |m: &[Vec<f64>]| -> Vec<Vec<String>> {
         m.iter()
-            .map(|r| r.iter().map(|x| format!("{x:e}")).collect())
+            .map(|r| {
+                r.iter()
+                    .map(|x| crate::algebra::float_text::exp(*x))
+                    .collect()
+            })
             .collect()
     };
     match (&s, args.json) {
@@ -718,7 +722,11 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
     let k = discrete_kalman_checked(&a, &g, &c, &qn, &rn, scope)?;
     let rows = |m: &nalgebra::DMatrix<f64>| -> Vec<Vec<String>> {
         (0..m.nrows())
-            .map(|i| (0..m.ncols()).map(|j| format!("{:e}", m[(i, j)])).collect())
+            .map(|i| {
+                (0..m.ncols())
+                    .map(|j| crate::algebra::float_text::exp(m[(i, j)]))
+                    .collect()
+            })
             .collect()
     };
     if args.json {

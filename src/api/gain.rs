@@ -268,7 +268,7 @@ fn render_json(
                 .unwrap_or_default();
             out["gain"] = json!(f
                 .iter()
-                .map(|x| vec![format!("{:e}", convention.sign() * x)])
+                .map(|x| vec![crate::algebra::float_text::exp(convention.sign() * x)])
                 .collect::<Vec<_>>());
             out["observer_polynomial"] = json!(desired.float.to_input());
             out["inexact_reason"] = json!(desired.inexact_reason);
@@ -379,7 +379,11 @@ fn multi_output(
     })?;
     let gain: Vec<Vec<String>> = gain
         .iter()
-        .map(|row| row.iter().map(|x| format!("{x:e}")).collect())
+        .map(|row| {
+            row.iter()
+                .map(|x| crate::algebra::float_text::exp(*x))
+                .collect()
+        })
         .collect();
     if args.json {
         rep.json(json!({
