@@ -14,9 +14,10 @@
 //! core; a property test compares them on random bit patterns, short decimals, every power of
 //! two and of ten with its neighbours, and the edge values.
 //!
-//! **Cost.** About 30 ns a number, where core's `{:e}` through `format!` took about 0.6 µs
-//! (2 300 instructions, its padding logic and a growing `String` included): the 10 000 entries
-//! of `zoh`'s answer at n = 100 cost 23 of its 69 million instructions.
+//! **Cost.** About 950 instructions a number, Żmij's digits included, where core's `{:e}`
+//! through `format!` took about 2 300 (its padding logic and a growing `String`): with the
+//! conversion of the rationals it reads, `zoh` at n = 100 (10 100 numbers written) went from
+//! 69.4 to 53.9 million instructions for the whole process.
 
 use std::fmt::Write;
 
