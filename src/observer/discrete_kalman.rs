@@ -17,9 +17,10 @@
 //! The exact check costs more than the float solution. On a plant whose P is rational (dense
 //! A with entries of about 1/(4n), Q_n chosen so that P = I, C = R_n = I), `owb dlqe` took
 //! 2.7 ms at n = 20, 18 ms at n = 50 and 144 ms at n = 100 without it, and 5.7, 45 and 322 ms
-//! with it (CPU time less the process start, on the 2-core reference machine). So it runs by default only up to [`EXACT_CHECK_ORDER`] states,
-//! where it takes milliseconds and the plants of a course live; above that it runs when asked
-//! ([`ExactCheckScope::AnyOrder`], `owb dlqe --exact-check`), and the answer says which.
+//! with it (CPU time less the process start, on the 2-core reference machine). So it runs by
+//! default only up to [`EXACT_CHECK_ORDER`] states, where it takes milliseconds and the plants
+//! of a course live; above that it runs when asked ([`ExactCheckScope::AnyOrder`], `owb dlqe
+//! --exact-check`), and the answer says which.
 
 use crate::algebra::{rational_to_f64, Rational};
 use crate::linalg::float::{max_or_nan, spectral_radius};
