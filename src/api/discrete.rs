@@ -692,9 +692,7 @@ pub struct DlqeArgs {
 ///
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
-    use crate::observer::discrete_kalman::{
-        discrete_kalman_checked, ExactCheck, ExactCheckScope, EXACT_CHECK_ORDER,
-    };
+    use crate::observer::discrete_kalman::{discrete_kalman_checked, ExactCheckScope};
     let values = super::args::parameter_values(args.at.as_deref())?;
     let read = |flag: &str, text: &str| super::args::matrix_at(flag, text, &values);
     let a = read("--a", &args.a)?;
@@ -720,36 +718,50 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
         ExactCheckScope::Default
     };
     let k = discrete_kalman_checked(&a, &g, &c, &qn, &rn, scope)?;
-    let rows = |m: &nalgebra::DMatrix<f64>| -> Vec<Vec<String>> {
-        (0..m.nrows())
-            .map(|i| {
-                (0..m.ncols())
-                    .map(|j| crate::algebra::float_text::exp(m[(i, j)]))
-                    .collect()
-            })
-            .collect()
-    };
     if args.json {
-        let mut out = json!({
-            "p": rows(&k.p),
-            "gain": rows(&k.gain),
-            "current_gain": rows(&k.current_gain),
-            "eigenvalues": k.eigenvalues.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
-            "iterations": k.iterations,
-            "residual": k.residual,
-            "spectral_radius": k.spectral_radius,
-            "refined": k.refined,
-            "exact": k.exact_p.is_some(),
-            "exact_read_back_tried": k.read_back_tried,
-            "exact_check": k.exact_check.name(),
-        });
-        if let (Some(p), Some(l)) = (&k.exact_p, &k.exact_gain) {
-            out["exact_p"] = json_matrix(p);
-            out["exact_gain"] = json_matrix(l);
-        }
-        rep.json(out);
-        return Ok(Outcome::Ok);
+        dlqe_json(&k, rep);
+    } else {
+        dlqe_text(&k, rep);
     }
+    Ok(Outcome::Ok)
+}
+
+/// A float matrix's entries as `{:e}` writes them, row by row.
+fn exp_rows(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<String>> {
+    (0..m.nrows())
+        .map(|i| {
+            (0..m.ncols())
+                .map(|j| crate::algebra::float_text::exp(m[(i, j)]))
+                .collect()
+        })
+        .collect()
+}
+
+/// `owb dlqe --json`.
+fn dlqe_json(k: &crate::observer::discrete_kalman::DiscreteKalman, rep: &mut Report) {
+    let mut out = json!({
+        "p": exp_rows(&k.p),
+        "gain": exp_rows(&k.gain),
+        "current_gain": exp_rows(&k.current_gain),
+        "eigenvalues": k.eigenvalues.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
+        "iterations": k.iterations,
+        "residual": k.residual,
+        "spectral_radius": k.spectral_radius,
+        "refined": k.refined,
+        "exact": k.exact_p.is_some(),
+        "exact_read_back_tried": k.read_back_tried(),
+        "exact_check": k.exact_check.name(),
+    });
+    if let (Some(p), Some(l)) = (&k.exact_p, &k.exact_gain) {
+        out["exact_p"] = json_matrix(p);
+        out["exact_gain"] = json_matrix(l);
+    }
+    rep.json(out);
+}
+
+/// `owb dlqe`'s text.
+fn dlqe_text(k: &crate::observer::discrete_kalman::DiscreteKalman, rep: &mut Report) {
+    use crate::observer::discrete_kalman::{ExactCheck, EXACT_CHECK_ORDER};
     let show = |m: &nalgebra::DMatrix<f64>| {
         (0..m.nrows())
             .map(|i| {
@@ -813,7 +825,6 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
         }
         (ExactCheck::Holds | ExactCheck::Fails, ..) => outln!(rep, "  no small-fraction P satisfies the equation exactly: the solution is known in f64 (residual above)"),
         (ExactCheck::DenominatorOverBudget, ..) => outln!(rep, "  exact read-back not tried: P's entries as fractions with denominators up to 10⁶ have no common denominator of at most {READ_BACK_BITS} bits (the exact check's work budget); the solution is known in f64 (residual above)"),
-        (ExactCheck::OrderOverDefault, ..) => outln!(rep, "  exact read-back not tried: {} states is above {EXACT_CHECK_ORDER}, where the exact check costs more than the float solution (--exact-check runs it); the solution is known in f64 (residual above)", a.rows()),
+        (ExactCheck::OrderOverDefault, ..) => outln!(rep, "  exact read-back not tried: {} states is above {EXACT_CHECK_ORDER}, where the exact check costs more than the float solution (--exact-check runs it); the solution is known in f64 (residual above)", k.p.nrows()),
     }
-    Ok(Outcome::Ok)
 }

@@ -33,29 +33,36 @@ pub fn spectral_radius(a: &DMatrix<f64>) -> f64 {
     max_or_nan(eigenvalues(a).iter().map(|z| z.norm()))
 }
 
-/// An irrational fraction of the largest entry: A + σI has eigenvalues of distinct moduli where
-/// A's had one (see [`eigenvalues`]), and its entries stay of A's size.
-fn stall_shift(a: &DMatrix<f64>) -> f64 {
-    a.amax() * 0.618_033_988_749_894_8
+/// The real Schur factorisation by nalgebra's QR iteration, bounded (LAPACK's 30 sweeps per
+/// eigenvalue).
+fn bounded_schur(m: DMatrix<f64>) -> Option<Schur<f64, nalgebra::Dyn>> {
+    let budget = 30 * m.nrows().max(10);
+    Schur::try_new(m, f64::EPSILON, budget)
 }
 
-/// The real Schur form `A = Q T Qᵀ` as `(Q, T)`, the QR iteration bounded (30 sweeps per
-/// eigenvalue); when it stalls, from `A + σI = Q (T + σI) Qᵀ` (see [`eigenvalues`]). `None` for a
-/// matrix that is not square or has an infinite or NaN entry, or whose iteration stalls both
-/// times. nalgebra's `Schur::new` iterates without bound.
+/// [`bounded_schur`] of `A + σI` and σ, an irrational fraction of A's largest entry: A + σI has
+/// eigenvalues of distinct moduli where A's had one (see [`eigenvalues`]), and its entries stay
+/// of A's size.
+fn shifted_schur(a: &DMatrix<f64>) -> Option<(Schur<f64, nalgebra::Dyn>, f64)> {
+    let shift = a.amax() * 0.618_033_988_749_894_8;
+    let shifted = a + DMatrix::<f64>::identity(a.nrows(), a.nrows()) * shift;
+    bounded_schur(shifted).map(|s| (s, shift))
+}
+
+/// The real Schur form `A = Q T Qᵀ` as `(Q, T)`, the QR iteration bounded; when it stalls, from
+/// `A + σI = Q (T + σI) Qᵀ` (see [`eigenvalues`]). `None` for a matrix that is not square or has
+/// an infinite or NaN entry, or whose iteration stalls both times. nalgebra's `Schur::new`
+/// iterates without bound.
 pub fn real_schur(a: &DMatrix<f64>) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
     let n = a.nrows();
     if n != a.ncols() || a.iter().any(|x| !x.is_finite()) {
         return None;
     }
-    let budget = 30 * n.max(10);
-    if let Some(s) = Schur::try_new(a.clone(), f64::EPSILON, budget) {
-        return Some(s.unpack());
-    }
-    let shift = stall_shift(a);
-    let identity = DMatrix::<f64>::identity(n, n);
-    let (q, t) = Schur::try_new(a + &identity * shift, f64::EPSILON, budget)?.unpack();
-    Some((q, t - identity * shift))
+    bounded_schur(a.clone()).map(Schur::unpack).or_else(|| {
+        let (s, shift) = shifted_schur(a)?;
+        let (q, t) = s.unpack();
+        Some((q, t - DMatrix::<f64>::identity(n, n) * shift))
+    })
 }
 
 /// The eigenvalues (real Schur form), sorted by real part then imaginary part.
@@ -85,24 +92,17 @@ pub fn eigenvalues_in_schur_order(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
     if a.iter().any(|x| !x.is_finite()) {
         return unknown;
     }
-    let budget = 30 * n.max(10);
-    let schur = |m: DMatrix<f64>| Schur::try_new(m, f64::EPSILON, budget);
-    let found = schur(a.clone()).or_else(|| {
-        let mut balanced = a.clone();
-        if balanced.amax() < 1e150 {
-            nalgebra::linalg::balancing::balance_parlett_reinsch(&mut balanced);
-        }
-        schur(balanced)
-    });
-    let (found, shift) = match found {
-        Some(s) => (Some(s), 0.0),
-        None => {
-            let shift = stall_shift(a);
-            let shifted = a + DMatrix::<f64>::identity(n, n) * shift;
-            (schur(shifted), shift)
-        }
-    };
-    let Some(s) = found else {
+    let found = bounded_schur(a.clone())
+        .or_else(|| {
+            let mut balanced = a.clone();
+            if balanced.amax() < 1e150 {
+                nalgebra::linalg::balancing::balance_parlett_reinsch(&mut balanced);
+            }
+            bounded_schur(balanced)
+        })
+        .map(|s| (s, 0.0))
+        .or_else(|| shifted_schur(a));
+    let Some((s, shift)) = found else {
         return unknown;
     };
     s.complex_eigenvalues()
@@ -215,7 +215,7 @@ mod tests {
             let c = 0.25;
             let a = DMatrix::from_fn(n, n, |i, j| if j == (i + 1) % n { c } else { 0.0 });
             // the stall itself: the bounded iteration gives up on the matrix as it is
-            if Schur::try_new(a.clone(), f64::EPSILON, 30 * n.max(10)).is_none() {
+            if bounded_schur(a.clone()).is_none() {
                 stalled.push(n);
             }
             let (q, t) = real_schur(&a).expect("through the shift");

@@ -95,14 +95,22 @@ pub struct DiscreteKalman {
     pub exact_p: Option<Matrix<Rational>>,
     /// The exact prediction gain from that P.
     pub exact_gain: Option<Matrix<Rational>>,
-    /// Whether the exact read-back was tried: only when P's entries, read as the nearest
-    /// fractions with denominators up to 10⁶, share a common denominator of at most
-    /// [`READ_BACK_BITS`] bits (a P with small rational entries has one; a generic float P
-    /// has thousands of unrelated denominators, whose exact check would cost more than the
-    /// whole float solution).
-    pub read_back_tried: bool,
     /// How far the exact check went (the reason when it was not tried).
     pub exact_check: ExactCheck,
+}
+
+impl DiscreteKalman {
+    /// Whether the exact read-back was tried: within [`EXACT_CHECK_ORDER`] states (or when
+    /// asked) and only when P's entries, read as the nearest fractions with denominators up to
+    /// 10⁶, share a common denominator of at most [`READ_BACK_BITS`] bits (a P with small
+    /// rational entries has one; a generic float P has thousands of unrelated denominators,
+    /// whose exact check would cost more than the whole float solution).
+    pub fn read_back_tried(&self) -> bool {
+        match self.exact_check {
+            ExactCheck::Holds | ExactCheck::Fails => true,
+            ExactCheck::DenominatorOverBudget | ExactCheck::OrderOverDefault => false,
+        }
+    }
 }
 
 /// The largest common denominator, in bits, of a P whose exact read-back is tried.
@@ -400,33 +408,7 @@ pub fn discrete_kalman_checked(
         .clone()
         .try_inverse()
         .ok_or(DiscreteKalmanError::SingularInnovation)?;
-    let (doubled, iterations) = doubling(&af, &cf, &wf, &r_inv);
-    // the doubling's solution, kept when it is the stabilising one
-    let stabilising = |p: &DMatrix<f64>| {
-        evaluate(&af, &cf, &wf, &rf, p).is_some_and(|(_, _, res, closed)| {
-            res <= RESIDUAL_TOLERANCE && spectral_radius(&closed) < 1.0
-        })
-    };
-    let (pf, refined) = match doubled {
-        Some(p) if stabilising(&p) => (p, false),
-        other => {
-            // a stabilising start: the gain of the same filter with noise W + I (which always
-            // has a stabilising solution for a detectable pair), then Hewer's iteration
-            let full_noise = &wf + DMatrix::identity(n, n);
-            let start = doubling(&af, &cf, &full_noise, &r_inv)
-                .0
-                .and_then(|p| evaluate(&af, &cf, &full_noise, &rf, &p))
-                .map(|(gain, ..)| gain)
-                .filter(|gain| spectral_radius(&(&af - gain * &cf)) < 1.0);
-            match start.and_then(|gain| hewer(&af, &cf, &wf, &rf, gain)) {
-                Some(p) => (p, true),
-                None => match other {
-                    Some(p) => (p, false),
-                    None => return Err(DiscreteKalmanError::NoConvergence(iterations)),
-                },
-            }
-        }
-    };
+    let (pf, iterations, refined) = stabilising_solution(&af, &cf, &wf, &rf, &r_inv)?;
     let (gain, current_gain, residual, closed) =
         evaluate(&af, &cf, &wf, &rf, &pf).ok_or(DiscreteKalmanError::SingularInnovation)?;
     let spectral_radius = spectral_radius(&closed);
@@ -452,25 +434,7 @@ pub fn discrete_kalman_checked(
         .iter()
         .map(|z| (z.re, z.im))
         .collect();
-    let in_scope = match scope {
-        ExactCheckScope::Default => n <= EXACT_CHECK_ORDER,
-        ExactCheckScope::AnyOrder => true,
-    };
-    let (exact_check, exact) = if !in_scope {
-        (ExactCheck::OrderOverDefault, None)
-    } else {
-        match read_back(&pf) {
-            None => (ExactCheck::DenominatorOverBudget, None),
-            Some(p) => match exact_solution(p, (a, g, c, qn, rn)) {
-                Some(found) => (ExactCheck::Holds, Some(found)),
-                None => (ExactCheck::Fails, None),
-            },
-        }
-    };
-    let read_back_tried = match exact_check {
-        ExactCheck::Holds | ExactCheck::Fails => true,
-        ExactCheck::DenominatorOverBudget | ExactCheck::OrderOverDefault => false,
-    };
+    let (exact_check, exact) = check_exactly(&pf, (a, g, c, qn, rn), scope);
     let (exact_p, exact_gain) = exact.unzip();
     Ok(DiscreteKalman {
         p: pf,
@@ -483,9 +447,71 @@ pub fn discrete_kalman_checked(
         eigenvalues,
         exact_p,
         exact_gain,
-        read_back_tried,
         exact_check,
     })
+}
+
+/// The stabilising solution P in f64, the doublings used, and whether Hewer's iteration refined
+/// it: the doubling's solution when it is the stabilising one; otherwise Hewer's Newton
+/// iteration from the gain of the same filter with noise W + I (which always has a stabilising
+/// solution for a detectable pair); otherwise the doubling's solution as it is, for the checks
+/// to judge.
+fn stabilising_solution(
+    af: &DMatrix<f64>,
+    cf: &DMatrix<f64>,
+    wf: &DMatrix<f64>,
+    rf: &DMatrix<f64>,
+    r_inv: &DMatrix<f64>,
+) -> Result<(DMatrix<f64>, usize, bool), DiscreteKalmanError> {
+    let (doubled, iterations) = doubling(af, cf, wf, r_inv);
+    let stabilising = |p: &DMatrix<f64>| {
+        evaluate(af, cf, wf, rf, p).is_some_and(|(_, _, res, closed)| {
+            res <= RESIDUAL_TOLERANCE && spectral_radius(&closed) < 1.0
+        })
+    };
+    match doubled {
+        Some(p) if stabilising(&p) => Ok((p, iterations, false)),
+        other => {
+            let full_noise = wf + DMatrix::identity(af.nrows(), af.nrows());
+            let start = doubling(af, cf, &full_noise, r_inv)
+                .0
+                .and_then(|p| evaluate(af, cf, &full_noise, rf, &p))
+                .map(|(gain, ..)| gain)
+                .filter(|gain| spectral_radius(&(af - gain * cf)) < 1.0);
+            match (start.and_then(|gain| hewer(af, cf, wf, rf, gain)), other) {
+                (Some(p), _) => Ok((p, iterations, true)),
+                (None, Some(p)) => Ok((p, iterations, false)),
+                (None, None) => Err(DiscreteKalmanError::NoConvergence(iterations)),
+            }
+        }
+    }
+}
+
+/// The exact P and its prediction gain L.
+type ExactSolution = (Matrix<Rational>, Matrix<Rational>);
+
+/// How far the exact check of the float `pf` goes under `scope`, and the exact P and gain when
+/// it holds: not tried above [`EXACT_CHECK_ORDER`] states unless asked, nor when P's fractions
+/// share no small common denominator ([`read_back`]).
+fn check_exactly(
+    pf: &DMatrix<f64>,
+    plant: Plant<'_>,
+    scope: ExactCheckScope,
+) -> (ExactCheck, Option<ExactSolution>) {
+    let in_scope = match scope {
+        ExactCheckScope::Default => pf.nrows() <= EXACT_CHECK_ORDER,
+        ExactCheckScope::AnyOrder => true,
+    };
+    if !in_scope {
+        return (ExactCheck::OrderOverDefault, None);
+    }
+    match read_back(pf) {
+        None => (ExactCheck::DenominatorOverBudget, None),
+        Some(p) => match exact_solution(p, plant) {
+            Some(found) => (ExactCheck::Holds, Some(found)),
+            None => (ExactCheck::Fails, None),
+        },
+    }
 }
 
 type Plant<'a> = (
@@ -521,10 +547,7 @@ fn read_back(pf: &DMatrix<f64>) -> Option<Matrix<Rational>> {
 /// P read back as small fractions ([`read_back`]); kept only if it satisfies the Riccati
 /// equation exactly and A − LC is stable (every root of its characteristic polynomial inside
 /// the unit circle, exact).
-fn exact_solution(
-    p: Matrix<Rational>,
-    (a, g, c, qn, rn): Plant<'_>,
-) -> Option<(Matrix<Rational>, Matrix<Rational>)> {
+fn exact_solution(p: Matrix<Rational>, (a, g, c, qn, rn): Plant<'_>) -> Option<ExactSolution> {
     let s = c.mul(&p).ok()?.mul(&c.transpose()).ok()?.add(rn).ok()?;
     let s_inv = linalg::inverse(&s).ok()?;
     let apc = a.mul(&p).ok()?.mul(&c.transpose()).ok()?;

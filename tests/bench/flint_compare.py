@@ -138,14 +138,14 @@ def best_cpu(f, runs=10, spend=0.4, most=60):
     return min(times), out
 
 
-def owb_own_cpu(args, floor_args=("--version",), runs=10, spend=0.4, most=60):
+def owb_own_cpu(args, runs=10, spend=0.4, most=60):
     """owb's CPU time for `args` less its process floor, the two interleaved — a floor run
     before every command run — and the least of each taken, so that both see the machine in the
     same state (a floor measured once at the start drifted by 0.2 ms within a table, as much as
     a whole 10-state command); and the command's output."""
     floors, times, out, k = [], [], None, 0
     while k < runs or (sum(times) + sum(floors) < spend and k < most):
-        floors.append(owb_cpu(list(floor_args))[0])
+        floors.append(owb_cpu(["--version"])[0])
         t, out = owb_cpu(args)
         times.append(t)
         k += 1
@@ -265,7 +265,7 @@ def flint_canonical_same_work(a, n):
 
 def table_header(peers, columns):
     """owb's process floor (CPU time of `owb --version`), printed with the load, the peers'
-    versions and the table's header; returns the floor."""
+    versions and the table's header (each row subtracts its own floor: `owb_own_cpu`)."""
     floor, _ = best_cpu(lambda: owb_cpu(["--version"]), runs=20)
     load = os.getloadavg()
     print(f"owb's process floor (owb --version): {floor * 1e3:.2f} ms CPU; "
@@ -274,12 +274,11 @@ def table_header(peers, columns):
     print()
     print("| " + " | ".join(columns) + " |")
     print("|" + "---|" * len(columns))
-    return floor
 
 
 def same_work(orders, only=()):
-    floor = table_header(f"python-flint {flint.__version__}",
-                         ["command", "n", "owb CPU − floor", "FLINT same work (CPU)", "ratio"])
+    table_header(f"python-flint {flint.__version__}",
+                 ["command", "n", "owb CPU − floor", "FLINT same work (CPU)", "ratio"])
     for n in orders:
         a = dense_random(n)
         at, c = matrix_text(a), "[" + " ".join(["1"] + ["0"] * (n - 1)) + "]"
@@ -384,9 +383,9 @@ def float_table(orders, only=()):
         slycot_version = slycot.__version__
     except ImportError:
         slycot_version = "not installed"
-    floor = table_header(f"SciPy {scipy.__version__}, python-control {control.__version__}, "
-                         f"slycot {slycot_version}",
-                         ["command", "n", "owb CPU − floor", "peer (CPU)", "ratio", "difference"])
+    table_header(f"SciPy {scipy.__version__}, python-control {control.__version__}, "
+                 f"slycot {slycot_version}",
+                 ["command", "n", "owb CPU − floor", "peer (CPU)", "ratio", "difference"])
     for n in orders:
         cases = float_cases(n)
         if only:
