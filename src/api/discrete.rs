@@ -2,7 +2,7 @@
 //! from a continuous specification) and `owb zoh` (a continuous plant sampled with a
 //! zero-order hold).
 
-use super::args::{json_matrix, Plant, SystemPair};
+use super::args::{json_matrix, json_matrix_shown, Plant, SystemPair};
 use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
 use crate::algebra::{Fraction, Quadratic, Rational};
@@ -219,7 +219,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
             "estimator": estimator.flag(),
             "convention": convention.flag(),
             "method": method.flag(),
-            "gain": json_matrix(&d.design.gain.matrix),
+            "gain": json_matrix_shown(&d.design.gain.matrix, d.design.gain_step()),
             "error_polynomial": polynomial,
             "schur_stable": d.stable,
             "deadbeat_steps": d.nilpotent_index,
@@ -235,7 +235,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     result_lines(
         rep,
         (estimator, convention, method),
-        &d.design.gain.matrix.to_input(),
+        &d.design.gain_input(),
         d.current_gain.as_ref().map(|l| l.to_input()),
         &d.error_polynomial,
     );

@@ -4,7 +4,7 @@
 //! `owb gain --a M --c M (--poles L | --poly P | --repeated T | --butterworth T) [--method M]
 //! [--convention a-kc|a+lc] [--float] [--json]`.
 
-use super::args::{json_matrix, Plant};
+use super::args::{json_matrix, json_matrix_shown, Plant};
 use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
 use crate::algebra::Rational;
@@ -256,7 +256,7 @@ fn render_json(
     });
     match exact {
         Some(d) => {
-            out["gain"] = json_matrix(&d.gain.matrix);
+            out["gain"] = json_matrix_shown(&d.gain.matrix, d.gain_step());
             out["observer_polynomial"] = json!(d.achieved.to_input());
             out["places_exactly"] = json!(d.places_exactly());
             out["observer_stable"] = json!(observer_stable(&d.achieved));
@@ -299,7 +299,7 @@ fn render_text(
             rep.derivation(&d.derivation);
             let letter = convention.letter();
             outln!(rep, "Result ({convention} convention, {method} method):");
-            outln!(rep, "  {letter} = {}", d.gain.matrix.to_input());
+            outln!(rep, "  {letter} = {}", d.gain_input());
             let shown = d
                 .achieved_factored()
                 .map_or_else(|| d.achieved.to_string(), |f| f.to_string());

@@ -155,6 +155,56 @@ pub fn polynomial_times_vector<R: Ring>(
     Ok(acc)
 }
 
+/// `P(A)·X` with `X = M⁻¹ B` (Ackermann's `P(A) O_n⁻¹ e_n`), and `X` itself when `keep` asks
+/// for it. Over the rationals from [`super::MODULAR_FROM_ORDER`] on, `X` goes into Horner's
+/// rule as the multimodular solve gives it — integers over the one denominator `det M` — and
+/// only the result's entries are reduced: the n gcds of numbers as long as `det M` that
+/// reducing `X` costs are spent only when `X` is kept (at order 40 they were an eighth of a
+/// gain's design). Elsewhere [`super::solve`], then [`polynomial_times_vector`]. The numbers
+/// are the same either way.
+///
+/// # Errors
+/// As [`super::solve`] and [`polynomial_times_vector`].
+pub fn polynomial_times_solution<F: Field>(
+    p: &Poly<F>,
+    a: &Matrix<F>,
+    m: &Matrix<F>,
+    b: &Matrix<F>,
+    keep: bool,
+) -> Result<(Matrix<F>, Option<Matrix<F>>), LinalgError> {
+    let n = m.require_square("solve")?;
+    let fast = n >= super::MODULAR_FROM_ORDER && a.rows() == n && a.cols() == n;
+    let as_poly = (p as &dyn std::any::Any).downcast_ref::<Poly<crate::algebra::Rational>>();
+    if let (true, Some(qp), Some(qa), Some(qm), Some(qb)) = (
+        fast,
+        as_poly,
+        super::as_rational(a),
+        super::as_rational(m),
+        super::as_rational(b),
+    ) {
+        if let Some((y, det)) = super::modular::solve_rational_scaled(qm, qb) {
+            let k = b.cols();
+            let r = super::rational::polynomial_times_integers(qp, qa, &y, &det, k);
+            let x = keep.then(|| {
+                Matrix::from_fn(n, k, |i, j| {
+                    crate::algebra::fraction(y[i * k + j].clone(), det.clone())
+                })
+            });
+            // the same types (F is the rationals): the conversions cannot fail
+            let x = match x {
+                None => Some(None),
+                Some(x) => crate::algebra::from_concrete(x).map(Some),
+            };
+            if let (Some(r), Some(x)) = (crate::algebra::from_concrete(r), x) {
+                return Ok((r, x));
+            }
+        }
+    }
+    let x = super::solve(m, b)?;
+    let r = polynomial_times_vector(p, a, &x)?;
+    Ok((r, keep.then_some(x)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -176,5 +226,49 @@ mod tests {
         let a = Matrix::from_rows(vec![vec![h(1, 2), h(1, 3)], vec![h(0, 1), h(-1, 4)]]).unwrap();
         let p = characteristic_polynomial(&a, "s").unwrap();
         assert_eq!(p.to_string(), "s^2 − (1/4)s − 1/8");
+    }
+
+    /// The unreduced path (integers over `det M`, of either sign) gives the numbers of a solve
+    /// then Horner, and keeps `X` in lowest terms when asked; below the multimodular order
+    /// the generic path runs.
+    #[test]
+    fn polynomial_times_solution_agrees_with_solve_then_horner() {
+        let mut seed = 12_345u64;
+        let mut next = |modulus: u64| {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            ((seed >> 33) % modulus) as i64
+        };
+        for n in [3, 8, 9, 13] {
+            for trial in 0..3 {
+                let mut entry = || Rational::new((next(19) - 9).into(), (next(5) + 1).into());
+                let a = Matrix::from_fn(n, n, |_, _| entry());
+                let m = Matrix::from_fn(n, n, |_, _| entry());
+                let b = Matrix::from_fn(n, 1 + trial % 2, |_, _| entry());
+                let p = Poly::new((0..=n).map(|_| entry()).collect(), "s");
+                let x = crate::linalg::solve(&m, &b).unwrap();
+                let expected = polynomial_times_vector(&p, &a, &x).unwrap();
+                let (r, kept) = polynomial_times_solution(&p, &a, &m, &b, true).unwrap();
+                assert_eq!(r, expected, "n = {n}");
+                assert_eq!(kept.as_ref(), Some(&x), "n = {n}");
+                let (r, kept) = polynomial_times_solution(&p, &a, &m, &b, false).unwrap();
+                assert_eq!(r, expected, "n = {n}");
+                assert!(kept.is_none());
+                // a row swapped flips det M's sign: the same numbers
+                let mut rows: Vec<Vec<Rational>> = (0..n).map(|i| m.row(i).to_vec()).collect();
+                rows.swap(0, 1);
+                let mut brows: Vec<Vec<Rational>> = (0..n).map(|i| b.row(i).to_vec()).collect();
+                brows.swap(0, 1);
+                let (m2, b2) = (
+                    Matrix::from_rows(rows).unwrap(),
+                    Matrix::from_rows(brows).unwrap(),
+                );
+                assert_eq!(
+                    polynomial_times_solution(&p, &a, &m2, &b2, false)
+                        .unwrap()
+                        .0,
+                    expected
+                );
+            }
+        }
     }
 }

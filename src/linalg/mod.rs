@@ -23,7 +23,8 @@ pub mod modular;
 mod rational;
 
 pub use charpoly::{
-    berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_vector,
+    berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_solution,
+    polynomial_times_vector,
 };
 pub use elimination::{determinant, inverse, null_space, rank, rref, solve, Rref};
 pub use kronecker::{kronecker, vectorize};

@@ -121,13 +121,26 @@ pub(crate) fn polynomial_times_vector(
     a: &Matrix<Rational>,
     v: &Matrix<Rational>,
 ) -> Matrix<Rational> {
-    let (n, k) = (a.rows(), v.cols());
+    // V = Y/δ
+    let (y, delta) = scale(v.entries());
+    polynomial_times_integers(p, a, &y, &delta, v.cols())
+}
+
+/// `P(A)·V` by Horner on integers for `V = Y/δ` given over one denominator (`Y` row-major with
+/// `k` columns, `δ ≠ 0` of either sign, `Y/δ` not necessarily reduced): each entry of the
+/// result is reduced once, at the end.
+pub(crate) fn polynomial_times_integers(
+    p: &Poly<Rational>,
+    a: &Matrix<Rational>,
+    y: &[BigInt],
+    delta: &BigInt,
+    k: usize,
+) -> Matrix<Rational> {
+    let n = a.rows();
     let deg = p.coeffs().len().saturating_sub(1);
     // Ã = dA
     let (a_int, d) = scale(a.entries());
     let a_int = Scaled::new(a_int);
-    // V = Y/δ
-    let (y, delta) = scale(v.entries());
     // Q(s) = f·d^deg·P(s/d): coefficient j is f·p_j·d^(deg−j)
     let mut dpow = BigInt::one();
     let mut scaled = vec![Rational::zero(); deg + 1];
@@ -137,10 +150,10 @@ pub(crate) fn polynomial_times_vector(
     }
     let (q, f) = scale(&scaled);
     let words = match &a_int {
-        Scaled::Small(words) => super::limbs::horner(words, n, &q, &y, k),
+        Scaled::Small(words) => super::limbs::horner(words, n, &q, y, k),
         Scaled::Big(_) => None,
     };
-    let acc = words.unwrap_or_else(|| horner_on_bigints(&a_int, n, &q, &y, k));
+    let acc = words.unwrap_or_else(|| horner_on_bigints(&a_int, n, &q, y, k));
     // divide by f·d^deg·δ (dpow is d^(deg+1) now)
     let denominator = f * (dpow / &d) * delta;
     let mut entries = acc.into_iter();

@@ -28,6 +28,14 @@ impl Convention {
             Convention::APlusLC => "L",
         }
     }
+    /// The label of a design's step showing the gain in this convention: `K` as designed, or
+    /// the `L = −K` step that follows it.
+    pub fn gain_step(self) -> &'static str {
+        match self {
+            Convention::AMinusKC => "K",
+            Convention::APlusLC => "L = −K",
+        }
+    }
     /// The factor taking `K` of `A − KC` to this convention's gain: 1, or −1 for `L = −K`
     /// (for float gains; exact ones convert with [`ObserverGain::to_convention`]).
     pub fn sign(self) -> f64 {

@@ -156,9 +156,19 @@ impl<F: Field> Shared<F> {
     fn transformation(&self, m: &Matrix<F>) -> Result<Matrix<F>, DesignError> {
         Ok(linalg::inverse(&m.transpose().mul(&self.o)?)?)
     }
-    /// `q_n = O_n⁻¹ e_n`.
-    fn last_column_of_inverse(&self) -> Result<Matrix<F>, DesignError> {
-        Ok(linalg::solve(&self.o, &Matrix::unit(self.n, self.n - 1))?)
+    /// Ackermann's `K = P(A) q_n` with `q_n = O_n⁻¹ e_n`, and `q_n` itself when the working
+    /// shows it (otherwise it is never reduced to lowest terms: see
+    /// [`linalg::polynomial_times_solution`]).
+    fn ackermann(
+        &self,
+        a: &Matrix<F>,
+        desired: &Poly<F>,
+        show_q: bool,
+    ) -> Result<(Matrix<F>, Option<Matrix<F>>), DesignError> {
+        let e_n = Matrix::unit(self.n, self.n - 1);
+        Ok(linalg::polynomial_times_solution(
+            desired, a, &self.o, &e_n, show_q,
+        )?)
     }
     /// `K = O_n⁻¹ M⁻ᵀ (c − a)`.
     fn bass_gura(&self, m: &Matrix<F>, diff: &Matrix<F>) -> Result<Matrix<F>, DesignError> {
@@ -292,8 +302,7 @@ pub fn ackermann_gain<F: Field>(
     }
     // Generic path (and the error report when the modular path finds O_n singular).
     let s = Shared::new(a, c, desired, GainMethod::Ackermann)?;
-    let q = s.last_column_of_inverse()?;
-    Ok(linalg::polynomial_times_vector(desired, a, &q)?)
+    Ok(s.ackermann(a, desired, false)?.0)
 }
 
 /// Dual Bass–Gura: `K = O_n⁻¹ M⁻ᵀ (c − a)` (A − KC).
@@ -456,7 +465,7 @@ pub fn design_with(
     .to_convention(convention);
     let mut derivation = derivation;
     if convention == Convention::APlusLC {
-        derivation.push("L = −K", "gain for A + LC", &gain.matrix);
+        derivation.push(convention.gain_step(), "gain for A + LC", &gain.matrix);
     }
     Ok(ObserverDesign {
         method,
@@ -505,7 +514,7 @@ pub fn design_symbolic(
     }
     .to_convention(convention);
     if convention == Convention::APlusLC {
-        derivation.push("L = −K", "gain for A + LC", &gain.matrix);
+        derivation.push(convention.gain_step(), "gain for A + LC", &gain.matrix);
     }
     Ok(SymbolicDesign {
         identity: &achieved == desired,
@@ -552,9 +561,10 @@ fn design_in<F: Field>(
     d.push("P(s)", "desired observer polynomial", &desired.clone());
     let k = match method {
         GainMethod::Ackermann => {
-            let q = s.last_column_of_inverse()?;
-            d.intermediate("q_n", "O_n⁻¹ e_n", &q);
-            let k = linalg::polynomial_times_vector(desired, a, &q)?;
+            let (k, q) = s.ackermann(a, desired, d.full)?;
+            if let Some(q) = q {
+                d.intermediate("q_n", "O_n⁻¹ e_n", &q);
+            }
             d.push("K", "P(A) q_n", &k);
             k
         }
@@ -591,6 +601,23 @@ fn design_in<F: Field>(
 }
 
 impl ObserverDesign {
+    /// The step that showed the gain in its convention (the last so labelled): its text and
+    /// cells are the gain's, rendered once for the working, the result and `--json` alike.
+    pub fn gain_step(&self) -> Option<&crate::derivation::Step> {
+        let label = self.gain.convention.gain_step();
+        self.derivation
+            .steps
+            .iter()
+            .rev()
+            .find(|s| s.label == label)
+    }
+    /// The gain in input syntax (`[k1; k2; …]`), from its step when that rendered it.
+    pub fn gain_input(&self) -> String {
+        match self.gain_step().and_then(|s| s.cells().map(|_| s)) {
+            Some(step) => step.input.clone(),
+            None => self.gain.matrix.to_input(),
+        }
+    }
     /// Whether the achieved polynomial equals the desired one exactly.
     pub fn places_exactly(&self) -> bool {
         self.desired.exact.as_ref() == Some(&self.achieved)
