@@ -110,9 +110,12 @@ impl Columns {
     fn add(&mut self, m: i64, x: &[u32]) {
         let (low, top) = x.split_at(x.len() - 1);
         let side = if m >= 0 { &mut self.pos } else { &mut self.neg };
-        let factor = m.unsigned_abs();
+        // |m| < 2^29 (the module's bound): as a 32-bit word the product is one 32 × 32 → 64-bit
+        // multiply, two to a vector instruction, where a 64-bit factor takes three
+        debug_assert!(m.unsigned_abs() < WORD_LIMIT);
+        let factor = m.unsigned_abs() as u32;
         for (column, &limb) in side.iter_mut().zip(low) {
-            *column += factor * u64::from(limb);
+            *column += u64::from(factor) * u64::from(limb);
         }
         self.top += m * i64::from(top[0] as i32);
     }
