@@ -188,7 +188,7 @@ impl DesiredPolynomial {
     /// (s − root)ⁿ, exact: the dead-beat zⁿ (root 0) or the image (z − 1)ⁿ of s = 0.
     pub fn repeated_root(root: Quadratic, n: usize) -> Self {
         let roots = vec![root; n];
-        let p = Poly::from_roots(&roots, "s");
+        let p = product_of_rational_roots(&roots).unwrap_or_else(|| Poly::from_roots(&roots, "s"));
         DesiredPolynomial::exact(PolynomialFamily::Poles(roots), p)
     }
 
@@ -251,8 +251,8 @@ impl DesiredPolynomial {
     /// [`PolynomialError::TimeConstant`] for `T ≤ 0`.
     pub fn repeated(t: &Rational, n: usize) -> Result<Self, PolynomialError> {
         positive(t)?;
-        let root = Quadratic::rational(-t.recip());
-        let p = Poly::from_roots(&vec![root; n], "s");
+        let roots = vec![Quadratic::rational(-t.recip()); n];
+        let p = product_of_rational_roots(&roots).unwrap_or_else(|| Poly::from_roots(&roots, "s"));
         Ok(DesiredPolynomial::exact(
             PolynomialFamily::Scaled {
                 family: Family::Repeated,

@@ -227,7 +227,7 @@ impl<R: Ring> Poly<R> {
             Render::Latex => crate::algebra::latex_symbol(&self.var),
             _ => self.var.clone(),
         };
-        let mut out = String::new();
+        let mut out = String::with_capacity(8 * self.coeffs.len());
         for (k, c) in self.coeffs.iter().enumerate().rev() {
             if c.is_zero() {
                 continue;
@@ -250,15 +250,44 @@ impl<R: Ring> Poly<R> {
                     (true, _) => " - ",
                 });
             }
-            let power = match (k, how) {
-                (0, _) => String::new(),
-                (1, _) => var.clone(),
-                (k, Render::Latex) => format!("{var}^{{{k}}}"),
-                (k, _) => format!("{var}^{k}"),
-            };
-            out.push_str(&join_coefficient(body, &power, how));
+            push_term(&mut out, body, &var, k, how);
         }
         out
+    }
+}
+
+/// `coefficient · var^k` appended to `out`, as [`join_coefficient`] writes it, without the
+/// intermediate strings (a polynomial is rendered three times in every derivation).
+fn push_term(out: &mut String, coef: &str, var: &str, k: usize, how: Render) {
+    if k == 0 {
+        out.push_str(coef);
+        return;
+    }
+    if coef != "1" {
+        let compound = coef.contains(' ') || (how != Render::Latex && coef.contains('/'));
+        if compound {
+            out.push('(');
+            out.push_str(coef);
+            out.push(')');
+        } else {
+            out.push_str(coef);
+        }
+        match how {
+            Render::Human if !compound && coef.chars().any(|c| c.is_alphabetic() || c == '√') => {
+                out.push(' ');
+            }
+            Render::Human => {}
+            Render::Input => out.push('*'),
+            Render::Latex => out.push(' '),
+        }
+    }
+    out.push_str(var);
+    if k > 1 {
+        use std::fmt::Write;
+        let _ = match how {
+            Render::Latex => write!(out, "^{{{k}}}"),
+            Render::Human | Render::Input => write!(out, "^{k}"),
+        };
     }
 }
 
