@@ -91,8 +91,14 @@ impl Field for BigRational {
         super::lcm_of_denominators(values)
     }
     fn scale_to_integer(&self, d: &BigInt) -> BigInt {
-        // d is a multiple of the denominator: divide first, the smaller product follows
-        self.numer() * (d / self.denom())
+        // d is a multiple of the denominator: divide first, the smaller product follows (and
+        // neither for the integer entries most matrices hold, where a division by one still
+        // cost a long division's set-up)
+        match (One::is_one(self.denom()), One::is_one(d)) {
+            (true, true) => self.numer().clone(),
+            (true, false) => self.numer() * d,
+            (false, _) => self.numer() * (d / self.denom()),
+        }
     }
     fn from_integer_ratio(n: BigInt, d: BigInt) -> Option<Self> {
         (!Zero::is_zero(&d)).then(|| super::fraction(n, d))

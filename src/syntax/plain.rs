@@ -26,7 +26,8 @@ pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
     s.eat(b'[')?;
     let mut rows: Vec<Vec<Rational>> = Vec::new();
     loop {
-        let row = s.row()?;
+        // the rows after the first are as long (or the text is refused)
+        let row = s.row(rows.first().map_or(0, Vec::len))?;
         if let Some(first) = rows.first() {
             if first.len() != row.len() {
                 return None;
@@ -111,9 +112,9 @@ impl Scanner<'_> {
         let numerator = if negative { -numerator } else { numerator };
         Some(small_ratio(numerator, denominator))
     }
-    /// Entries up to (not including) `;` or `]`; at least one.
-    fn row(&mut self) -> Option<Vec<Rational>> {
-        let mut out = Vec::new();
+    /// Entries up to (not including) `;` or `]`; at least one (room made for `expected`).
+    fn row(&mut self, expected: usize) -> Option<Vec<Rational>> {
+        let mut out = Vec::with_capacity(expected);
         self.blanks();
         loop {
             out.push(self.entry()?);
