@@ -204,16 +204,22 @@ pub(crate) fn observer_polynomial<F: Field>(
     open_loop: &Poly<F>,
     k: &Matrix<F>,
 ) -> Result<Poly<F>, LinalgError> {
-    let m = o.mul(k)?;
     let rational = (
-        linalg::as_rational(&m),
+        linalg::as_rational(o),
+        linalg::as_rational(k),
         (open_loop as &dyn std::any::Any).downcast_ref::<Poly<Rational>>(),
     );
-    if let (Some(m), Some(open_loop)) = rational {
-        if let Some(p) = crate::algebra::from_concrete(rank_one_update_rational(m, open_loop)) {
+    if let (Some(o), Some(k), Some(open_loop)) = rational {
+        let (mm, delta) = match integer_product(o, k) {
+            Some(product) => product,
+            None => crate::algebra::gcd::integer_numerators(o.mul(k)?.entries()),
+        };
+        let p = rank_one_update_integers(&mm, &delta, open_loop);
+        if let Some(p) = crate::algebra::from_concrete(p) {
             return Ok(p);
         }
     }
+    let m = o.mul(k)?;
     let a = open_loop.coeffs();
     let n = a.len().saturating_sub(1);
     let mut coeffs = a.to_vec();
@@ -230,18 +236,47 @@ pub(crate) fn observer_polynomial<F: Field>(
     Ok(Poly::new(coeffs, "s"))
 }
 
+/// `O_n K = M/δ` on integers when `O_n` is integral (an integer plant) and `K` a column of
+/// matching length: `K = κ/δ` over the lcm of its denominators and `M = O_n κ`, with no
+/// reduction at all, where the product over the rationals reduced every entry and the sums
+/// then scaled them back to one denominator. `None` otherwise.
+fn integer_product(
+    o: &Matrix<Rational>,
+    k: &Matrix<Rational>,
+) -> Option<(Vec<crate::algebra::BigInt>, crate::algebra::BigInt)> {
+    if k.cols() != 1 || k.rows() != o.cols() || !o.entries().iter().all(Rational::is_integer) {
+        return None;
+    }
+    let (kappa, delta) = crate::algebra::gcd::integer_numerators(k.entries());
+    let mm = (0..o.rows())
+        .map(|i| {
+            let mut sum = crate::algebra::BigInt::default();
+            for (x, y) in o.row(i).iter().zip(&kappa) {
+                if !crate::algebra::Zero::is_zero(x.numer()) && !crate::algebra::Zero::is_zero(y) {
+                    sum += x.numer() * y;
+                }
+            }
+            sum
+        })
+        .collect();
+    Some((mm, delta))
+}
+
 /// [`observer_polynomial`]'s sums over the rationals on integers: with `m = O_n K = M/δ` and the
 /// open-loop coefficients `a = α/d`, coefficient `e` is `(δ α_e + Σ_j M_j α_(j+e+1)) / (d δ)`,
 /// reduced once — n reductions instead of one per term.
-fn rank_one_update_rational(m: &Matrix<Rational>, open_loop: &Poly<Rational>) -> Poly<Rational> {
-    let (mm, delta) = crate::algebra::gcd::integer_numerators(m.entries());
+fn rank_one_update_integers(
+    mm: &[crate::algebra::BigInt],
+    delta: &crate::algebra::BigInt,
+    open_loop: &Poly<Rational>,
+) -> Poly<Rational> {
     let (alpha, d) = crate::algebra::gcd::integer_numerators(open_loop.coeffs());
     let n = alpha.len().saturating_sub(1);
-    let terms = n.min(m.rows());
-    let denominator = &d * &delta;
+    let terms = n.min(mm.len());
+    let denominator = &d * delta;
     let coeffs = (0..alpha.len())
         .map(|e| {
-            let mut numerator = &alpha[e] * &delta;
+            let mut numerator = &alpha[e] * delta;
             for (j, mj) in mm.iter().enumerate().take(terms) {
                 if let Some(a) = alpha.get(j + e + 1) {
                     if !crate::algebra::Zero::is_zero(mj) && !crate::algebra::Zero::is_zero(a) {
@@ -249,7 +284,13 @@ fn rank_one_update_rational(m: &Matrix<Rational>, open_loop: &Poly<Rational>) ->
                     }
                 }
             }
-            crate::algebra::fraction(numerator, denominator.clone())
+            // a placed polynomial is usually integral: one exact division instead of a gcd
+            let (quotient, remainder) = num_integer::Integer::div_rem(&numerator, &denominator);
+            if crate::algebra::Zero::is_zero(&remainder) {
+                Rational::from_integer(quotient)
+            } else {
+                crate::algebra::fraction(numerator, denominator.clone())
+            }
         })
         .collect();
     Poly::new(coeffs, "s")
