@@ -37,7 +37,7 @@ fn primes_below(bound: u64) -> impl Iterator<Item = u64> {
 }
 
 /// The primes the eliminations of [`lift_cramer`] and [`determinant_rational`] run modulo:
-/// below 2³⁰ rather than 2³¹, so that an entry takes fifteen products (each below 2⁶⁰) between
+/// below 2³⁰ rather than 2³¹, so that an entry takes sixteen products (each below 2⁶⁰) between
 /// two reductions instead of three — the reduction passes were about 40 % of an order-40
 /// solve — for 3 % more primes.
 fn elimination_primes() -> impl Iterator<Item = u64> {
@@ -505,9 +505,9 @@ pub(crate) fn det_and_solve_mod(
     let mut det = 1u64;
     // Delayed reduction: an entry below and right of the pivots takes one product (at most
     // (p − 1)²) per step without being reduced; starting from a value below p it holds
-    // `PENDING` of them within 64 bits (3 for p near 2³¹, 16 below 2³⁰), so the trailing block
-    // is reduced every `PENDING`-th step (Barrett's reduction is exact for any 64-bit input),
-    // the pivot column and row as they are used.
+    // `limit` of them within 64 bits (4 for p near 2³¹, where a fixed 3 was used before; 16
+    // below 2³⁰), so the trailing block is reduced every `limit`-th step (Barrett's reduction
+    // is exact for any 64-bit input), the pivot column and row as they are used.
     let square = (p - 1).saturating_mul(p - 1).max(1);
     let most = u32::try_from((u64::MAX - (p - 1)) / square).unwrap_or(u32::MAX);
     let limit = most.clamp(1, 64);
@@ -997,7 +997,7 @@ mod tests {
             state ^= state << 17;
             state
         };
-        // entries near p − 1, the largest products: the delayed reductions at their limit (3
+        // entries near p − 1, the largest products: the delayed reductions at their limit (4
         // products near 2³¹, 16 below 2³⁰, 64 for small primes) on orders past it
         let primes = [
             super::primes().next().unwrap(),
