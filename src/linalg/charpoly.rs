@@ -159,7 +159,7 @@ pub fn polynomial_times_vector<R: Ring>(
 /// for it. Over the rationals from [`super::MODULAR_FROM_ORDER`] on, `X` goes into Horner's
 /// rule as the multimodular solve gives it — integers over the one denominator `det M` — and
 /// only the result's entries are reduced: the n gcds of numbers as long as `det M` that
-/// reducing `X` costs are spent only when `X` is kept (at order 40 they were an eighth of a
+/// reducing `X` costs are spent only when `X` is kept (at order 40 they were a tenth of a
 /// gain's design). Elsewhere [`super::solve`], then [`polynomial_times_vector`]. The numbers
 /// are the same either way.
 ///

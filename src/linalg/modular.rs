@@ -38,8 +38,8 @@ fn primes_below(bound: u64) -> impl Iterator<Item = u64> {
 
 /// The primes the eliminations of [`lift_cramer`] and [`determinant_rational`] run modulo:
 /// below 2³⁰ rather than 2³¹, so that an entry takes sixteen products (each below 2⁶⁰) between
-/// two reductions instead of three — the reduction passes were about 40 % of an order-40
-/// solve — for 3 % more primes.
+/// two reductions instead of three — the reduction passes were about 40 % of the eliminations'
+/// time at order 40 — for 3 % more primes.
 fn elimination_primes() -> impl Iterator<Item = u64> {
     primes_below(1 << 30)
 }
@@ -833,8 +833,7 @@ pub fn solve_rational(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Option<Matr
 /// `X = Y/δ` (row-major), `δ` the determinant of `A` with its rows scaled to integers. A caller
 /// that goes on computing with `X` (`P(A)·X` by Horner, which scales its input to one
 /// denominator anyway) saves the reduction of every entry — a gcd of numbers as long as
-/// `det A`, the largest part of the solve's cost after the eliminations at order 40. `None`
-/// when A is singular.
+/// `det A` each, a fifth of the solve's cost at order 40. `None` when A is singular.
 pub(crate) fn solve_rational_scaled(
     a: &Matrix<Rational>,
     b: &Matrix<Rational>,
