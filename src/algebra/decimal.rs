@@ -128,10 +128,14 @@ fn long_decimal(x: &BigInt) -> String {
         None => out.push(b'0'),
         Some((top, rest)) => {
             // the top chunk without its leading zeros
-            let mut first = Vec::with_capacity(19);
-            push_chunk(&mut first, *top);
-            let nonzero = first.iter().position(|&d| d != b'0').unwrap_or(18);
-            out.extend_from_slice(&first[nonzero..]);
+            let start = out.len();
+            push_chunk(&mut out, *top);
+            let zeros = out[start..]
+                .iter()
+                .take_while(|&&d| d == b'0')
+                .count()
+                .min(18);
+            out.drain(start..start + zeros);
             for chunk in rest.iter().rev() {
                 push_chunk(&mut out, *chunk);
             }

@@ -236,6 +236,14 @@ pub fn fraction(n: BigInt, d: BigInt) -> Rational {
     if d.is_one() {
         return Rational::from_integer(n);
     }
+    // an integral quotient (a placed polynomial's coefficients, a checked product): one exact
+    // division where the gcd would run its whole course
+    if n.bits() >= d.bits() {
+        let (q, r) = num_integer::Integer::div_rem(&n, &d);
+        if r.is_zero() {
+            return Rational::from_integer(q);
+        }
+    }
     let g = gcd(&n, &d);
     if g.is_one() {
         Rational::new_raw(n, d)
@@ -313,13 +321,7 @@ pub(crate) fn integer_numerators(values: &[Rational]) -> (Vec<BigInt>, BigInt) {
     let d = lcm_of_denominators(values);
     let ints = values
         .iter()
-        .map(|x| {
-            if x.denom() == &d {
-                x.numer().clone()
-            } else {
-                x.numer() * (&d / x.denom())
-            }
-        })
+        .map(|x| super::Field::scale_to_integer(x, &d))
         .collect();
     (ints, d)
 }
@@ -431,6 +433,27 @@ mod tests {
         };
         // consecutive Fibonacci numbers: the worst case, every quotient 1
         assert_eq!(gcd(&fib(3001), &fib(3000)), BigInt::one());
+    }
+
+    proptest::proptest! {
+        /// `fraction` is num-rational's reduction, on quotients that are integers (the exact
+        /// division's path) and on those that are not, of either sign and many limbs.
+        #[test]
+        fn fraction_reduces_as_num_rational_does(
+            n in proptest::collection::vec(proptest::prelude::any::<u32>(), 0..6),
+            d in proptest::collection::vec(proptest::prelude::any::<u32>(), 1..5),
+            signs in (proptest::bool::ANY, proptest::bool::ANY),
+            integral in proptest::bool::ANY,
+        ) {
+            let big = |limbs: Vec<u32>, negative: bool| {
+                let x = BigInt::from(num_bigint::BigUint::new(limbs));
+                if negative { -x } else { x }
+            };
+            let d = big(d, signs.1);
+            proptest::prop_assume!(!d.is_zero());
+            let n = if integral { big(n, signs.0) * &d } else { big(n, signs.0) };
+            proptest::prop_assert_eq!(fraction(n.clone(), d.clone()), Rational::new(n, d));
+        }
     }
 
     #[test]

@@ -91,12 +91,13 @@ impl Field for BigRational {
         super::lcm_of_denominators(values)
     }
     fn scale_to_integer(&self, d: &BigInt) -> BigInt {
-        // d is a multiple of the denominator: divide first, the smaller product follows (and
-        // neither for the integer entries most matrices hold, where a division by one still
-        // cost a long division's set-up)
+        // d is a multiple of the denominator: divide first, the smaller product follows — and
+        // neither when d is the denominator, nor a division for the integer entries most
+        // matrices hold, where a division by one still cost a long division's set-up
         match (One::is_one(self.denom()), One::is_one(d)) {
             (true, true) => self.numer().clone(),
             (true, false) => self.numer() * d,
+            (false, _) if self.denom() == d => self.numer().clone(),
             (false, _) => self.numer() * (d / self.denom()),
         }
     }

@@ -29,6 +29,7 @@ pub use charpoly::{
 pub use elimination::{determinant, inverse, null_space, rank, rref, solve, Rref};
 pub use kronecker::{kronecker, vectorize};
 pub use matrix::Matrix;
+pub(crate) use rational::mul_over_one_denominator;
 
 /// From this order on, exact rational problems go through [`modular`] (multimodular, certified)
 /// instead of fraction-free elimination or Berkowitz, which are faster below it.

@@ -81,6 +81,33 @@ pub(crate) fn mul(a: &Matrix<Rational>, b: &Matrix<Rational>) -> Matrix<Rational
     })
 }
 
+/// `a · b` over one denominator, not reduced: `(M, δ)` with `a·b = M/δ` (row-major), δ the
+/// product of the lcms of a's and b's denominators. For a caller that goes on computing on
+/// integers (the rank-one check's sums, `O_n K`), where [`mul`] would reduce every entry only
+/// for it to be scaled back to one denominator (shapes checked by the caller).
+pub(crate) fn mul_over_one_denominator(
+    a: &Matrix<Rational>,
+    b: &Matrix<Rational>,
+) -> (Vec<BigInt>, BigInt) {
+    let (n, k, m) = (a.rows(), a.cols(), b.cols());
+    let (a_int, da) = scale(a.entries());
+    let a_int = Scaled::new(a_int);
+    let (b_int, db) = scale(b.entries());
+    let mut product = Vec::with_capacity(n * m);
+    for i in 0..n {
+        for j in 0..m {
+            let mut acc = BigInt::zero();
+            for t in 0..k {
+                if !b_int[t * m + j].is_zero() {
+                    a_int.mul_add(i * k + t, &b_int[t * m + j], &mut acc);
+                }
+            }
+            product.push(acc);
+        }
+    }
+    (product, da * db)
+}
+
 /// `x ± y` for one entry, reduced once.
 fn add_entry(x: &Rational, y: &Rational, negate: bool) -> Rational {
     let y_num = if negate {

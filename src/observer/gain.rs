@@ -210,10 +210,10 @@ pub(crate) fn observer_polynomial<F: Field>(
         (open_loop as &dyn std::any::Any).downcast_ref::<Poly<Rational>>(),
     );
     if let (Some(o), Some(k), Some(open_loop)) = rational {
-        let (mm, delta) = match integer_product(o, k) {
-            Some(product) => product,
-            None => crate::algebra::gcd::integer_numerators(o.mul(k)?.entries()),
-        };
+        if o.cols() != k.rows() {
+            return Err(o.mismatch(k, "product"));
+        }
+        let (mm, delta) = linalg::mul_over_one_denominator(o, k);
         let p = rank_one_update_integers(&mm, &delta, open_loop);
         if let Some(p) = crate::algebra::from_concrete(p) {
             return Ok(p);
@@ -234,32 +234,6 @@ pub(crate) fn observer_polynomial<F: Field>(
         }
     }
     Ok(Poly::new(coeffs, "s"))
-}
-
-/// `O_n K = M/δ` on integers when `O_n` is integral (an integer plant) and `K` a column of
-/// matching length: `K = κ/δ` over the lcm of its denominators and `M = O_n κ`, with no
-/// reduction at all, where the product over the rationals reduced every entry and the sums
-/// then scaled them back to one denominator. `None` otherwise.
-fn integer_product(
-    o: &Matrix<Rational>,
-    k: &Matrix<Rational>,
-) -> Option<(Vec<crate::algebra::BigInt>, crate::algebra::BigInt)> {
-    if k.cols() != 1 || k.rows() != o.cols() || !o.entries().iter().all(Rational::is_integer) {
-        return None;
-    }
-    let (kappa, delta) = crate::algebra::gcd::integer_numerators(k.entries());
-    let mm = (0..o.rows())
-        .map(|i| {
-            let mut sum = crate::algebra::BigInt::default();
-            for (x, y) in o.row(i).iter().zip(&kappa) {
-                if !crate::algebra::Zero::is_zero(x.numer()) && !crate::algebra::Zero::is_zero(y) {
-                    sum += x.numer() * y;
-                }
-            }
-            sum
-        })
-        .collect();
-    Some((mm, delta))
 }
 
 /// [`observer_polynomial`]'s sums over the rationals on integers: with `m = O_n K = M/δ` and the
@@ -284,13 +258,7 @@ fn rank_one_update_integers(
                     }
                 }
             }
-            // a placed polynomial is usually integral: one exact division instead of a gcd
-            let (quotient, remainder) = num_integer::Integer::div_rem(&numerator, &denominator);
-            if crate::algebra::Zero::is_zero(&remainder) {
-                Rational::from_integer(quotient)
-            } else {
-                crate::algebra::fraction(numerator, denominator.clone())
-            }
+            crate::algebra::fraction(numerator, denominator.clone())
         })
         .collect();
     Poly::new(coeffs, "s")
@@ -652,12 +620,10 @@ impl ObserverDesign {
             .rev()
             .find(|s| s.label == label)
     }
-    /// The gain in input syntax (`[k1; k2; …]`), from its step when that rendered it.
+    /// The gain in input syntax (`[k1; k2; …]`), as its step rendered it.
     pub fn gain_input(&self) -> String {
-        match self.gain_step().and_then(|s| s.cells().map(|_| s)) {
-            Some(step) => step.input.clone(),
-            None => self.gain.matrix.to_input(),
-        }
+        self.gain_step()
+            .map_or_else(|| self.gain.matrix.to_input(), |s| s.input.clone())
     }
     /// Whether the achieved polynomial equals the desired one exactly.
     pub fn places_exactly(&self) -> bool {

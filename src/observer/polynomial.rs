@@ -188,7 +188,7 @@ impl DesiredPolynomial {
     /// (s − root)ⁿ, exact: the dead-beat zⁿ (root 0) or the image (z − 1)ⁿ of s = 0.
     pub fn repeated_root(root: Quadratic, n: usize) -> Self {
         let roots = vec![root; n];
-        let p = product_of_rational_roots(&roots).unwrap_or_else(|| Poly::from_roots(&roots, "s"));
+        let p = product_of_roots(&roots);
         DesiredPolynomial::exact(PolynomialFamily::Poles(roots), p)
     }
 
@@ -224,7 +224,7 @@ impl DesiredPolynomial {
                 }
             }
         }
-        let p = product_of_rational_roots(poles).unwrap_or_else(|| Poly::from_roots(poles, "s"));
+        let p = product_of_roots(poles);
         Ok(DesiredPolynomial::exact(
             PolynomialFamily::Poles(poles.to_vec()),
             p,
@@ -252,7 +252,7 @@ impl DesiredPolynomial {
     pub fn repeated(t: &Rational, n: usize) -> Result<Self, PolynomialError> {
         positive(t)?;
         let roots = vec![Quadratic::rational(-t.recip()); n];
-        let p = product_of_rational_roots(&roots).unwrap_or_else(|| Poly::from_roots(&roots, "s"));
+        let p = product_of_roots(&roots);
         Ok(DesiredPolynomial::exact(
             PolynomialFamily::Scaled {
                 family: Family::Repeated,
@@ -460,6 +460,12 @@ fn normalised_butterworth(n: usize) -> Option<Poly<Quadratic>> {
         _ => return None,
     };
     Some(Poly::from_descending(&desc, "s"))
+}
+
+/// `∏ (s − p_i)`: on integers when every pole is rational ([`product_of_rational_roots`]),
+/// over the field otherwise.
+fn product_of_roots(poles: &[Quadratic]) -> Poly<Quadratic> {
+    product_of_rational_roots(poles).unwrap_or_else(|| Poly::from_roots(poles, "s"))
 }
 
 /// `∏ (s − p_i)` for rational poles `p_i = a_i/b_i`, on integers: `∏ (b_i s − a_i)` divided by

@@ -1,6 +1,6 @@
 //! Rational functions `n(s)/d(s)` in lowest terms with a monic denominator: transfer functions.
 
-use super::univariate::{join_coefficient, split_sign, Render};
+use super::univariate::split_sign;
 use super::Poly;
 use crate::algebra::Field;
 use std::fmt;
@@ -119,7 +119,7 @@ impl<F: Field> RationalFunction<F> {
         };
         // A constant numerator keeps its sign in front: -108/(s + 5).
         let (neg, body) = split_sign(&num);
-        let body = join_coefficient(body, "", Render::Human);
+        let body = body.to_string();
         format!(
             "{}{}/{}",
             if neg { "-" } else { "" },

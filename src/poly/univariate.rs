@@ -256,7 +256,8 @@ impl<R: Ring> Poly<R> {
     }
 }
 
-/// `coefficient · var^k` appended to `out`, as [`join_coefficient`] writes it, without the
+/// `coefficient · var^k` appended to `out` in the chosen style: a coefficient of one
+/// disappears, a compound one (a sum, or a fraction outside LaTeX) is parenthesised; no
 /// intermediate strings (a polynomial is rendered three times in every derivation).
 fn push_term(out: &mut String, coef: &str, var: &str, k: usize, how: Render) {
     if k == 0 {
@@ -305,30 +306,6 @@ pub(crate) fn split_sign(text: &str) -> (bool, &str) {
     match text.strip_prefix('-') {
         Some(rest) if !compound(rest) => (true, rest),
         _ => (false, text),
-    }
-}
-
-/// `coefficient · power` in the chosen style; a coefficient of one disappears.
-pub(crate) fn join_coefficient(coef: &str, power: &str, how: Render) -> String {
-    if power.is_empty() {
-        return coef.to_string();
-    }
-    if coef == "1" {
-        return power.to_string();
-    }
-    let compound = coef.contains(' ') || (how != Render::Latex && coef.contains('/'));
-    let coef = if compound {
-        format!("({coef})")
-    } else {
-        coef.to_string()
-    };
-    match how {
-        Render::Human if coef.chars().any(|c| c.is_alphabetic() || c == '√') && !compound => {
-            format!("{coef} {power}")
-        }
-        Render::Human => format!("{coef}{power}"),
-        Render::Input => format!("{coef}*{power}"),
-        Render::Latex => format!("{coef} {power}"),
     }
 }
 
