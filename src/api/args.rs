@@ -99,6 +99,29 @@ pub fn json_matrix_shown<T: crate::algebra::Ring>(
     }
 }
 
+/// A float matrix as a JSON list of rows of strings, each entry as `{:e}` writes it
+/// ([`crate::algebra::float_text`]), built as JSON strings directly (not as strings then
+/// copied into the value: `zoh` at n = 100 writes 10 100 of them).
+pub fn json_exp_matrix(
+    rows: usize,
+    cols: usize,
+    entry: impl Fn(usize, usize) -> f64,
+) -> serde_json::Value {
+    serde_json::Value::Array(
+        (0..rows)
+            .map(|i| {
+                serde_json::Value::Array(
+                    (0..cols)
+                        .map(|j| {
+                            serde_json::Value::String(crate::algebra::float_text::exp(entry(i, j)))
+                        })
+                        .collect(),
+                )
+            })
+            .collect(),
+    )
+}
+
 /// A matrix as a JSON list of rows of strings in input syntax.
 pub fn json_matrix<T: crate::algebra::Ring>(m: &Matrix<T>) -> serde_json::Value {
     serde_json::Value::Array(

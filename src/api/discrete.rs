@@ -591,14 +591,8 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
     super::args::float_range("--b", &b)?;
     let t = super::args::rational_at("--period", &args.period, &values)?;
     let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
-    let rows = |m: &[Vec<f64>]| -> Vec<Vec<String>> {
-        m.iter()
-            .map(|r| {
-                r.iter()
-                    .map(|x| crate::algebra::float_text::exp(*x))
-                    .collect()
-            })
-            .collect()
+    let rows = |m: &[Vec<f64>]| {
+        super::args::json_exp_matrix(m.len(), m.first().map_or(0, Vec::len), |i, j| m[i][j])
     };
     match (&s, args.json) {
         (Sampled::Exact { phi, gamma, index }, true) => rep.json(json!({
@@ -727,14 +721,8 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
 }
 
 /// A float matrix's entries as `{:e}` writes them, row by row.
-fn exp_rows(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<String>> {
-    (0..m.nrows())
-        .map(|i| {
-            (0..m.ncols())
-                .map(|j| crate::algebra::float_text::exp(m[(i, j)]))
-                .collect()
-        })
-        .collect()
+fn exp_rows(m: &nalgebra::DMatrix<f64>) -> serde_json::Value {
+    super::args::json_exp_matrix(m.nrows(), m.ncols(), |i, j| m[(i, j)])
 }
 
 /// `owb dlqe --json`.

@@ -250,18 +250,55 @@ fn rational_poly(p: &Poly<Quadratic>) -> Option<Poly<Rational>> {
 /// A product of mismatched shapes (M not square).
 pub fn nilpotent_index(m: &Matrix<Quadratic>) -> Result<Option<usize>, LinalgError> {
     if let Some(r) = linalg::rational_entries(m) {
-        if linalg::modular::surely_not_nilpotent(&r) {
-            return Ok(None);
-        }
+        return rational_nilpotent_index(&r);
     }
     let chi = linalg::characteristic_polynomial(m, "z")?;
     nilpotent_index_with(m, &chi)
 }
 
+/// [`nilpotent_index`] of a rational matrix, on its own entries (a plant sampled by `zoh` is
+/// not lifted to Q(√d) to be told, usually by its trace, that it is not nilpotent).
+///
+/// # Errors
+/// M not square.
+pub fn rational_nilpotent_index(m: &Matrix<Rational>) -> Result<Option<usize>, LinalgError> {
+    let n = m.require_square("nilpotency")?;
+    if linalg::modular::surely_not_nilpotent(m) {
+        return Ok(None);
+    }
+    let chi = linalg::characteristic_polynomial(m, "z")?;
+    if !is_power_of_z(&chi, n) {
+        return Ok(None);
+    }
+    rational_powers_index(m)
+}
+
 /// Whether `chi` is `zⁿ`: the characteristic polynomial of a nilpotent n × n matrix (of index
 /// n when the matrix is cyclic, a single Jordan block).
-fn is_power_of_z(chi: &Poly<Quadratic>, n: usize) -> bool {
+fn is_power_of_z<F: crate::algebra::Field>(chi: &Poly<F>, n: usize) -> bool {
     chi.degree() == Some(n) && (0..n).all(|k| chi.coeff(k).is_zero())
+}
+
+/// The index of a rational matrix known to be nilpotent: n when it is cyclic, otherwise the
+/// first zero power, formed on integers (M scaled by a common denominator D: (DM)ᵏ = 0 ⇔
+/// Mᵏ = 0), so no gcd is taken per operation.
+fn rational_powers_index(r: &Matrix<Rational>) -> Result<Option<usize>, LinalgError> {
+    let n = r.require_square("nilpotency")?;
+    // a cyclic nilpotent matrix is one Jordan block: its index is n (the single-output
+    // dead-beat observer always is, (A − KC, C) being observable)
+    if linalg::modular::is_cyclic(r) {
+        return Ok(Some(n));
+    }
+    let d = Rational::common_denominator(r.entries());
+    let integer = r.map(|x| x.scale_to_integer(&d));
+    let mut p = integer.clone();
+    for k in 1..=n {
+        if p.is_zero() {
+            return Ok(Some(k));
+        }
+        p = p.mul(&integer)?;
+    }
+    Ok(None)
 }
 
 /// [`nilpotent_index`] for a matrix whose characteristic polynomial `chi` is known exactly.
@@ -277,21 +314,7 @@ pub fn nilpotent_index_with(
         return Ok(None);
     }
     if let Some(r) = linalg::rational_entries(m) {
-        // a cyclic nilpotent matrix is one Jordan block: its index is n (the single-output
-        // dead-beat observer always is, (A − KC, C) being observable)
-        if linalg::modular::is_cyclic(&r) {
-            return Ok(Some(n));
-        }
-        let d = Rational::common_denominator(r.entries());
-        let integer = r.map(|x| x.scale_to_integer(&d));
-        let mut p = integer.clone();
-        for k in 1..=n {
-            if p.is_zero() {
-                return Ok(Some(k));
-            }
-            p = p.mul(&integer)?;
-        }
-        return Ok(None);
+        return rational_powers_index(&r);
     }
     let mut p = Matrix::identity(n);
     for k in 1..=n {
@@ -418,7 +441,7 @@ pub fn zero_order_hold(
             b.cols()
         )));
     }
-    if let Some(index) = nilpotent_index(&lift(a))? {
+    if let Some(index) = rational_nilpotent_index(a)? {
         // Φ = Σ_(k<index) A^k T^k / k!, Γ = Σ_(k<index) A^k T^(k+1)/(k+1)! B
         let mut phi = Matrix::zeros(n, n);
         let mut integral = Matrix::zeros(n, n);
