@@ -29,39 +29,93 @@ fn write_value(out: &mut String, value: &Value, level: usize) {
         Value::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
         Value::Number(n) => out.push_str(&n.to_string()),
         Value::String(s) => write_string(out, s),
-        Value::Array(items) => {
-            if items.is_empty() {
-                out.push_str("[]");
-                return;
-            }
-            out.push('[');
-            for (i, item) in items.iter().enumerate() {
-                out.push_str(if i == 0 { "\n" } else { ",\n" });
-                indent(out, level + 1);
-                write_value(out, item, level + 1);
-            }
-            out.push('\n');
-            indent(out, level);
-            out.push(']');
-        }
-        Value::Object(map) => {
-            if map.is_empty() {
-                out.push_str("{}");
-                return;
-            }
-            out.push('{');
-            for (i, (key, item)) in map.iter().enumerate() {
-                out.push_str(if i == 0 { "\n" } else { ",\n" });
-                indent(out, level + 1);
-                write_string(out, key);
-                out.push_str(": ");
-                write_value(out, item, level + 1);
-            }
-            out.push('\n');
-            indent(out, level);
-            out.push('}');
-        }
+        Value::Array(items) => write_array(out, items.iter(), level, write_value),
+        Value::Object(map) => write_object(out, map.iter(), level, |out, _, item, level| {
+            write_value(out, item, level);
+        }),
     }
+}
+
+/// `[…]` in the pretty layout, each item written by `write` at the items' level.
+fn write_array<T>(
+    out: &mut String,
+    items: impl ExactSizeIterator<Item = T>,
+    level: usize,
+    mut write: impl FnMut(&mut String, T, usize),
+) {
+    if items.len() == 0 {
+        out.push_str("[]");
+        return;
+    }
+    out.push('[');
+    for (i, item) in items.enumerate() {
+        out.push_str(if i == 0 { "\n" } else { ",\n" });
+        indent(out, level + 1);
+        write(out, item, level + 1);
+    }
+    out.push('\n');
+    indent(out, level);
+    out.push(']');
+}
+
+/// `{…}` in the pretty layout, each value written by `write` (given its key) at the entries'
+/// level.
+fn write_object<'a>(
+    out: &mut String,
+    entries: impl ExactSizeIterator<Item = (&'a String, &'a Value)>,
+    level: usize,
+    mut write: impl FnMut(&mut String, &'a str, &'a Value, usize),
+) {
+    if entries.len() == 0 {
+        out.push_str("{}");
+        return;
+    }
+    out.push('{');
+    for (i, (key, item)) in entries.enumerate() {
+        out.push_str(if i == 0 { "\n" } else { ",\n" });
+        indent(out, level + 1);
+        write_string(out, key);
+        out.push_str(": ");
+        write(out, key, item, level + 1);
+    }
+    out.push('\n');
+    indent(out, level);
+    out.push('}');
+}
+
+/// `value` with its key `"steps"` set to `steps`, as [`write_pretty`] writes the value after
+/// `steps` were inserted (in the map's own order of keys), each step made a JSON value only
+/// while it is written: an order-40 reduced observer's steps are 20 MB, not copied whole.
+///
+/// # Errors
+/// A step that cannot be made a value (none can: a step is strings).
+pub fn write_pretty_with_steps(
+    out: &mut String,
+    mut value: Value,
+    steps: &[crate::derivation::Step],
+) -> serde_json::Result<()> {
+    let Some(map) = value.as_object_mut() else {
+        write_value(out, &value, 0);
+        return Ok(());
+    };
+    // a placeholder takes the key's place among the others
+    map.insert("steps".into(), Value::Null);
+    let mut failure = None;
+    write_object(out, map.iter(), 0, |out, key, item, level| {
+        if key != "steps" {
+            return write_value(out, item, level);
+        }
+        write_array(
+            out,
+            steps.iter(),
+            level,
+            |out, step, level| match serde_json::to_value(step) {
+                Ok(v) => write_value(out, &v, level),
+                Err(e) => failure = failure.take().or(Some(e)),
+            },
+        );
+    });
+    failure.map_or(Ok(()), Err)
 }
 
 /// Whether JSON escapes this byte.
@@ -149,6 +203,38 @@ mod tests {
             let mut written = String::from("before ");
             write_pretty(&mut written, &v);
             prop_assert_eq!(written, format!("before {expected}"));
+        }
+
+        /// The steps written into the text one at a time are the steps inserted into the
+        /// value and written with it: at their key's place, replacing a `"steps"` already
+        /// there, and a value that is not an object written alone.
+        #[test]
+        fn steps_written_in_place_are_steps_inserted(
+            v in prop_oneof![
+                value(),
+                proptest::collection::vec(("[a-z_]{0,7}", leaf()), 0..6)
+                    .prop_map(|kv| Value::Object(kv.into_iter().collect())),
+            ],
+            texts in proptest::collection::vec("[a-z\"\\\n √−]{0,12}", 0..4),
+        ) {
+            let steps: Vec<crate::derivation::Step> = texts
+                .iter()
+                .map(|t| {
+                    serde_json::from_value(serde_json::json!({
+                        "label": t, "formula": "f", "text": t, "latex": "\\x", "input": t,
+                    }))
+                    .unwrap()
+                })
+                .collect();
+            let mut expected = v.clone();
+            if let Some(map) = expected.as_object_mut() {
+                map.insert("steps".into(), serde_json::to_value(&steps).unwrap());
+            }
+            let mut inserted = String::new();
+            write_pretty(&mut inserted, &expected);
+            let mut streamed = String::new();
+            write_pretty_with_steps(&mut streamed, v, &steps).unwrap();
+            prop_assert_eq!(streamed, inserted);
         }
     }
 }

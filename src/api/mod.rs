@@ -81,6 +81,22 @@ pub struct Report {
     /// Remarks that are not part of the report (the command line prints them on standard
     /// error).
     pub warnings: Vec<String>,
+    /// What the report keeps besides its text.
+    #[serde(skip)]
+    keep: Keep,
+}
+
+/// What a [`Report`] keeps besides its text: everything (the library's [`run`]), or the text
+/// alone ([`run_text`], the command line's: it prints the text and nothing else, and an
+/// order-60 reduced observer's JSON value and steps are some 200 MB it would build, copy and
+/// free for nothing).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Keep {
+    /// The text, the JSON value and the steps.
+    #[default]
+    Everything,
+    /// The text only: `json` stays `None` and `steps` empty.
+    Text,
 }
 
 impl Default for Report {
@@ -91,6 +107,7 @@ impl Default for Report {
             json: None,
             steps: Vec::new(),
             warnings: Vec::new(),
+            keep: Keep::Everything,
         }
     }
 }
@@ -111,6 +128,9 @@ impl Report {
     /// is kept for typesetting too.
     pub fn json(&mut self, v: serde_json::Value) {
         self.write_json(&v);
+        if self.keep == Keep::Text {
+            return;
+        }
         // read from the value in place: an order-40 reduced observer's steps are 20 MB
         if let Some(steps) = v
             .get("steps")
@@ -132,6 +152,12 @@ impl Report {
         mut v: serde_json::Value,
         steps: Vec<Step>,
     ) -> serde_json::Result<()> {
+        if self.keep == Keep::Text {
+            // the steps written into the text one at a time, never all copied into the value
+            json_text::write_pretty_with_steps(&mut self.text, v, &steps)?;
+            self.text.push('\n');
+            return Ok(());
+        }
         if let Some(answer) = v.as_object_mut() {
             answer.insert("steps".into(), serde_json::to_value(&steps)?);
         }
@@ -149,7 +175,16 @@ impl Report {
     /// A derivation: its text appended, its steps kept for typesetting.
     pub fn derivation(&mut self, d: &Derivation) {
         out!(self, "{}", d.render());
-        self.steps.clone_from(&d.steps);
+        if self.keep == Keep::Everything {
+            self.steps.clone_from(&d.steps);
+        }
+    }
+
+    /// One more step for the typeset derivation (kept unless the report keeps its text only).
+    pub fn push_step(&mut self, step: Step) {
+        if self.keep == Keep::Everything {
+            self.steps.push(step);
+        }
     }
 
     /// The derivation typeset in LaTeX, if the command derived something.
@@ -430,6 +465,20 @@ pub struct RequestError(pub String);
 /// What the command refuses (bad input, an impossible design, an unreadable file), with what it
 /// had reported before.
 pub fn run(command: Command) -> Result<Report, Failure> {
+    run_keeping(command, Keep::Everything)
+}
+
+/// [`run`] for a front end that shows the report's text only (the command line): the same
+/// text, without the JSON value and the steps beside it ([`Keep::Text`]).
+///
+/// # Errors
+///
+/// As [`run`].
+pub fn run_text(command: Command) -> Result<Report, Failure> {
+    run_keeping(command, Keep::Text)
+}
+
+fn run_keeping(command: Command, keep: Keep) -> Result<Report, Failure> {
     let mut report = Report::default();
     // a plant given as a transfer function: the report states its realisation
     let realisation = match command.system().map(args::SystemPair::realisation) {
@@ -441,6 +490,11 @@ pub fn run(command: Command) -> Result<Report, Failure> {
             })
         }
         None => None,
+    };
+    // a realisation is added to the JSON value once the command has written it: kept whole
+    report.keep = match realisation {
+        Some(_) => Keep::Everything,
+        None => keep,
     };
     let rep = &mut report;
     let result = match command {

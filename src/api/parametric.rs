@@ -164,7 +164,7 @@ impl Parametric {
     /// The lines saying where the result holds and why it breaks elsewhere; the condition is
     /// also kept as a derivation step, so the typeset derivation ends with it.
     pub fn validity(&self, rep: &mut Report) {
-        rep.steps.push(crate::derivation::Step::new(
+        rep.push_step(crate::derivation::Step::new(
             "valid for",
             "where no denominator divided by vanishes",
             &self.exceptions,

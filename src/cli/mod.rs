@@ -80,7 +80,7 @@ fn run_within(command: Command, budget: f64) -> anyhow::Result<Result<api::Repor
         return Err(Stopped::BadBudget(budget).into());
     }
     if budget == 0.0 || command.writes_files() {
-        return Ok(api::run(command));
+        return Ok(api::run_text(command));
     }
     // optimal's search has its own limit: the budget comes on top of it
     let budget = match &command {
@@ -103,7 +103,7 @@ fn run_within(command: Command, budget: f64) -> anyhow::Result<Result<api::Repor
             }
         })
         .map_err(Stopped::Spawn)?;
-    let result = api::run(command);
+    let result = api::run_text(command);
     if !Race::claim(Race::Finished) {
         // the budget ran out first: the watchdog is printing its error and ends the process
         loop {

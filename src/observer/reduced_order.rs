@@ -78,7 +78,8 @@ pub struct ReducedOrderObserver {
     /// Σ of the squared entries of D_y: white measurement noise of unit variance on every
     /// output adds this much to the summed variance of x̂, at every frequency.
     pub noise_gain: Quadratic,
-    /// The design of the gain for (A₂₂, A₁₂).
+    /// The design of the gain for (A₂₂, A₁₂) (its steps moved into `derivation`, so that
+    /// they are held once: its own derivation is empty).
     pub design: ObserverDesign,
     /// The steps.
     pub derivation: Derivation,
@@ -243,14 +244,12 @@ fn gain_matrix<F: crate::algebra::Field>(column: &Matrix<F>, k: usize, p: usize)
     })
 }
 
-/// `shown_f`: the gain design's step showing its observer matrix `A₂₂ − K a₁₂ₖ`, which is F
-/// (L is K in column k and zeros elsewhere, so `L A₁₂ = K a₁₂ₖ`): F's step reuses its
-/// rendering.
+/// `shown_f`: F's step from [`moved_design_steps`], when the design showed its observer matrix.
 fn assemble<F: crate::algebra::Field>(
     blocks: &Blocks<F>,
     q_inv: &Matrix<F>,
     l: &Matrix<F>,
-    shown_f: Option<&crate::derivation::Step>,
+    shown_f: Option<crate::derivation::Step>,
     d: &mut Derivation,
 ) -> Result<Assembled<F>, LinalgError>
 where
@@ -264,7 +263,7 @@ where
     let g = blocks.a22.mul(l)?.add(&blocks.a21)?.sub(&l.mul(&a12_l)?)?;
     d.push("L", "gain for the pair (A₂₂, A₁₂)", l);
     match shown_f {
-        Some(step) => d.push_step(step.renamed("F", "A₂₂ − L A₁₂")),
+        Some(step) => d.push_step(step),
         None => d.push("F", "A₂₂ − L A₁₂", &f),
     }
     d.push("G", "F L + A₂₁ − L A₁₁", &g);
@@ -292,6 +291,20 @@ where
         from_w,
         noise_gain,
     })
+}
+
+/// The gain design's steps moved into the observer's derivation `d` (held once: at order 40
+/// they are 10 MB), and F's step: the design's observer matrix `A₂₂ − K a₁₂ₖ` is F (L is K in
+/// column k and zeros elsewhere, so `L A₁₂ = K a₁₂ₖ`), its rendering reused under F's name.
+fn moved_design_steps(
+    design: &mut Derivation,
+    d: &mut Derivation,
+) -> Option<crate::derivation::Step> {
+    let shown_f = design
+        .step(super::gain::OBSERVER_MATRIX_STEP)
+        .map(|step| step.renamed("F", "A₂₂ − L A₁₂"));
+    d.extend(std::mem::take(design));
+    shown_f
 }
 
 /// C's checks: full row rank, fewer rows than states.
@@ -333,7 +346,7 @@ pub fn reduced_order_observer(
     let a_bar = q.mul(a)?.mul(&q_inv)?;
     d.push("Q A Q⁻¹", "[A₁₁ A₁₂; A₂₁ A₂₂]", &a_bar);
     let blocks = Blocks::of(&a_bar, None, p);
-    let (k, design) = design_for_one_row(&blocks.a12, |row| {
+    let (k, mut design) = design_for_one_row(&blocks.a12, |row| {
         design_with(
             &blocks.a22,
             row,
@@ -343,7 +356,7 @@ pub fn reduced_order_observer(
             Detail::Full,
         )
     })?;
-    d.extend(design.derivation.clone());
+    let shown_f = moved_design_steps(&mut design.derivation, &mut d);
     let l = gain_matrix(&design.gain.matrix, k, p);
     let b_bar = b.map(|b| q.mul(b)).transpose()?;
     let lifted = Blocks::of(&lift(&a_bar), b_bar.map(|b| lift(&b)).as_ref(), p);
@@ -354,13 +367,7 @@ pub fn reduced_order_observer(
         direct,
         from_w,
         noise_gain,
-    } = assemble(
-        &lifted,
-        &lift(&q_inv),
-        &l,
-        design.derivation.step(super::gain::OBSERVER_MATRIX_STEP),
-        &mut d,
-    )?;
+    } = assemble(&lifted, &lift(&q_inv), &l, shown_f, &mut d)?;
     // F = A₂₂ − l a₁₂ₖ with l the one nonzero column k of L: a rank-one update of A₂₂, so
     // det(sI − F) is the polynomial the design recomputed from its gain for the pair
     // (A₂₂, a₁₂ₖ) by the rank-one update (det(sI − A₂₂) + a₁₂ₖ adj(sI − A₂₂) l), whatever the
@@ -447,7 +454,7 @@ pub fn reduced_order_symbolic(
     d.push("Q A Q⁻¹", "[A₁₁ A₁₂; A₂₁ A₂₂]", &a_bar);
     let b_bar = b.map(|b| lift(&q).mul(b)).transpose()?;
     let blocks = Blocks::of(&a_bar, b_bar.as_ref(), p);
-    let (k, design) = design_for_one_row(&blocks.a12, |row| {
+    let (k, mut design) = design_for_one_row(&blocks.a12, |row| {
         super::design_symbolic(
             &blocks.a22,
             row,
@@ -457,7 +464,7 @@ pub fn reduced_order_symbolic(
             Detail::Full,
         )
     })?;
-    d.extend(design.derivation.clone());
+    let shown_f = moved_design_steps(&mut design.derivation, &mut d);
     let l = gain_matrix(&design.gain.matrix, k, p);
     let Assembled {
         f,
@@ -466,13 +473,7 @@ pub fn reduced_order_symbolic(
         direct,
         from_w,
         noise_gain,
-    } = assemble(
-        &blocks,
-        &lift(&q_inv),
-        &l,
-        design.derivation.step(super::gain::OBSERVER_MATRIX_STEP),
-        &mut d,
-    )?;
+    } = assemble(&blocks, &lift(&q_inv), &l, shown_f, &mut d)?;
     // as in the numeric design: F is the rank-one update of A₂₂ the design checked
     let error_polynomial = design.achieved.clone();
     d.push(
