@@ -8,7 +8,6 @@ use crate::canonical_form::{observer_forms, CanonicalForm};
 use crate::derivation::Derivation;
 use crate::linalg::Matrix;
 use anyhow::Result;
-use serde_json::json;
 
 /// Arguments of `owb canonical`.
 #[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
@@ -93,10 +92,20 @@ fn symbolic(
 
 fn forms_json<F: Field>(di: &CanonicalForm<F>, st: &CanonicalForm<F>) -> serde_json::Value {
     let one = |f: &CanonicalForm<F>| {
-        json!({"T": json_matrix(&f.t), "T_inv": json_matrix(&f.t_inv), "A_o": json_matrix(&f.a),
-               "B_o": json_matrix(&f.b), "C_o": json_matrix(&f.c), "open_loop": f.open_loop.to_input()})
+        super::args::object([
+            ("T", json_matrix(&f.t)),
+            ("T_inv", json_matrix(&f.t_inv)),
+            ("A_o", json_matrix(&f.a)),
+            ("B_o", json_matrix(&f.b)),
+            ("C_o", json_matrix(&f.c)),
+            ("open_loop", f.open_loop.to_input().into()),
+        ])
     };
-    json!({"di_ruscio": one(di), "stoustrup": one(st), "same_transformation": di.t == st.t})
+    super::args::object([
+        ("di_ruscio", one(di)),
+        ("stoustrup", one(st)),
+        ("same_transformation", (di.t == st.t).into()),
+    ])
 }
 
 fn render<F: Field>(rep: &mut Report, json: bool, di: &CanonicalForm<F>, st: &CanonicalForm<F>) {

@@ -591,13 +591,18 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
     super::args::float_range("--b", &b)?;
     let t = super::args::rational_at("--period", &args.period, &values)?;
     let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
+    // the plant's fractions freed before the answer's strings are made, which take their room
+    drop((a, b));
     let rows = |m: &[Vec<f64>]| {
         super::args::json_exp_matrix(m.len(), m.first().map_or(0, Vec::len), |i, j| m[i][j])
     };
     match (&s, args.json) {
-        (Sampled::Exact { phi, gamma, index }, true) => rep.json(json!({
-            "exact": true, "phi": json_matrix(phi), "gamma": json_matrix(gamma), "nilpotent_index": index,
-        })),
+        (Sampled::Exact { phi, gamma, index }, true) => rep.json(super::args::object([
+            ("exact", true.into()),
+            ("phi", json_matrix(phi)),
+            ("gamma", json_matrix(gamma)),
+            ("nilpotent_index", (*index).into()),
+        ])),
         (
             Sampled::Float {
                 phi,
@@ -605,9 +610,12 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
                 error_estimate,
             },
             true,
-        ) => rep.json(json!({
-            "exact": false, "phi": rows(phi), "gamma": rows(gamma), "error_estimate": error_estimate,
-        })),
+        ) => rep.json(super::args::object([
+            ("exact", false.into()),
+            ("phi", rows(phi)),
+            ("gamma", rows(gamma)),
+            ("error_estimate", (*error_estimate).into()),
+        ])),
         (Sampled::Exact { phi, gamma, index }, false) => {
             outln!(rep, "Zero-order hold, T = {t}: exact (A is nilpotent, A^{index} = 0, so e^(AT) = Σ_(k<{index}) (AT)^k/k!)");
             outln!(rep, "  Φ = e^(AT) = {}", phi.to_input());
@@ -728,9 +736,6 @@ fn exp_rows(m: &nalgebra::DMatrix<f64>) -> serde_json::Value {
 /// `owb dlqe --json`.
 fn dlqe_json(k: &crate::observer::discrete_kalman::DiscreteKalman, rep: &mut Report) {
     let mut out = json!({
-        "p": exp_rows(&k.p),
-        "gain": exp_rows(&k.gain),
-        "current_gain": exp_rows(&k.current_gain),
         "eigenvalues": k.eigenvalues.iter().map(|(re, im)| json!({"re": re, "im": im})).collect::<Vec<_>>(),
         "iterations": k.iterations,
         "residual": k.residual,
@@ -740,6 +745,10 @@ fn dlqe_json(k: &crate::observer::discrete_kalman::DiscreteKalman, rep: &mut Rep
         "exact_read_back_tried": k.read_back_tried(),
         "exact_check": k.exact_check.name(),
     });
+    // moved in, not serialised again by `json!`
+    out["p"] = exp_rows(&k.p);
+    out["gain"] = exp_rows(&k.gain);
+    out["current_gain"] = exp_rows(&k.current_gain);
     if let (Some(p), Some(l)) = (&k.exact_p, &k.exact_gain) {
         out["exact_p"] = json_matrix(p);
         out["exact_gain"] = json_matrix(l);

@@ -79,19 +79,22 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let desired = args.desired.parse_at(order, &args.system.values()?)?;
     let r = reduced_order_observer(&a, b.as_ref(), &c, &desired, method)?;
     if args.json {
-        let mut out = json!({
-            "convention": convention.flag(),
-            "method": method.flag(),
-            "q": json_matrix(&r.q),
-            "gain": json_matrix(&r.gain(convention)),
-            "f": json_matrix_shown(&r.f, r.derivation.step("F")),
-            "g": json_matrix(&r.g),
-            "direct": json_matrix(&r.direct),
-            "from_w": json_matrix(&r.from_w),
-            "error_polynomial": r.error_polynomial.to_input(),
-            "noise_gain": crate::algebra::Ring::to_input(&r.noise_gain),
-            "output": r.output.map(|k| k + 1),
-        });
+        let mut out = super::args::object([
+            ("convention", convention.flag().into()),
+            ("method", method.flag().into()),
+            ("q", json_matrix(&r.q)),
+            ("gain", json_matrix(&r.gain(convention))),
+            ("f", json_matrix_shown(&r.f, r.derivation.step("F"))),
+            ("g", json_matrix(&r.g)),
+            ("direct", json_matrix(&r.direct)),
+            ("from_w", json_matrix(&r.from_w)),
+            ("error_polynomial", r.error_polynomial.to_input().into()),
+            (
+                "noise_gain",
+                crate::algebra::Ring::to_input(&r.noise_gain).into(),
+            ),
+            ("output", r.output.map(|k| k + 1).into()),
+        ]);
         if let Some(h) = &r.h {
             out["h"] = json_matrix(h);
         }

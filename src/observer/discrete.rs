@@ -488,7 +488,11 @@ fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
     let block = |j: usize| {
         let mut sum = DMatrix::<f64>::zeros(size, size);
         for (i, power) in powers.iter().enumerate() {
-            sum += *power * inverse_factorial[4 * j + i];
+            // in place: no matrix allocated per term
+            let c = inverse_factorial[4 * j + i];
+            for (s, p) in sum.iter_mut().zip(power.iter()) {
+                *s += p * c;
+            }
         }
         sum
     };
