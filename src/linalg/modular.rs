@@ -356,7 +356,7 @@ pub fn charpoly_integer(a: &Matrix<BigInt>) -> Vec<BigInt> {
             .collect();
         charpoly_mod(h, p)
     };
-    let images = map_primes(&chosen, image);
+    let images = map_primes(&chosen, n * n * n, image);
     let mut crt = Crt::new(n + 1);
     for (p, r) in chosen.iter().zip(&images) {
         crt.add(r, *p);
@@ -369,13 +369,24 @@ fn log2_prime(p: u64) -> f64 {
     (p as f64).log2() - 1e-9
 }
 
-/// `f(p)` for every prime, on two threads where the platform has them (the images are
-/// independent; the order of the results is the order of the primes).
-fn map_primes<T: Send>(primes: &[u64], f: impl Fn(u64) -> T + Sync) -> Vec<T> {
+/// Below this many word operations in all (primes × the work of one image) the images are
+/// computed on one thread: starting a second thread, and asking the system how many cores
+/// there are (it reads the cgroup's files), costs about 0.1 ms of CPU, as much as all the
+/// images of a 10-state design — and a second thread never lowers the CPU time, only the
+/// wall-clock time of long runs.
+const THREADED_WORK: usize = 1 << 20;
+
+/// `f(p)` for every prime, on two threads where the platform has them and the work (`work`
+/// word operations per prime, roughly) is worth a second thread (the images are independent;
+/// the order of the results is the order of the primes).
+fn map_primes<T: Send>(primes: &[u64], work: usize, f: impl Fn(u64) -> T + Sync) -> Vec<T> {
+    let worth_a_thread = primes.len() >= 4 && primes.len().saturating_mul(work) >= THREADED_WORK;
+    #[cfg(target_arch = "wasm32")]
+    let _ = worth_a_thread; // one thread in the browser
     #[cfg(not(target_arch = "wasm32"))]
-    {
+    if worth_a_thread {
         let threads = std::thread::available_parallelism().map_or(1, |t| t.get().min(2));
-        if threads > 1 && primes.len() >= 4 {
+        if threads > 1 {
             let (first, second) = primes.split_at(primes.len() / 2);
             let f = &f;
             return std::thread::scope(|scope| {
