@@ -407,6 +407,9 @@ pub struct ObserverDesign {
     pub gain: ObserverGain<Quadratic>,
     /// `det(sI − observer matrix)`, recomputed from the gain (equals the desired polynomial).
     pub achieved: Poly<Quadratic>,
+    /// The observer matrix A − KC (in that sign whatever the convention), when the steps show
+    /// it ([`Detail::Full`]).
+    pub observer_matrix: Option<Matrix<Quadratic>>,
     /// The steps.
     pub derivation: Derivation,
 }
@@ -453,17 +456,26 @@ pub fn design_with(
     detail: Detail,
 ) -> Result<ObserverDesign, DesignError> {
     single_output(c, method)?;
-    let (k, derivation, achieved) = match desired.rational() {
+    let lift = |x: &Rational| Quadratic::rational(x.clone());
+    let Designed {
+        gain: k,
+        derivation,
+        achieved,
+        observer,
+    } = match desired.rational() {
         Some(p) => {
-            let (k, d, ach) = design_in(a, c, &p, method, detail)?;
-            let lift = |x: &Rational| Quadratic::rational(x.clone());
-            (k.map(lift), d, ach.map(lift))
+            let d = design_in(a, c, &p, method, detail)?;
+            Designed {
+                gain: d.gain.map(lift),
+                derivation: d.derivation,
+                achieved: d.achieved.map(lift),
+                observer: d.observer.map(|o| o.map(lift)),
+            }
         }
         None => {
             let p = desired.exact.clone().ok_or_else(|| {
                 DesignError::NotExact(desired.inexact_reason.clone().unwrap_or_default())
             })?;
-            let lift = |x: &Rational| Quadratic::rational(x.clone());
             design_in(&a.map(lift), &c.map(lift), &p, method, detail)?
         }
     };
@@ -481,6 +493,7 @@ pub fn design_with(
         desired: desired.clone(),
         gain,
         achieved,
+        observer_matrix: observer,
         derivation,
     })
 }
@@ -516,7 +529,12 @@ pub fn design_symbolic(
     detail: Detail,
 ) -> Result<SymbolicDesign, DesignError> {
     single_output(c, method)?;
-    let (k, mut derivation, achieved) = design_in(a, c, desired, method, detail)?;
+    let Designed {
+        gain: k,
+        mut derivation,
+        achieved,
+        observer: _,
+    } = design_in(a, c, desired, method, detail)?;
     let gain = ObserverGain {
         matrix: k,
         convention: Convention::AMinusKC,
@@ -553,13 +571,23 @@ impl Steps {
     }
 }
 
+/// What [`design_in`] finds: the gain (in the A − KC sign), the steps, the achieved
+/// polynomial, and the observer matrix A − KC when the steps show it (a reduced-order
+/// observer's F is that matrix: kept, it is not formed a second time).
+struct Designed<F> {
+    gain: Matrix<F>,
+    derivation: Derivation,
+    achieved: Poly<F>,
+    observer: Option<Matrix<F>>,
+}
+
 fn design_in<F: Field>(
     a: &Matrix<F>,
     c: &Matrix<F>,
     desired: &Poly<F>,
     method: GainMethod,
     detail: Detail,
-) -> Result<(Matrix<F>, Derivation, Poly<F>), DesignError> {
+) -> Result<Designed<F>, DesignError> {
     let mut d = Steps {
         d: Derivation::new(&format!("Observer gain by the {method} method (A − KC)")),
         full: detail == Detail::Full,
@@ -600,13 +628,21 @@ fn design_in<F: Field>(
             k
         }
     };
-    if d.full {
+    let observer = if d.full {
         let observer = a.sub(&k.mul(c)?)?;
         d.push(OBSERVER_MATRIX_STEP, "observer matrix", &observer);
-    }
+        Some(observer)
+    } else {
+        None
+    };
     let achieved = s.observer_polynomial(&k)?;
     d.push("det(sI − (A − KC))", "check", &achieved);
-    Ok((k, d.d, achieved))
+    Ok(Designed {
+        gain: k,
+        derivation: d.d,
+        achieved,
+        observer,
+    })
 }
 
 impl ObserverDesign {

@@ -78,8 +78,8 @@ pub struct ReducedOrderObserver {
     /// Σ of the squared entries of D_y: white measurement noise of unit variance on every
     /// output adds this much to the summed variance of x̂, at every frequency.
     pub noise_gain: Quadratic,
-    /// The design of the gain for (A₂₂, A₁₂) (its steps moved into `derivation`, so that
-    /// they are held once: its own derivation is empty).
+    /// The design of the gain for (A₂₂, A₁₂) (its steps moved into `derivation` and its
+    /// observer matrix into `f`, so that they are held once: its own are empty).
     pub design: ObserverDesign,
     /// The steps.
     pub derivation: Derivation,
@@ -244,19 +244,23 @@ fn gain_matrix<F: crate::algebra::Field>(column: &Matrix<F>, k: usize, p: usize)
     })
 }
 
-/// `shown_f`: F's step from [`moved_design_steps`], when the design showed its observer matrix.
+/// `shown_f`: F's step from [`moved_design_steps`], when the design showed its observer matrix;
+/// `known_f`: that matrix, when the design kept it (F is then not formed again).
 fn assemble<F: crate::algebra::Field>(
     blocks: &Blocks<F>,
     q_inv: &Matrix<F>,
     l: &Matrix<F>,
-    shown_f: Option<crate::derivation::Step>,
+    (shown_f, known_f): (Option<crate::derivation::Step>, Option<Matrix<F>>),
     d: &mut Derivation,
 ) -> Result<Assembled<F>, LinalgError>
 where
     Matrix<F>: crate::derivation::Show,
 {
     let (p, m) = (l.cols(), l.rows());
-    let f = blocks.a22.sub(&l.mul(&blocks.a12)?)?;
+    let f = match known_f {
+        Some(f) => f,
+        None => blocks.a22.sub(&l.mul(&blocks.a12)?)?,
+    };
     // G = F L + A₂₁ − L A₁₁ = A₂₂ L + A₂₁ − L (A₁₂ L + A₁₁): the same matrix, without
     // multiplying F, whose entries carry L's large numbers, by L
     let a12_l = blocks.a12.mul(l)?.add(&blocks.a11)?;
@@ -367,7 +371,13 @@ pub fn reduced_order_observer(
         direct,
         from_w,
         noise_gain,
-    } = assemble(&lifted, &lift(&q_inv), &l, shown_f, &mut d)?;
+    } = assemble(
+        &lifted,
+        &lift(&q_inv),
+        &l,
+        (shown_f, design.observer_matrix.take()),
+        &mut d,
+    )?;
     // F = A₂₂ − l a₁₂ₖ with l the one nonzero column k of L: a rank-one update of A₂₂, so
     // det(sI − F) is the polynomial the design recomputed from its gain for the pair
     // (A₂₂, a₁₂ₖ) by the rank-one update (det(sI − A₂₂) + a₁₂ₖ adj(sI − A₂₂) l), whatever the
@@ -473,7 +483,7 @@ pub fn reduced_order_symbolic(
         direct,
         from_w,
         noise_gain,
-    } = assemble(&blocks, &lift(&q_inv), &l, shown_f, &mut d)?;
+    } = assemble(&blocks, &lift(&q_inv), &l, (shown_f, None), &mut d)?;
     // as in the numeric design: F is the rank-one update of A₂₂ the design checked
     let error_polynomial = design.achieved.clone();
     d.push(
