@@ -33,76 +33,95 @@ pub fn push_exp(out: &mut String, x: f64) {
         Some((b'-', rest)) => (true, rest),
         _ => (false, text),
     };
-    // the value is 0.d₁d₂… × 10^point, d the digits before any `e` (the point skipped)
-    let mut point: i32 = 0;
-    let mut seen_point = false;
-    let mut digits = [0u8; 40];
-    let mut count = 0;
-    let mut rest = text;
-    while let Some((&c, tail)) = rest.split_first() {
-        match c {
-            b'.' => seen_point = true,
-            b'0'..=b'9' => {
-                if !seen_point {
-                    point += 1;
-                }
-                if count == 0 && c == b'0' {
-                    point -= 1; // a leading zero
-                } else if count < digits.len() {
-                    digits[count] = c;
-                    count += 1;
-                }
-            }
-            _ => break, // `e` or `E`
+    // the text is `int[.frac][e[-]exp]`: the value is 0.d₁d₂… × 10^point, d₁ ≠ 0
+    let e_at = text
+        .iter()
+        .position(|&c| c == b'e' || c == b'E')
+        .unwrap_or(text.len());
+    let (mantissa, exponent) = text.split_at(e_at);
+    let mut point = exponent.get(1..).map_or(0, small_exponent);
+    let (int, frac) = match mantissa.iter().position(|&c| c == b'.') {
+        Some(dot) => (&mantissa[..dot], &mantissa[dot + 1..]),
+        None => (mantissa, &mantissa[mantissa.len()..]),
+    };
+    // the significant digits, copied whole (at most 17 of them, and zeros around)
+    let mut digits = [0u8; 48];
+    let count = match int.iter().position(|&c| c != b'0') {
+        Some(lead) => {
+            let (head, tail) = (&int[lead..], frac);
+            point += head.len() as i32;
+            let count = (head.len() + tail.len()).min(digits.len());
+            let split = head.len().min(count);
+            digits[..split].copy_from_slice(&head[..split]);
+            digits[split..count].copy_from_slice(&tail[..count - split]);
+            count
         }
-        rest = tail;
-    }
-    if let Some(exponent) = rest.get(1..) {
-        point += std::str::from_utf8(exponent)
-            .ok()
-            .and_then(|e| e.parse::<i32>().ok())
-            .unwrap_or(0);
-    }
-    while count > 0 && digits[count - 1] == b'0' {
-        count -= 1;
-    }
-    // sign, d₁, '.', d₂…, 'e', sign, exponent: at most 1 + 17 + 1 + 1 + 1 + 3 bytes
+        None => {
+            let lead = frac.iter().position(|&c| c != b'0').unwrap_or(frac.len());
+            point -= lead as i32;
+            let significant = &frac[lead..];
+            let count = significant.len().min(digits.len());
+            digits[..count].copy_from_slice(&significant[..count]);
+            count
+        }
+    };
+    let count = digits[..count]
+        .iter()
+        .rposition(|&d| d != b'0')
+        .map_or(0, |last| last + 1);
+    // sign, d₁, '.', d₂…, 'e', sign, exponent
     let mut written = [0u8; 64];
     let mut at = 0;
-    let mut put = |b: u8| {
-        written[at] = b;
-        at += 1;
-    };
     if negative {
-        put(b'-');
+        written[0] = b'-';
+        at = 1;
     }
     if count == 0 {
-        for &b in b"0e0" {
-            put(b);
-        }
+        written[at..at + 3].copy_from_slice(b"0e0");
+        at += 3;
     } else {
-        put(digits[0]);
+        written[at] = digits[0];
+        at += 1;
         if count > 1 {
-            put(b'.');
-            for &d in &digits[1..count] {
-                put(d);
-            }
+            written[at] = b'.';
+            written[at + 1..at + count].copy_from_slice(&digits[1..count]);
+            at += count;
         }
-        put(b'e');
+        written[at] = b'e';
+        at += 1;
         let e = point - 1;
         if e < 0 {
-            put(b'-');
+            written[at] = b'-';
+            at += 1;
         }
         let e = e.unsigned_abs();
         if e >= 100 {
-            put(b'0' + (e / 100) as u8);
+            written[at] = b'0' + (e / 100) as u8;
+            at += 1;
         }
         if e >= 10 {
-            put(b'0' + (e / 10 % 10) as u8);
+            written[at] = b'0' + (e / 10 % 10) as u8;
+            at += 1;
         }
-        put(b'0' + (e % 10) as u8);
+        written[at] = b'0' + (e % 10) as u8;
+        at += 1;
     }
     out.push_str(std::str::from_utf8(&written[..at]).unwrap_or_default());
+}
+
+/// A decimal exponent `[-]d…` as Żmij writes it (at most three digits; 0 for anything else).
+fn small_exponent(text: &[u8]) -> i32 {
+    let (sign, digits) = match text.split_first() {
+        Some((b'-', rest)) => (-1, rest),
+        Some((b'+', rest)) => (1, rest),
+        _ => (1, text),
+    };
+    if digits.is_empty() || digits.len() > 4 || !digits.iter().all(u8::is_ascii_digit) {
+        return 0;
+    }
+    sign * digits
+        .iter()
+        .fold(0i32, |e, &d| e * 10 + i32::from(d - b'0'))
 }
 
 /// Whether `x`'s exact decimal expansion has at most 18 significant digits after a binary
