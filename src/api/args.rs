@@ -125,13 +125,14 @@ pub fn json_exp_matrix(
 /// A JSON object from `(key, value)` pairs, each value moved in: `json!` serialises every
 /// value it is given into a new one, a second copy of a whole matrix of strings (at n = 100
 /// `zoh`'s Φ is 10 000 of them; a canonical form's T at n = 60 megabytes of digits).
-pub fn object<const N: usize>(pairs: [(&str, serde_json::Value); N]) -> serde_json::Value {
-    serde_json::Value::Object(
-        pairs
-            .into_iter()
-            .map(|(key, value)| (key.to_string(), value))
-            .collect(),
-    )
+pub fn object(pairs: Vec<(&str, serde_json::Value)>) -> serde_json::Value {
+    // inserted one by one: collecting a map sorts its pairs first, and that sort's code for
+    // these pairs alone is 9 KB of the browser's module
+    let mut map = serde_json::Map::new();
+    for (key, value) in pairs {
+        map.insert(key.to_string(), value);
+    }
+    serde_json::Value::Object(map)
 }
 
 /// A matrix as a JSON list of rows of strings in input syntax.

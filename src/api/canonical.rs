@@ -92,7 +92,7 @@ fn symbolic(
 
 fn forms_json<F: Field>(di: &CanonicalForm<F>, st: &CanonicalForm<F>) -> serde_json::Value {
     let one = |f: &CanonicalForm<F>| {
-        super::args::object([
+        super::args::object(vec![
             ("T", json_matrix(&f.t)),
             ("T_inv", json_matrix(&f.t_inv)),
             ("A_o", json_matrix(&f.a)),
@@ -101,7 +101,7 @@ fn forms_json<F: Field>(di: &CanonicalForm<F>, st: &CanonicalForm<F>) -> serde_j
             ("open_loop", f.open_loop.to_input().into()),
         ])
     };
-    super::args::object([
+    super::args::object(vec![
         ("di_ruscio", one(di)),
         ("stoustrup", one(st)),
         ("same_transformation", (di.t == st.t).into()),

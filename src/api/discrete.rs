@@ -597,7 +597,7 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
         super::args::json_exp_matrix(m.len(), m.first().map_or(0, Vec::len), |i, j| m[i][j])
     };
     match (&s, args.json) {
-        (Sampled::Exact { phi, gamma, index }, true) => rep.json(super::args::object([
+        (Sampled::Exact { phi, gamma, index }, true) => rep.json(super::args::object(vec![
             ("exact", true.into()),
             ("phi", json_matrix(phi)),
             ("gamma", json_matrix(gamma)),
@@ -610,7 +610,7 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
                 error_estimate,
             },
             true,
-        ) => rep.json(super::args::object([
+        ) => rep.json(super::args::object(vec![
             ("exact", false.into()),
             ("phi", rows(phi)),
             ("gamma", rows(gamma)),

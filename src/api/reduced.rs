@@ -79,7 +79,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let desired = args.desired.parse_at(order, &args.system.values()?)?;
     let r = reduced_order_observer(&a, b.as_ref(), &c, &desired, method)?;
     if args.json {
-        let mut out = super::args::object([
+        let mut out = super::args::object(vec![
             ("convention", convention.flag().into()),
             ("method", method.flag().into()),
             ("q", json_matrix(&r.q)),
