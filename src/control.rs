@@ -140,6 +140,82 @@ fn factored<F: Field>(p: &Poly<F>) -> Box<dyn crate::derivation::Show> {
     }
 }
 
+/// The loop's determinants as updates of A of rank one and two, from the numbers `x Aʲ y`
+/// alone (the rank-one check of a gain design, [`crate::observer::observer_polynomial`], twice
+/// over). With `d = det(sI − A)` and `m_xy = x adj(sI − A) y` (degree below n), the matrix
+/// determinant lemma gives `det(sI − A − y x) = d − m_xy` and, for `U = [u₁ u₂]` and
+/// `V = [v₁; v₂]`, `det(sI − A − U V) = ((d − m₁₁)(d − m₂₂) − m₁₂ m₂₁) / d` with
+/// `m_ij = v_i adj u_j` — exact, and whatever the size of F's and L's numbers: the
+/// characteristic polynomial of `A + BF + LC` itself, large numbers in a whole row and a
+/// whole column, needed thousands of primes at order 20.
+struct LoopUpdates<F: Field> {
+    /// `det(sI − A)`.
+    open: Poly<F>,
+    /// `F adj(sI − A) B`.
+    fb: Poly<F>,
+    /// `F adj(sI − A) L`.
+    fl: Poly<F>,
+    /// `C adj(sI − A) B`.
+    cb: Poly<F>,
+    /// `C adj(sI − A) L`.
+    cl: Poly<F>,
+}
+
+impl<F: Field> LoopUpdates<F> {
+    fn new(
+        a: &Matrix<F>,
+        b: &Matrix<F>,
+        c: &Matrix<F>,
+        f: &Matrix<F>,
+        l: &Matrix<F>,
+    ) -> Result<Self, LinalgError> {
+        let open = linalg::characteristic_polynomial(a, "s")?;
+        let (o_f, o_c) = (
+            crate::observability::observability_matrix(a, f)?,
+            crate::observability::observability_matrix(a, c)?,
+        );
+        // x adj(sI − A) y: the rank-one polynomial d + x adj y, less d
+        let m = |o: &Matrix<F>, y: &Matrix<F>| -> Result<Poly<F>, LinalgError> {
+            Ok(crate::observer::observer_polynomial(o, &open, y)? - open.clone())
+        };
+        Ok(LoopUpdates {
+            fb: m(&o_f, b)?,
+            fl: m(&o_f, l)?,
+            cb: m(&o_c, b)?,
+            cl: m(&o_c, l)?,
+            open,
+        })
+    }
+
+    /// `det(sI − A − U V)` from `m_ij = v_i adj u_j`, when d divides (it always does; `None`
+    /// would be a bug, and the caller then computes the determinant directly).
+    fn rank_two(
+        &self,
+        m11: &Poly<F>,
+        m12: &Poly<F>,
+        m21: &Poly<F>,
+        m22: &Poly<F>,
+    ) -> Option<Poly<F>> {
+        let d = &self.open;
+        let product =
+            (d.clone() - m11.clone()) * (d.clone() - m22.clone()) - m12.clone() * m21.clone();
+        product.divide_exact(d)
+    }
+
+    /// `det(sI − (A + BF + LC))`: U = [B L], V = [F; C].
+    fn controller_polynomial(&self) -> Option<Poly<F>> {
+        self.rank_two(&self.fb, &self.fl, &self.cb, &self.cl)
+    }
+
+    /// `det(sI − (A + BF + LC + LF))`, the controller's state matrix less `L·(−F)`: U =
+    /// [B + L, L], V = [F; C].
+    fn perturbed_controller_polynomial(&self) -> Option<Poly<F>> {
+        let f_u1 = self.fb.clone() + self.fl.clone();
+        let c_u1 = self.cb.clone() + self.cl.clone();
+        self.rank_two(&f_u1, &self.fl, &c_u1, &self.cl)
+    }
+}
+
 /// An observer-based controller with its working.
 #[derive(Clone, PartialEq, Debug)]
 pub struct ObserverBasedControl<F: Field = Rational> {
@@ -188,8 +264,11 @@ pub fn observer_based_control<F: Field>(
     let a_lc = a.add(&l.mul(c)?)?;
     d.push("A + BF", "state-feedback matrix", &a_bf);
     d.push("A + LC", "observer matrix", &a_lc);
-    let feedback_polynomial = linalg::characteristic_polynomial(&a_bf, "s")?;
-    let observer_polynomial = linalg::characteristic_polynomial(&a_lc, "s")?;
+    // det(sI − (A + BF)) = d − F adj B and det(sI − (A + LC)) = d − C adj L; the closed
+    // loop's polynomial below is computed from its blocks on their own, which checks them
+    let updates = LoopUpdates::new(a, b, c, f, l)?;
+    let feedback_polynomial = updates.open.clone() - updates.fb.clone();
+    let observer_polynomial = updates.open.clone() - updates.cl.clone();
     d.push(
         "det(sI − (A + BF))",
         "",
@@ -218,7 +297,18 @@ pub fn observer_based_control<F: Field>(
     d.push("G(s)", "C (sI − A)⁻¹ B", &plant);
     let a_k = a_bf.add(&l.mul(c)?)?;
     d.push("A + BF + LC", "controller state matrix", &a_k);
-    let controller = siso_transfer_function(&a_k, l, &f.neg(), &zero)?;
+    // −F (sI − A_k)⁻¹ L = (det(sI − A_k − L·(−F)) − det(sI − A_k)) / det(sI − A_k), both
+    // determinants rank-two updates of A
+    let controller = match (
+        updates.controller_polynomial(),
+        updates.perturbed_controller_polynomial(),
+    ) {
+        (Some(open_k), Some(perturbed)) => {
+            RationalFunction::new(perturbed - open_k.clone(), open_k)
+                .expect("a characteristic polynomial is monic, never zero")
+        }
+        _ => siso_transfer_function(&a_k, l, &f.neg(), &zero)?,
+    };
     d.push("K(s)", "−F (sI − A − BF − LC)⁻¹ L", &controller);
     // G (1 − K G)⁻¹ = n_G d_K / (d_G d_K − n_K n_G), reduced once at the end (the same lowest
     // terms as reducing after each operation, with one polynomial gcd instead of three)
@@ -249,6 +339,35 @@ pub fn observer_based_control<F: Field>(
 mod tests {
     use super::*;
     use crate::syntax::parse_matrix;
+
+    proptest::proptest! {
+        /// The loop's polynomials from the rank-one and rank-two updates are the
+        /// characteristic polynomials of A + BF, A + LC, A + BF + LC and A + BF + LC + LF
+        /// themselves, for any F and L (fractions, of either sign).
+        #[test]
+        fn rank_updates_are_the_characteristic_polynomials(
+            n in 1usize..6,
+            entries in proptest::collection::vec(-3i64..=3, 25),
+            vectors in proptest::collection::vec((-9i64..=9, 1i64..=4), 20),
+        ) {
+            let q = |(p, d): (i64, i64)| Rational::new(p.into(), d.into());
+            let a = Matrix::from_fn(n, n, |i, j| <Rational as crate::algebra::Ring>::from_i64(entries[5 * i + j]));
+            let b = Matrix::from_fn(n, 1, |i, _| q(vectors[i]));
+            let c = Matrix::from_fn(1, n, |_, j| q(vectors[5 + j]));
+            let f = Matrix::from_fn(1, n, |_, j| q(vectors[10 + j]));
+            let l = Matrix::from_fn(n, 1, |i, _| q(vectors[15 + i]));
+            let u = LoopUpdates::new(&a, &b, &c, &f, &l).unwrap();
+            let chi = |m: &Matrix<Rational>| linalg::characteristic_polynomial(m, "s").unwrap();
+            let a_bf = a.add(&b.mul(&f).unwrap()).unwrap();
+            let a_lc = a.add(&l.mul(&c).unwrap()).unwrap();
+            let a_k = a_bf.add(&l.mul(&c).unwrap()).unwrap();
+            let perturbed = a_k.add(&l.mul(&f).unwrap()).unwrap();
+            proptest::prop_assert_eq!(u.open.clone() - u.fb.clone(), chi(&a_bf));
+            proptest::prop_assert_eq!(u.open.clone() - u.cl.clone(), chi(&a_lc));
+            proptest::prop_assert_eq!(u.controller_polynomial(), Some(chi(&a_k)));
+            proptest::prop_assert_eq!(u.perturbed_controller_polynomial(), Some(chi(&perturbed)));
+        }
+    }
 
     #[test]
     fn stoustrup_observer_based_control() {

@@ -75,6 +75,14 @@ pub fn characteristic_polynomial<F: Field>(
     var: &str,
 ) -> Result<Poly<F>, LinalgError> {
     let n = a.require_square("characteristic polynomial")?;
+    // a block triangular matrix: the product of its diagonal blocks' polynomials (an observer-
+    // based loop [A + BF, BF; 0, A + LC] is one, and whole, its gains' large entries in every
+    // row and column would call for thousands of primes)
+    if let Some(k) = block_triangular_split(a) {
+        let top = characteristic_polynomial(&a.block(0, k, 0, k), var)?;
+        let bottom = characteristic_polynomial(&a.block(k, n, k, n), var)?;
+        return Ok(top * bottom);
+    }
     // Q(√d) entries that are all rational: the rational path (multimodular from
     // MODULAR_FROM_ORDER on), not the generic one with a gcd per operation
     let quadratic = (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Quadratic>>();
@@ -96,6 +104,29 @@ pub fn characteristic_polynomial<F: Field>(
         dpow = dpow * d.clone();
     }
     Ok(Poly::new(coeffs, var))
+}
+
+/// The smallest k (0 < k < n) at which the square matrix `a` is block triangular —
+/// `[X Y; 0 Z]` or `[X 0; Y Z]` with X of order k — so that `det(λI − a)` is
+/// `det(λI − X) det(λI − Z)`. O(n²) zero tests: row i's first and last nonzero columns, their
+/// suffix minima and prefix maxima.
+fn block_triangular_split<R: Ring>(a: &Matrix<R>) -> Option<usize> {
+    let n = a.rows();
+    let nonzero = |i: usize| (0..n).filter(move |&j| !a.get(i, j).is_zero());
+    // lower left zero: every row from k on starts at column k or later
+    let mut first_from_k = vec![n; n + 1];
+    for i in (0..n).rev() {
+        first_from_k[i] = first_from_k[i + 1].min(nonzero(i).next().unwrap_or(n));
+    }
+    // upper right zero: every row before k ends before column k
+    let mut last_before_k = 0;
+    for k in 1..n {
+        last_before_k = last_before_k.max(nonzero(k - 1).last().map_or(0, |j| j + 1));
+        if first_from_k[k] >= k || last_before_k <= k {
+            return Some(k);
+        }
+    }
+    None
 }
 
 /// The characteristic polynomial of a matrix over a field's integers: multimodular for `BigInt`
@@ -218,6 +249,28 @@ mod tests {
         let p = characteristic_polynomial(&a, "s").unwrap();
         assert_eq!(p.to_string(), "s^2 + 3s + 2");
         assert!(matrix_polynomial(&p, &a).unwrap().is_zero());
+    }
+
+    proptest::proptest! {
+        /// A block triangular matrix's polynomial, taken as the product of its diagonal
+        /// blocks', is Berkowitz's on the whole matrix — either triangle zero, at any split,
+        /// below and from the multimodular order (and a split is found where there is one).
+        #[test]
+        fn block_triangular_matrices_split_exactly(
+            n in 2usize..12,
+            split in 1usize..11,
+            upper in proptest::prelude::any::<bool>(),
+            entries in proptest::collection::vec(-4i64..=4, 144),
+        ) {
+            let k = split.min(n - 1);
+            let a = Matrix::from_fn(n, n, |i, j| {
+                let zero = if upper { i >= k && j < k } else { i < k && j >= k };
+                if zero { Rational::from_i64(0) } else { Rational::from_i64(entries[12 * i + j]) }
+            });
+            proptest::prop_assert!(block_triangular_split(&a).is_some_and(|s| s <= k));
+            let direct = berkowitz(&a, "s").unwrap();
+            proptest::prop_assert_eq!(characteristic_polynomial(&a, "s").unwrap(), direct);
+        }
     }
 
     #[test]
