@@ -141,7 +141,7 @@ fn factored<F: Field>(p: &Poly<F>) -> Box<dyn crate::derivation::Show> {
 }
 
 /// The loop's determinants as updates of A of rank one and two, from the numbers `x Aʲ y`
-/// alone (the rank-one check of a gain design, [`crate::observer::observer_polynomial`], twice
+/// alone (the rank-one check of a gain design, [`linalg::rank_one_update`], twice
 /// over). With `d = det(sI − A)` and `m_xy = x adj(sI − A) y` (degree below n), the matrix
 /// determinant lemma gives `det(sI − A − y x) = d − m_xy` and, for `U = [u₁ u₂]` and
 /// `V = [v₁; v₂]`, `det(sI − A − U V) = ((d − m₁₁)(d − m₂₂) − m₁₂ m₂₁) / d` with
@@ -176,7 +176,7 @@ impl<F: Field> LoopUpdates<F> {
         );
         // x adj(sI − A) y: the rank-one polynomial d + x adj y, less d
         let m = |o: &Matrix<F>, y: &Matrix<F>| -> Result<Poly<F>, LinalgError> {
-            Ok(crate::observer::observer_polynomial(o, &open, y)? - open.clone())
+            Ok(linalg::rank_one_update(o, &open, y)? - open.clone())
         };
         Ok(LoopUpdates {
             fb: m(&o_f, b)?,

@@ -230,7 +230,7 @@ pub fn design_feedback(
     let lift = |x: &Rational| Quadratic::rational(x.clone());
     let open_loop = linalg::characteristic_polynomial(&a.map(lift), "s")?;
     let achieved =
-        crate::observer::observer_polynomial(&dual.matrix.map(lift), &open_loop, &k.transpose())?;
+        crate::linalg::rank_one_update(&dual.matrix.map(lift), &open_loop, &k.transpose())?;
     d.push(
         &format!("det(sI − ({})), checked exactly", convention.closed_loop()),
         "",

@@ -83,6 +83,9 @@ pub fn characteristic_polynomial<F: Field>(
         let bottom = characteristic_polynomial(&a.block(k, n, k, n), var)?;
         return Ok(top * bottom);
     }
+    if let Some(p) = one_fractional_line(a, var)? {
+        return Ok(p);
+    }
     // Q(√d) entries that are all rational: the rational path (multimodular from
     // MODULAR_FROM_ORDER on), not the generic one with a gcd per operation
     let quadratic = (a as &dyn std::any::Any).downcast_ref::<Matrix<crate::algebra::Quadratic>>();
@@ -106,6 +109,53 @@ pub fn characteristic_polynomial<F: Field>(
     Ok(Poly::new(coeffs, var))
 }
 
+/// A rational matrix of the multimodular orders whose fractions all lie in one row (or one
+/// column): `A = A₀ + e_r a_r` with `A₀` integral (row r zero) is a rank-one update, so
+/// `det(sI − A) = det(sI − A₀) − a_r adj(sI − A₀) e_r` ([`rank_one_update`] on the Krylov rows
+/// of `δ a_r`, δ its denominator) — where scaling the whole matrix by δ would put δ's digits in
+/// every entry and multiply the primes needed by n (A + BF with a gain F, B = e₁; A + LC by
+/// its transpose). `None` for any other matrix.
+fn one_fractional_line<F: Field>(a: &Matrix<F>, var: &str) -> Result<Option<Poly<F>>, LinalgError> {
+    use crate::algebra::{Rational, Zero};
+    let n = a.rows();
+    let Some(r) = super::as_rational(a).filter(|_| n >= super::MODULAR_FROM_ORDER) else {
+        return Ok(None);
+    };
+    let fractional = |x: &Rational| !x.is_integer();
+    let rows: Vec<usize> = (0..n)
+        .filter(|&i| r.row(i).iter().any(fractional))
+        .collect();
+    let columns: Vec<usize> = (0..n)
+        .filter(|&j| (0..n).any(|i| fractional(r.get(i, j))))
+        .collect();
+    let (line, m) = match (rows.as_slice(), columns.as_slice()) {
+        (&[i], _) => (i, r.clone()),
+        (_, &[j]) => (j, r.transpose()),
+        _ => return Ok(None),
+    };
+    let row = m.block(line, line + 1, 0, n);
+    let a0 = Matrix::from_fn(n, n, |i, j| {
+        if i == line {
+            Rational::zero()
+        } else {
+            m.get(i, j).clone()
+        }
+    });
+    let delta = Rational::from_integer(Rational::common_denominator(row.entries()));
+    let krylov = crate::observability::observability_matrix(&a0, &row.map(|x| x * &delta))?;
+    let open = characteristic_polynomial(&a0, var)?;
+    // det(sI − A₀ + K C) with C = δ a_r and K = −e_r / δ
+    let k = Matrix::from_fn(n, 1, |i, _| {
+        if i == line {
+            -Rational::one() / delta.clone()
+        } else {
+            Rational::zero()
+        }
+    });
+    let p = rank_one_update(&krylov, &open, &k)?;
+    Ok(crate::algebra::from_concrete::<Poly<F>, _>(p))
+}
+
 /// The smallest k (0 < k < n) at which the square matrix `a` is block triangular —
 /// `[X Y; 0 Z]` or `[X 0; Y Z]` with X of order k — so that `det(λI − a)` is
 /// `det(λI − X) det(λI − Z)`. O(n²) zero tests: row i's first and last nonzero columns, their
@@ -121,7 +171,7 @@ fn block_triangular_split<R: Ring>(a: &Matrix<R>) -> Option<usize> {
     // upper right zero: every row before k ends before column k
     let mut last_before_k = 0;
     for k in 1..n {
-        last_before_k = last_before_k.max(nonzero(k - 1).last().map_or(0, |j| j + 1));
+        last_before_k = last_before_k.max(nonzero(k - 1).next_back().map_or(0, |j| j + 1));
         if first_from_k[k] >= k || last_before_k <= k {
             return Some(k);
         }
@@ -142,6 +192,79 @@ fn integer_charpoly<D: Ring>(a: &Matrix<D>, var: &str) -> Result<Poly<D>, Linalg
         }
     }
     berkowitz(a, var)
+}
+
+/// `det(sI − (A − KC))` for a single-output pair with observability matrix `o` and open-loop
+/// polynomial `det(sI − A)` (the check of every gain design), by the rank-one update `det(sI − A + KC) = det(sI − A) +
+/// C adj(sI − A) K` with `adj(sI − A) = Σ_j A^j Σ_(i>j) a_i s^(i−j−1)`: only the numbers
+/// `C A^j K = (O_n K)_j` enter, so the check costs one matrix–vector product, whatever the size
+/// of `K`.
+///
+/// # Errors
+/// [`LinalgError::DimensionMismatch`] when `k` does not fit `o`.
+pub(crate) fn rank_one_update<F: Field>(
+    o: &Matrix<F>,
+    open_loop: &Poly<F>,
+    k: &Matrix<F>,
+) -> Result<Poly<F>, LinalgError> {
+    let rational = (
+        super::as_rational(o),
+        super::as_rational(k),
+        (open_loop as &dyn std::any::Any).downcast_ref::<Poly<crate::algebra::Rational>>(),
+    );
+    if let (Some(o), Some(k), Some(open_loop)) = rational {
+        if o.cols() != k.rows() {
+            return Err(o.mismatch(k, "product"));
+        }
+        let (mm, delta) = super::mul_over_one_denominator(o, k);
+        let p = rank_one_update_integers(&mm, &delta, open_loop);
+        if let Some(p) = crate::algebra::from_concrete(p) {
+            return Ok(p);
+        }
+    }
+    let m = o.mul(k)?;
+    let a = open_loop.coeffs();
+    let n = a.len().saturating_sub(1);
+    let mut coeffs = a.to_vec();
+    for j in 0..n.min(m.rows()) {
+        let mj = m.get(j, 0);
+        if mj.is_zero() {
+            continue;
+        }
+        for i in j + 1..=n {
+            let e = i - j - 1;
+            coeffs[e] = coeffs[e].clone() + mj.clone() * a[i].clone();
+        }
+    }
+    Ok(Poly::new(coeffs, open_loop.var()))
+}
+
+/// [`rank_one_update`]'s sums over the rationals on integers: with `m = O_n K = M/δ` and the
+/// open-loop coefficients `a = α/d`, coefficient `e` is `(δ α_e + Σ_j M_j α_(j+e+1)) / (d δ)`,
+/// reduced once — n reductions instead of one per term.
+fn rank_one_update_integers(
+    mm: &[crate::algebra::BigInt],
+    delta: &crate::algebra::BigInt,
+    open_loop: &Poly<crate::algebra::Rational>,
+) -> Poly<crate::algebra::Rational> {
+    let (alpha, d) = crate::algebra::gcd::integer_numerators(open_loop.coeffs());
+    let n = alpha.len().saturating_sub(1);
+    let terms = n.min(mm.len());
+    let denominator = &d * delta;
+    let coeffs = (0..alpha.len())
+        .map(|e| {
+            let mut numerator = &alpha[e] * delta;
+            for (j, mj) in mm.iter().enumerate().take(terms) {
+                if let Some(a) = alpha.get(j + e + 1) {
+                    if !crate::algebra::Zero::is_zero(mj) && !crate::algebra::Zero::is_zero(a) {
+                        numerator += mj * a;
+                    }
+                }
+            }
+            crate::algebra::fraction(numerator, denominator.clone())
+        })
+        .collect();
+    Poly::new(coeffs, open_loop.var())
 }
 
 /// `P(A) = p_n Aⁿ + … + p_1 A + p_0 I` by Horner's rule.
@@ -270,6 +393,34 @@ mod tests {
             proptest::prop_assert!(block_triangular_split(&a).is_some_and(|s| s <= k));
             let direct = berkowitz(&a, "s").unwrap();
             proptest::prop_assert_eq!(characteristic_polynomial(&a, "s").unwrap(), direct);
+        }
+    }
+
+    proptest::proptest! {
+        /// A matrix whose fractions lie in one row or one column (a gain's, with a large
+        /// denominator): its polynomial by the rank-one update of its integral rest is
+        /// Berkowitz's on the whole matrix.
+        #[test]
+        fn one_fractional_line_is_a_rank_one_update(
+            n in 8usize..11,
+            line in 0usize..10,
+            column in proptest::prelude::any::<bool>(),
+            entries in proptest::collection::vec(-4i64..=4, 100),
+            numerators in proptest::collection::vec(-1_000_000i64..=1_000_000, 10),
+            denominator in 1i64..=999_983,
+        ) {
+            let line = line.min(n - 1);
+            let big = crate::algebra::BigInt::from(denominator).pow(5);
+            let a = Matrix::from_fn(n, n, |i, j| {
+                let (on_line, k) = if column { (j == line, i) } else { (i == line, j) };
+                if on_line {
+                    Rational::new(numerators[k].into(), big.clone())
+                } else {
+                    Rational::from_i64(entries[10 * i + j])
+                }
+            });
+            proptest::prop_assert!(one_fractional_line(&a, "s").unwrap().is_some() || denominator == 1);
+            proptest::prop_assert_eq!(characteristic_polynomial(&a, "s").unwrap(), berkowitz(&a, "s").unwrap());
         }
     }
 

@@ -22,6 +22,7 @@ mod matrix;
 pub mod modular;
 mod rational;
 
+pub(crate) use charpoly::rank_one_update;
 pub use charpoly::{
     berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_solution,
     polynomial_times_vector,

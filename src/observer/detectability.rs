@@ -193,7 +193,7 @@ pub fn detectable_design_from(
     } else {
         let lift = |x: &Rational| Quadratic::rational(x.clone());
         let open_loop = linalg::characteristic_polynomial(&a.map(lift), "s")?;
-        super::observer_polynomial(&report.matrix.map(lift), &open_loop, &k)?
+        crate::linalg::rank_one_update(&report.matrix.map(lift), &open_loop, &k)?
     };
     d.push(
         "det(sI − (A − KC))",

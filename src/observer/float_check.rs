@@ -239,7 +239,7 @@ fn exact_polynomial_error(
     let p = if c.rows() == 1 {
         let o = observability_matrix(a, c).ok()?;
         let open_loop = linalg::characteristic_polynomial(a, "s").ok()?;
-        super::gain::observer_polynomial(&o, &open_loop, &kq).ok()?
+        crate::linalg::rank_one_update(&o, &open_loop, &kq).ok()?
     } else {
         let obs = a.sub(&kq.mul(c).ok()?).ok()?;
         linalg::characteristic_polynomial(&obs, "s").ok()?

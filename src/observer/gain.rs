@@ -187,81 +187,8 @@ impl<F: Field> Shared<F> {
         Ok(linalg::solve(&self.o.transpose(), &cp)?.transpose())
     }
     fn observer_polynomial(&self, k: &Matrix<F>) -> Result<Poly<F>, DesignError> {
-        Ok(observer_polynomial(&self.o, &self.open_loop, k)?)
+        Ok(linalg::rank_one_update(&self.o, &self.open_loop, k)?)
     }
-}
-
-/// `det(sI − (A − KC))` for a single-output pair with observability matrix `o` and open-loop
-/// polynomial `det(sI − A)`, by the rank-one update `det(sI − A + KC) = det(sI − A) +
-/// C adj(sI − A) K` with `adj(sI − A) = Σ_j A^j Σ_(i>j) a_i s^(i−j−1)`: only the numbers
-/// `C A^j K = (O_n K)_j` enter, so the check costs one matrix–vector product, whatever the size
-/// of `K`.
-///
-/// # Errors
-/// [`LinalgError::DimensionMismatch`] when `k` does not fit `o`.
-pub(crate) fn observer_polynomial<F: Field>(
-    o: &Matrix<F>,
-    open_loop: &Poly<F>,
-    k: &Matrix<F>,
-) -> Result<Poly<F>, LinalgError> {
-    let rational = (
-        linalg::as_rational(o),
-        linalg::as_rational(k),
-        (open_loop as &dyn std::any::Any).downcast_ref::<Poly<Rational>>(),
-    );
-    if let (Some(o), Some(k), Some(open_loop)) = rational {
-        if o.cols() != k.rows() {
-            return Err(o.mismatch(k, "product"));
-        }
-        let (mm, delta) = linalg::mul_over_one_denominator(o, k);
-        let p = rank_one_update_integers(&mm, &delta, open_loop);
-        if let Some(p) = crate::algebra::from_concrete(p) {
-            return Ok(p);
-        }
-    }
-    let m = o.mul(k)?;
-    let a = open_loop.coeffs();
-    let n = a.len().saturating_sub(1);
-    let mut coeffs = a.to_vec();
-    for j in 0..n.min(m.rows()) {
-        let mj = m.get(j, 0);
-        if mj.is_zero() {
-            continue;
-        }
-        for i in j + 1..=n {
-            let e = i - j - 1;
-            coeffs[e] = coeffs[e].clone() + mj.clone() * a[i].clone();
-        }
-    }
-    Ok(Poly::new(coeffs, "s"))
-}
-
-/// [`observer_polynomial`]'s sums over the rationals on integers: with `m = O_n K = M/δ` and the
-/// open-loop coefficients `a = α/d`, coefficient `e` is `(δ α_e + Σ_j M_j α_(j+e+1)) / (d δ)`,
-/// reduced once — n reductions instead of one per term.
-fn rank_one_update_integers(
-    mm: &[crate::algebra::BigInt],
-    delta: &crate::algebra::BigInt,
-    open_loop: &Poly<Rational>,
-) -> Poly<Rational> {
-    let (alpha, d) = crate::algebra::gcd::integer_numerators(open_loop.coeffs());
-    let n = alpha.len().saturating_sub(1);
-    let terms = n.min(mm.len());
-    let denominator = &d * delta;
-    let coeffs = (0..alpha.len())
-        .map(|e| {
-            let mut numerator = &alpha[e] * delta;
-            for (j, mj) in mm.iter().enumerate().take(terms) {
-                if let Some(a) = alpha.get(j + e + 1) {
-                    if !crate::algebra::Zero::is_zero(mj) && !crate::algebra::Zero::is_zero(a) {
-                        numerator += mj * a;
-                    }
-                }
-            }
-            crate::algebra::fraction(numerator, denominator.clone())
-        })
-        .collect();
-    Poly::new(coeffs, "s")
 }
 
 /// Dual Ackermann: `K = P(A) O_n⁻¹ e_n` (A − KC), for one output row `c`.

@@ -13,7 +13,6 @@ pub mod discrete_kalman;
 pub mod dynamical_error;
 pub mod float_check;
 mod gain;
-pub(crate) use gain::observer_polynomial;
 pub mod kalman;
 pub mod multi_output;
 pub mod optimal;
