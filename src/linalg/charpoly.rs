@@ -83,8 +83,12 @@ pub fn characteristic_polynomial<F: Field>(
         let bottom = characteristic_polynomial(&a.block(k, n, k, n), var)?;
         return Ok(top * bottom);
     }
-    if let Some(p) = one_fractional_line(a, var)? {
-        return Ok(p);
+    if let Some(r) = super::as_rational(a) {
+        if let Some(p) =
+            one_fractional_line(r, var)?.and_then(crate::algebra::from_concrete::<Poly<F>, _>)
+        {
+            return Ok(p);
+        }
     }
     // Q(√d) entries that are all rational: the rational path (multimodular from
     // MODULAR_FROM_ORDER on), not the generic one with a gcd per operation
@@ -115,12 +119,15 @@ pub fn characteristic_polynomial<F: Field>(
 /// of `δ a_r`, δ its denominator) — where scaling the whole matrix by δ would put δ's digits in
 /// every entry and multiply the primes needed by n (A + BF with a gain F, B = e₁; A + LC by
 /// its transpose). `None` for any other matrix.
-fn one_fractional_line<F: Field>(a: &Matrix<F>, var: &str) -> Result<Option<Poly<F>>, LinalgError> {
+fn one_fractional_line(
+    r: &Matrix<crate::algebra::Rational>,
+    var: &str,
+) -> Result<Option<Poly<crate::algebra::Rational>>, LinalgError> {
     use crate::algebra::{Rational, Zero};
-    let n = a.rows();
-    let Some(r) = super::as_rational(a).filter(|_| n >= super::MODULAR_FROM_ORDER) else {
+    let n = r.rows();
+    if n < super::MODULAR_FROM_ORDER {
         return Ok(None);
-    };
+    }
     let fractional = |x: &Rational| !x.is_integer();
     let rows: Vec<usize> = (0..n)
         .filter(|&i| r.row(i).iter().any(fractional))
@@ -152,8 +159,7 @@ fn one_fractional_line<F: Field>(a: &Matrix<F>, var: &str) -> Result<Option<Poly
             Rational::zero()
         }
     });
-    let p = rank_one_update(&krylov, &open, &k)?;
-    Ok(crate::algebra::from_concrete::<Poly<F>, _>(p))
+    Ok(Some(rank_one_update(&krylov, &open, &k)?))
 }
 
 /// The smallest k (0 < k < n) at which the square matrix `a` is block triangular —
@@ -161,8 +167,14 @@ fn one_fractional_line<F: Field>(a: &Matrix<F>, var: &str) -> Result<Option<Poly
 /// `det(λI − X) det(λI − Z)`. O(n²) zero tests: row i's first and last nonzero columns, their
 /// suffix minima and prefix maxima.
 fn block_triangular_split<R: Ring>(a: &Matrix<R>) -> Option<usize> {
-    let n = a.rows();
-    let nonzero = |i: usize| (0..n).filter(move |&j| !a.get(i, j).is_zero());
+    let zero: Vec<bool> = a.entries().iter().map(|x| x.is_zero()).collect();
+    split_of_zero_pattern(&zero, a.rows())
+}
+
+/// [`block_triangular_split`] on the row-major zero pattern of an n × n matrix (one function
+/// for every ring: the browser's module holds it once).
+fn split_of_zero_pattern(zero: &[bool], n: usize) -> Option<usize> {
+    let nonzero = |i: usize| (0..n).filter(move |&j| !zero[i * n + j]);
     // lower left zero: every row from k on starts at column k or later
     let mut first_from_k = vec![n; n + 1];
     for i in (0..n).rev() {
