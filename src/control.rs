@@ -197,6 +197,36 @@ impl<F: Field> LoopUpdates<F> {
         m22: &Poly<F>,
     ) -> Option<Poly<F>> {
         let d = &self.open;
+        let one = <F::Integers as crate::algebra::One>::one();
+        if F::common_denominator(d.coeffs()) == one {
+            // d monic on integers (a plant with integral A): the products on integers over one
+            // denominator D of the m's — ((D d − M₁₁)(D d − M₂₂) − M₁₂ M₂₁) / d is D² times the
+            // answer — with no reduction per term, and one per coefficient at the end
+            let all: Vec<F> = [m11, m12, m21, m22]
+                .iter()
+                .flat_map(|p| p.coeffs().iter().cloned())
+                .collect();
+            let den = F::common_denominator(&all);
+            let var = d.var();
+            let ints = |p: &Poly<F>, by: &F::Integers| {
+                Poly::new(
+                    p.coeffs().iter().map(|c| c.scale_to_integer(by)).collect(),
+                    var,
+                )
+            };
+            let monic = ints(d, &one);
+            let scaled = monic.scale(&den);
+            let product = (scaled.clone() - ints(m11, &den)) * (scaled - ints(m22, &den))
+                - ints(m12, &den) * ints(m21, &den);
+            let quotient = divide_by_monic(&product, &monic)?;
+            let square = den.clone() * den;
+            let coeffs: Option<Vec<F>> = quotient
+                .coeffs()
+                .iter()
+                .map(|c| F::from_integer_ratio(c.clone(), square.clone()))
+                .collect();
+            return Some(Poly::new(coeffs?, var));
+        }
         let product =
             (d.clone() - m11.clone()) * (d.clone() - m22.clone()) - m12.clone() * m21.clone();
         product.divide_exact(d)
@@ -214,6 +244,34 @@ impl<F: Field> LoopUpdates<F> {
         let c_u1 = self.cb.clone() + self.cl.clone();
         self.rank_two(&f_u1, &self.fl, &c_u1, &self.cl)
     }
+}
+
+/// `p / d` for a monic `d` over a ring, when it leaves no remainder (synthetic division: only
+/// products and differences, no division).
+fn divide_by_monic<R: crate::algebra::Ring>(p: &Poly<R>, d: &Poly<R>) -> Option<Poly<R>> {
+    let dn = d.degree()?;
+    let Some(pn) = p.degree() else {
+        return Some(Poly::zero(p.var()));
+    };
+    if pn < dn {
+        return None;
+    }
+    let dc = d.coeffs();
+    let mut rest = p.coeffs().to_vec();
+    let mut quotient = vec![R::zero(); pn - dn + 1];
+    for k in (0..=pn - dn).rev() {
+        let c = rest[k + dn].clone();
+        if !c.is_zero() {
+            for (i, di) in dc.iter().enumerate() {
+                rest[k + i] = rest[k + i].clone() - c.clone() * di.clone();
+            }
+        }
+        quotient[k] = c;
+    }
+    rest[..dn]
+        .iter()
+        .all(crate::algebra::Zero::is_zero)
+        .then(|| Poly::new(quotient, p.var()))
 }
 
 /// An observer-based controller with its working.

@@ -30,7 +30,12 @@ both threads of its multimodular characteristic polynomial counted), less owb's 
     (the single-output error matrix is cyclic, so the dead-beat steps are n);
   * reduced (C = e1ᵀ): the gain of (A22, A12) for (s + 1)^(n−1), its check, F = A22 − L A12 and
     G = A21 − L A11 + F L;
-  * detectable: the rank of O_n (an observable plant), then the gain and its check.
+  * detectable: the rank of O_n (an observable plant), then the gain and its check;
+  * control (B = e1, C = e1ᵀ, L the exact gain of (s + 1)ⁿ in A + LC given to both, F placing
+    (s + 2)ⁿ): F by the dual gain and its check, the loop's determinants as rank-one and
+    rank-two updates, the closed loop's blocks again on their own (compared), the plant's, the
+    controller's and the closed loop's transfer functions in lowest terms (owb also factors
+    four polynomials, which FLINT does not); up to the order where L still fits one argument.
 `--only feedback,reduced` restricts the commands (by their first word).
 Each side the least CPU time of at least ten runs (more, up to sixty, until 0.4 s were spent):
 owb's runs interleaved with runs of `owb --version`, whose least is the floor subtracted, so both
@@ -239,6 +244,74 @@ def flint_detectable_same_work(a, n):
     return flint_gain_same_work(a, n)
 
 
+def adjugate_form(chi, krylov_y, n):
+    """x adj(sI − A) y from the numbers m_j = x A^j y (krylov_y, j < n) and chi = det(sI − A):
+    the polynomial part of chi(s) · Σ m_j s^(−j−1) (rationals)."""
+    nu = flint.fmpq_poly([krylov_y[n - 1 - i] for i in range(n)])
+    prod = flint.fmpq_poly(chi) * nu
+    return flint.fmpq_poly([prod[k] for k in range(n, 2 * n)])
+
+
+def krylov_rows(a_q, x, n):
+    """[x; xA; …; xA^(n−1)] for a row x (fmpq_mat)."""
+    rows = [x]
+    for _ in range(1, n):
+        rows.append(rows[-1] * a_q)
+    return flint.fmpq_mat(n, n, [v for r in rows for v in r.entries()])
+
+
+def one_fractional_row_charpoly(m_q, n):
+    """det(sI − M) for M whose fractions lie in row 0: the rank-one update of its integral rest
+    (row 0 zeroed), as owb's characteristic polynomial takes such a matrix."""
+    rest = flint.fmpz_mat(n, n, [0] * n + [int(v) for v in m_q.entries()[n:]])
+    chi0 = flint.fmpq_poly(rest.charpoly())
+    row = flint.fmpq_mat(1, n, m_q.entries()[:n])
+    kry = krylov_rows(flint.fmpq_mat(rest), row, n)
+    e0 = flint.fmpq_mat(n, 1, [1] + [0] * (n - 1))
+    m = (kry * e0).entries()
+    return chi0 - adjugate_form(rest.charpoly(), m, n)
+
+
+def flint_control_same_work(a, n, l):
+    """Observer-based control, B = e1, C = e1ᵀ, L given (A + LC) and F placing (s + 2)ⁿ: F by the
+    dual gain and its check; det(sI − (A + BF)) and det(sI − (A + LC)) as rank-one updates and
+    the controller's two determinants as rank-two updates (owb's LoopUpdates); the closed loop's
+    blocks computed again on their own (one fractional row or column: the rank-one update of the
+    integral rest) and compared; the plant's, the controller's and the closed loop's transfer
+    functions in lowest terms (polynomial gcds). owb also factors four polynomials (rational
+    roots), which this side does not."""
+    p = [comb(n, k) * 2 ** (n - k) for k in range(n + 1)]  # (s + 2)ⁿ, lowest power first
+    k = flint_gain_same_work(transpose(a), n, p=p)  # the dual: Aᵀ − K e1ᵀ
+    f = flint.fmpq_mat(1, n, [-v for v in k])  # u = F x: A + BF = (Aᵀ − K Bᵀ)ᵀ
+    az = flint.fmpz_mat(a)
+    aq = flint.fmpq_mat(az)
+    chi = az.charpoly()
+    d = flint.fmpq_poly(chi)
+    b = flint.fmpq_mat(n, 1, [1] + [0] * (n - 1))
+    c = flint.fmpq_mat(1, n, [1] + [0] * (n - 1))
+    lq = flint.fmpq_mat(n, 1, l)
+    o_f, o_c = krylov_rows(aq, f, n), krylov_rows(aq, c, n)
+    m = {name: adjugate_form(chi, (o * y).entries(), n)
+         for name, o, y in (("fb", o_f, b), ("fl", o_f, lq), ("cb", o_c, b), ("cl", o_c, lq))}
+    feedback, observer = d - m["fb"], d - m["cl"]
+    open_k = ((d - m["fb"]) * (d - m["cl"]) - m["fl"] * m["cb"]) / d
+    perturbed = ((d - m["fb"] - m["fl"]) * (d - m["cl"]) - m["fl"] * (m["cb"] + m["cl"])) / d
+    # the closed loop's blocks on their own
+    assert one_fractional_row_charpoly(aq + b * f, n) == feedback, "A + BF"
+    assert one_fractional_row_charpoly((aq + lq * c).transpose(), n) == observer, "A + LC"
+    # transfer functions in lowest terms
+    plant_num = flint.fmpq_poly((az - flint.fmpz_mat(n, n, [1 if (i, j) == (0, 0) else 0
+                                 for i in range(n) for j in range(n)])).charpoly()) - d
+    g = plant_num.gcd(d)
+    n_g, d_g = plant_num / g, d / g
+    ctl_num = perturbed - open_k
+    g = ctl_num.gcd(open_k)
+    n_k, d_k = ctl_num / g, open_k / g
+    num, den = n_g * d_k, d_g * d_k - n_k * n_g
+    g = num.gcd(den)
+    return f, feedback * observer, num / g, den / g
+
+
 def flint_observe_same_work(a, n):
     _, o = observability(a, n)
     return o.det(), o.rank()
@@ -302,6 +375,15 @@ def same_work(orders, only=()):
             ("detectable", ["detectable", "--a", at, "--c", c, "--repeated", "1", "--method",
                             "ackermann", "--json"], flint_detectable_same_work),
         ]
+        if not only or "control" in only:
+            # L (A + LC) the exact observer gain for (s + 1)ⁿ, given to both sides; past about
+            # n = 50 its text is longer than Linux lets one argument be (128 KiB)
+            l = [-v for v in flint_gain_same_work(a, n)]
+            l_text = "[" + "; ".join(str(v) for v in l) + "]"
+            if len(l_text) < 120_000:
+                cases.append(("control", ["control", "--a", at, "--b", b, "--c", c, "--l", l_text,
+                                          "--feedback-poly", f"(s + 2)^{n}", "--json"],
+                              lambda a, n, l=l: flint_control_same_work(a, n, l)))
         if only:
             cases = [k for k in cases if k[0].split()[0] in only]
         for name, args, peer in cases:
@@ -313,6 +395,9 @@ def same_work(orders, only=()):
                 assert [str(x) for x in got] == json.loads(out)["gain"][0], "gains differ"
             if name == "reduced":
                 assert [str(x) for x in got[0]] == [r[0] for r in json.loads(out)["gain"]], "gains differ"
+            if name == "control":
+                shown = "[" + ", ".join(str(x) for x in got[0].entries()) + "]"
+                assert shown == json.loads(out)["F"], "state feedbacks differ"
             print(f"| `{name}` | {n} | {own * 1e3:.2f} ms | {t_fl * 1e3:.2f} ms | "
                   f"{own / t_fl:.1f}× |", flush=True)
 
