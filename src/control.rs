@@ -197,35 +197,16 @@ impl<F: Field> LoopUpdates<F> {
         m22: &Poly<F>,
     ) -> Option<Poly<F>> {
         let d = &self.open;
-        let one = <F::Integers as crate::algebra::One>::one();
-        if F::common_denominator(d.coeffs()) == one {
-            // d monic on integers (a plant with integral A): the products on integers over one
-            // denominator D of the m's — ((D d − M₁₁)(D d − M₂₂) − M₁₂ M₂₁) / d is D² times the
-            // answer — with no reduction per term, and one per coefficient at the end
-            let all: Vec<F> = [m11, m12, m21, m22]
-                .iter()
-                .flat_map(|p| p.coeffs().iter().cloned())
-                .collect();
-            let den = F::common_denominator(&all);
-            let var = d.var();
-            let ints = |p: &Poly<F>, by: &F::Integers| {
-                Poly::new(
-                    p.coeffs().iter().map(|c| c.scale_to_integer(by)).collect(),
-                    var,
-                )
-            };
-            let monic = ints(d, &one);
-            let scaled = monic.scale(&den);
-            let product = (scaled.clone() - ints(m11, &den)) * (scaled - ints(m22, &den))
-                - ints(m12, &den) * ints(m21, &den);
-            let quotient = divide_by_monic(&product, &monic)?;
-            let square = den.clone() * den;
-            let coeffs: Option<Vec<F>> = quotient
-                .coeffs()
-                .iter()
-                .map(|c| F::from_integer_ratio(c.clone(), square.clone()))
-                .collect();
-            return Some(Poly::new(coeffs?, var));
+        if let (Some(d), Some(m)) = (
+            as_rational_poly(d),
+            [m11, m12, m21, m22]
+                .map(as_rational_poly)
+                .into_iter()
+                .collect::<Option<Vec<_>>>(),
+        ) {
+            if let Some(p) = rank_two_on_integers(d, [m[0], m[1], m[2], m[3]]) {
+                return crate::algebra::from_concrete(p);
+            }
         }
         let product =
             (d.clone() - m11.clone()) * (d.clone() - m22.clone()) - m12.clone() * m21.clone();
@@ -246,32 +227,41 @@ impl<F: Field> LoopUpdates<F> {
     }
 }
 
-/// `p / d` for a monic `d` over a ring, when it leaves no remainder (synthetic division: only
-/// products and differences, no division).
-fn divide_by_monic<R: crate::algebra::Ring>(p: &Poly<R>, d: &Poly<R>) -> Option<Poly<R>> {
-    let dn = d.degree()?;
-    let Some(pn) = p.degree() else {
-        return Some(Poly::zero(p.var()));
-    };
-    if pn < dn {
+/// `Some` when the polynomial's field is the rationals.
+fn as_rational_poly<F: Field>(p: &Poly<F>) -> Option<&Poly<Rational>> {
+    (p as &dyn std::any::Any).downcast_ref::<Poly<Rational>>()
+}
+
+/// [`LoopUpdates::rank_two`] over the rationals for an integral `d` (a plant with integral A):
+/// the four m's over one denominator D (`integer_numerators`), `(D d − M₁₁)(D d − M₂₂) −
+/// M₁₂ M₂₁` — D² times the numerator — on integers and divided by d exactly there, then one
+/// reduction per coefficient; where the products over the rationals reduced every coefficient
+/// of every product and difference (a gcd of large numbers each). `None` for a fractional d.
+fn rank_two_on_integers(d: &Poly<Rational>, m: [&Poly<Rational>; 4]) -> Option<Poly<Rational>> {
+    use crate::algebra::gcd::{fraction, integer_numerators};
+    let (d_int, one) = integer_numerators(d.coeffs());
+    if !num_traits::One::is_one(&one) {
         return None;
     }
-    let dc = d.coeffs();
-    let mut rest = p.coeffs().to_vec();
-    let mut quotient = vec![R::zero(); pn - dn + 1];
-    for k in (0..=pn - dn).rev() {
-        let c = rest[k + dn].clone();
-        if !c.is_zero() {
-            for (i, di) in dc.iter().enumerate() {
-                rest[k + i] = rest[k + i].clone() - c.clone() * di.clone();
-            }
-        }
-        quotient[k] = c;
-    }
-    rest[..dn]
-        .iter()
-        .all(crate::algebra::Zero::is_zero)
-        .then(|| Poly::new(quotient, p.var()))
+    let all: Vec<Rational> = m.iter().flat_map(|p| p.coeffs().iter().cloned()).collect();
+    let (ints, den) = integer_numerators(&all);
+    let var = d.var();
+    let mut at = 0;
+    let mut next = |p: &Poly<Rational>| {
+        let part = Poly::new(ints[at..at + p.coeffs().len()].to_vec(), var);
+        at += p.coeffs().len();
+        part
+    };
+    let [m11, m12, m21, m22] = m.map(&mut next);
+    let scaled = Poly::new(d_int.clone(), var).scale(&den);
+    let product = (scaled.clone() - m11) * (scaled - m22) - m12 * m21;
+    let quotient = crate::poly::divide_exact_integers(product.coeffs().to_vec(), &d_int)?;
+    let square = &den * &den;
+    let coeffs = quotient
+        .into_iter()
+        .map(|c| fraction(c, square.clone()))
+        .collect();
+    Some(Poly::new(coeffs, var))
 }
 
 /// An observer-based controller with its working.

@@ -406,9 +406,7 @@ mod tests {
             let direct = berkowitz(&a, "s").unwrap();
             proptest::prop_assert_eq!(characteristic_polynomial(&a, "s").unwrap(), direct);
         }
-    }
 
-    proptest::proptest! {
         /// A matrix whose fractions lie in one row or one column (a gain's, with a large
         /// denominator): its polynomial by the rank-one update of its integral rest is
         /// Berkowitz's on the whole matrix.

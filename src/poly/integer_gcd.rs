@@ -176,31 +176,38 @@ fn gcd_degree_mod(mut a: Vec<u64>, mut b: Vec<u64>, p: u64) -> Option<usize> {
 /// `p / d` when `d` divides `p` exactly over the rationals; `None` otherwise (or `d = 0`).
 pub(crate) fn divide_exact_rational(p: &[Rational], d: &[Rational]) -> Option<Vec<Rational>> {
     let (dp, cd) = primitive_part(d)?;
-    let Some((mut r, cp)) = primitive_part(p) else {
+    let Some((r, cp)) = primitive_part(p) else {
         return Some(Vec::new());
     };
     // Gauss: a primitive divisor over Q divides over Z, so every step divides exactly
-    let db = dp.len() - 1;
+    let q = divide_exact_integers(r, &dp)?;
+    Some(to_rationals(&q, &(cp / cd)))
+}
+
+/// `p / d` over the integers (ascending coefficients, `d`'s leading one nonzero), when every
+/// step divides exactly and no remainder is left; `None` otherwise.
+pub(crate) fn divide_exact_integers(mut r: Vec<BigInt>, d: &[BigInt]) -> Option<Vec<BigInt>> {
+    while r.last().is_some_and(Zero::is_zero) {
+        r.pop();
+    }
+    let db = d.len().checked_sub(1)?;
     if r.len() <= db {
-        return None;
+        return r.is_empty().then(Vec::new);
     }
     let mut q = vec![BigInt::zero(); r.len() - db];
     while r.len() > db {
         let top = r.len() - 1;
-        let (c, rem) = num_integer::Integer::div_rem(&r[top], &dp[db]);
+        let (c, rem) = num_integer::Integer::div_rem(&r[top], &d[db]);
         if !rem.is_zero() {
             return None;
         }
-        for (j, dj) in dp.iter().enumerate() {
+        for (j, dj) in d.iter().enumerate() {
             r[top - db + j] -= &c * dj;
         }
         q[top - db] = c;
         r.pop();
     }
-    if r.iter().any(|c| !c.is_zero()) {
-        return None;
-    }
-    Some(to_rationals(&q, &(cp / cd)))
+    r.iter().all(Zero::is_zero).then_some(q)
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 
 mod factor;
 mod integer_gcd;
+pub(crate) use integer_gcd::divide_exact_integers;
 mod quadratic_gcd;
 mod rational_function;
 mod stability;
