@@ -198,9 +198,9 @@ impl<F: Field> LoopUpdates<F> {
     ) -> Option<Poly<F>> {
         let d = &self.open;
         if let (Some(d), Some(m)) = (
-            as_rational_poly(d),
+            d.as_rational(),
             [m11, m12, m21, m22]
-                .map(as_rational_poly)
+                .map(Poly::as_rational)
                 .into_iter()
                 .collect::<Option<Vec<_>>>(),
         ) {
@@ -225,11 +225,6 @@ impl<F: Field> LoopUpdates<F> {
         let c_u1 = self.cb.clone() + self.cl.clone();
         self.rank_two(&f_u1, &self.fl, &c_u1, &self.cl)
     }
-}
-
-/// `Some` when the polynomial's field is the rationals.
-fn as_rational_poly<F: Field>(p: &Poly<F>) -> Option<&Poly<Rational>> {
-    (p as &dyn std::any::Any).downcast_ref::<Poly<Rational>>()
 }
 
 /// [`LoopUpdates::rank_two`] over the rationals for an integral `d` (a plant with integral A):

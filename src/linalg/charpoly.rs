@@ -207,10 +207,10 @@ fn integer_charpoly<D: Ring>(a: &Matrix<D>, var: &str) -> Result<Poly<D>, Linalg
 }
 
 /// `det(sI − (A − KC))` for a single-output pair with observability matrix `o` and open-loop
-/// polynomial `det(sI − A)` (the check of every gain design), by the rank-one update `det(sI − A + KC) = det(sI − A) +
-/// C adj(sI − A) K` with `adj(sI − A) = Σ_j A^j Σ_(i>j) a_i s^(i−j−1)`: only the numbers
-/// `C A^j K = (O_n K)_j` enter, so the check costs one matrix–vector product, whatever the size
-/// of `K`.
+/// polynomial `det(sI − A)` (the check of every gain design), by the rank-one update
+/// `det(sI − A + KC) = det(sI − A) + C adj(sI − A) K` with
+/// `adj(sI − A) = Σ_j A^j Σ_(i>j) a_i s^(i−j−1)`: only the numbers `C A^j K = (O_n K)_j`
+/// enter, so the check costs one matrix–vector product, whatever the size of `K`.
 ///
 /// # Errors
 /// [`LinalgError::DimensionMismatch`] when `k` does not fit `o`.
@@ -222,7 +222,7 @@ pub(crate) fn rank_one_update<F: Field>(
     let rational = (
         super::as_rational(o),
         super::as_rational(k),
-        (open_loop as &dyn std::any::Any).downcast_ref::<Poly<crate::algebra::Rational>>(),
+        open_loop.as_rational(),
     );
     if let (Some(o), Some(k), Some(open_loop)) = rational {
         if o.cols() != k.rows() {
@@ -305,7 +305,7 @@ pub fn polynomial_times_vector<R: Ring>(
     if v.rows() != n {
         return Err(a.mismatch(v, "matrix polynomial times vector"));
     }
-    let as_poly = (p as &dyn std::any::Any).downcast_ref::<Poly<crate::algebra::Rational>>();
+    let as_poly = p.as_rational();
     if let (Some(qp), Some(qa), Some(qv)) = (as_poly, super::as_rational(a), super::as_rational(v))
     {
         if let Some(r) =
@@ -340,7 +340,7 @@ pub fn polynomial_times_solution<F: Field>(
 ) -> Result<(Matrix<F>, Option<Matrix<F>>), LinalgError> {
     let n = m.require_square("solve")?;
     let fast = n >= super::MODULAR_FROM_ORDER && a.rows() == n && a.cols() == n;
-    let as_poly = (p as &dyn std::any::Any).downcast_ref::<Poly<crate::algebra::Rational>>();
+    let as_poly = p.as_rational();
     if let (true, Some(qp), Some(qa), Some(qm), Some(qb)) = (
         fast,
         as_poly,

@@ -22,6 +22,11 @@ pub struct Poly<R> {
 }
 
 impl<R: Ring> Poly<R> {
+    /// `Some` when the coefficients are rationals: the dispatch to the fraction-free paths
+    /// (the polynomial counterpart of the matrices' `linalg::as_rational`).
+    pub(crate) fn as_rational(&self) -> Option<&Poly<Rational>> {
+        (self as &dyn std::any::Any).downcast_ref::<Poly<Rational>>()
+    }
     /// Runs `f` on the coefficients when both polynomials are rational — over `Q`, or over
     /// `Q(√d)` with every coefficient rational — and brings the result back: `None` when the
     /// coefficients are not rational (the generic algorithm runs), `Some(None)` when `f` says
