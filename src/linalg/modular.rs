@@ -18,22 +18,16 @@ use crate::algebra::{Field, One, Rational, Zero};
 use num_bigint::BigInt;
 use num_traits::ToPrimitive;
 
-/// Primes below 2³¹, largest first (products of two residues fit in a `u64`), generated as
-/// they are taken — there are about 10⁸ of them, so the supply never runs out before a bound is
-/// reached. A prime costs about ten Miller–Rabin tests of odd candidates (≈ 1.5 µs), far below
-/// the O(n³) work done modulo it; a table of the first 4 096 built once per process cost 5–7 ms
-/// before the first command could use one, most of the time of a 10-state `owb observe`.
+/// Primes below 2³¹, largest first (products of two residues fit in a `u64`): the first
+/// [`TABLED`] from a table computed when the program is compiled, the rest generated as they
+/// are taken — there are about 10⁸ of them, so the supply never runs out before a bound is
+/// reached. A generated prime costs about ten Miller–Rabin tests of odd candidates (≈ 1.5 µs),
+/// far below the O(n³) work done modulo it; but a 10-state design takes its first primes
+/// several times over (one search per multimodular step), about 5 % of its work before the
+/// tables. (A table of the first 4 096 built once per process cost 5–7 ms before the first
+/// command could use one, most of the time of a 10-state `owb observe`.)
 pub(crate) fn primes() -> impl Iterator<Item = u64> {
-    primes_below(1 << 31)
-}
-
-/// The primes below `bound` (at most 2³¹), largest first.
-fn primes_below(bound: u64) -> impl Iterator<Item = u64> {
-    debug_assert!(bound <= 1 << 31);
-    (1..bound / 2)
-        .rev()
-        .map(|k| 2 * k + 1)
-        .filter(|&c| is_prime(c))
+    primes_after(&PRIMES_BELOW_2_31)
 }
 
 /// The primes the eliminations of [`lift_cramer`] and [`determinant_rational`] run modulo:
@@ -41,18 +35,60 @@ fn primes_below(bound: u64) -> impl Iterator<Item = u64> {
 /// two reductions instead of three — the reduction passes were about 40 % of the eliminations'
 /// time at order 40 — for 3 % more primes.
 fn elimination_primes() -> impl Iterator<Item = u64> {
-    primes_below(1 << 30)
+    primes_after(&PRIMES_BELOW_2_30)
 }
 
-/// Deterministic Miller–Rabin for n < 2³² (bases 2, 7, 61).
-fn is_prime(n: u64) -> bool {
+/// How many primes each table holds: what the multimodular steps of systems of order up to
+/// about 20 take, at 256 bytes a table.
+const TABLED: usize = 64;
+
+/// The [`TABLED`] largest primes below 2³¹, largest first.
+static PRIMES_BELOW_2_31: [u32; TABLED] = largest_primes_below(1 << 31);
+
+/// The [`TABLED`] largest primes below 2³⁰, largest first.
+static PRIMES_BELOW_2_30: [u32; TABLED] = largest_primes_below(1 << 30);
+
+/// The [`TABLED`] largest primes below `bound` (an even number), largest first: evaluated by
+/// the compiler.
+const fn largest_primes_below(bound: u64) -> [u32; TABLED] {
+    let mut table = [0u32; TABLED];
+    let (mut found, mut candidate) = (0, bound - 1);
+    while found < TABLED {
+        if is_prime(candidate) {
+            table[found] = candidate as u32;
+            found += 1;
+        }
+        candidate -= 2;
+    }
+    table
+}
+
+/// A table's primes, then the primes below its last one, generated: every prime below the
+/// table's bound, largest first.
+fn primes_after(table: &'static [u32; TABLED]) -> impl Iterator<Item = u64> {
+    let last = u64::from(table[TABLED - 1]);
+    table.iter().map(|&p| u64::from(p)).chain(
+        (1..last / 2)
+            .rev()
+            .map(|k| 2 * k + 1)
+            .filter(|&c| is_prime(c)),
+    )
+}
+
+/// Deterministic Miller–Rabin for n < 2³² (bases 2, 7, 61); a `const fn`, so that the prime
+/// tables are computed by the compiler (plain `%` products: Barrett's are not `const`).
+const fn is_prime(n: u64) -> bool {
+    debug_assert!(n < 1 << 32);
     if n < 2 {
         return false;
     }
-    for p in [2u64, 3, 5, 7, 11, 13] {
-        if n % p == 0 {
-            return n == p;
+    let small = [2u64, 3, 5, 7, 11, 13];
+    let mut i = 0;
+    while i < small.len() {
+        if n % small[i] == 0 {
+            return n == small[i];
         }
+        i += 1;
     }
     let mut d = n - 1;
     let mut s = 0;
@@ -60,19 +96,33 @@ fn is_prime(n: u64) -> bool {
         d /= 2;
         s += 1;
     }
-    'witness: for a in [2u64, 7, 61] {
+    let witnesses = [2u64, 7, 61];
+    let mut w = 0;
+    'witness: while w < witnesses.len() {
+        let a = witnesses[w];
+        w += 1;
         if a % n == 0 {
             continue;
         }
-        let mut x = pow_mod(a, d, n);
+        // a^d mod n by squaring
+        let (mut base, mut e, mut x) = (a % n, d, 1u64);
+        while e > 0 {
+            if e & 1 == 1 {
+                x = x * base % n;
+            }
+            base = base * base % n;
+            e >>= 1;
+        }
         if x == 1 || x == n - 1 {
             continue;
         }
-        for _ in 1..s {
+        let mut r = 1;
+        while r < s {
             x = x * x % n;
             if x == n - 1 {
                 continue 'witness;
             }
+            r += 1;
         }
         return false;
     }
@@ -921,6 +971,23 @@ mod tests {
 
     use super::*;
     use crate::algebra::Ring;
+
+    #[test]
+    fn the_tables_are_the_generated_primes() {
+        // the compiler's tables against a search from the bound down, and the first generated
+        // prime after each table is the next prime below its last entry
+        for (table, bound) in [(&PRIMES_BELOW_2_31, 1u64 << 31), (&PRIMES_BELOW_2_30, 1 << 30)] {
+            let searched: Vec<u64> = (1..bound / 2)
+                .rev()
+                .map(|k| 2 * k + 1)
+                .filter(|&c| is_prime(c))
+                .take(TABLED + 5)
+                .collect();
+            let taken: Vec<u64> = primes_after(table).take(TABLED + 5).collect();
+            assert_eq!(taken, searched);
+        }
+        assert_eq!(elimination_primes().next(), Some(1_073_741_789));
+    }
 
     #[test]
     fn primes_are_prime_and_below_two_to_the_31() {
