@@ -45,6 +45,14 @@ pub enum ControlError {
     /// The plant has a direct feedthrough, which the observer-based controller here leaves out.
     #[error("the plant has a direct feedthrough D = {0}: the observer-based controller analysed here assumes D = 0")]
     Feedthrough(String),
+    /// A designed gain's own check found other eigenvalues than those asked for.
+    #[error("the designed gain does not place the eigenvalues of {what}: its characteristic polynomial is {achieved}")]
+    NotPlaced {
+        /// The matrix whose eigenvalues were placed.
+        what: &'static str,
+        /// Its characteristic polynomial, as the check computed it.
+        achieved: String,
+    },
     /// `1 − K(s)G(s)` is identically zero.
     #[error("the loop 1 − K(s)G(s) is identically zero: the closed loop is not defined")]
     DegenerateLoop,
@@ -89,6 +97,54 @@ pub fn state_feedback(
         Detail::Summary,
     )?;
     Ok(linalg::rational_entries(&d.gain)
+        .expect("a rational plant and polynomial give a rational gain"))
+}
+
+/// The observer gain `L` (column) placing the eigenvalues of `A + LC` at the roots of
+/// `desired`: the gain of [`crate::observer::design_with`] (Ackermann, reported for `A + LC`)
+/// without its working — the observer's counterpart of [`state_feedback`], so that a
+/// controller can be asked for by its two polynomials.
+///
+/// # Example
+/// ```
+/// use observer_workbench::algebra::Rational;
+/// use observer_workbench::control::observer_gain;
+/// use observer_workbench::syntax::{parse_matrix, parse_polynomial};
+/// let a = parse_matrix::<Rational>("[0 1; -2 -3]").unwrap();
+/// let c = parse_matrix::<Rational>("[1 0]").unwrap();
+/// let p = parse_polynomial::<Rational>("s^2 + 9s + 20", "s").unwrap();
+/// assert_eq!(observer_gain(&a, &c, &p).unwrap().to_input(), "[-6; -0]");
+/// ```
+///
+/// # Errors
+/// [`ControlError::Design`] for an unobservable pair (its modes named) or a C with more than
+/// one row; [`ControlError::Polynomial`] for a polynomial of the wrong degree;
+/// [`ControlError::NotPlaced`] if the design's own check found other eigenvalues.
+pub fn observer_gain(
+    a: &Matrix<Rational>,
+    c: &Matrix<Rational>,
+    desired: &Poly<Rational>,
+) -> Result<Matrix<Rational>, ControlError> {
+    use crate::observer::{Convention, Detail, GainMethod};
+    let wanted = crate::observer::DesiredPolynomial::from_polynomial(
+        desired.map(|c| crate::algebra::Quadratic::rational(c.clone())),
+        a.rows(),
+    )?;
+    let d = crate::observer::design_with(
+        a,
+        c,
+        &wanted,
+        GainMethod::Ackermann,
+        Convention::APlusLC,
+        Detail::Summary,
+    )?;
+    if !d.places_exactly() {
+        return Err(ControlError::NotPlaced {
+            what: "A + LC",
+            achieved: d.achieved.to_string(),
+        });
+    }
+    Ok(linalg::rational_entries(&d.gain.matrix)
         .expect("a rational plant and polynomial give a rational gain"))
 }
 

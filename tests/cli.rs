@@ -81,6 +81,82 @@ fn control_stoustrup_example() {
     insta::assert_snapshot!(out);
 }
 
+/// `control --observer-poly` designs L as `owb gain` does for A + LC: the report is the one
+/// `--l` gives with that gain, in text and JSON, whatever `--convention` says.
+#[test]
+fn control_designs_the_observer_gain_from_its_polynomial() {
+    let plant = ["--a", "[2 -3; 4 -5]", "--c", "[-3 2]"];
+    let (code, out, err) = owb(&[
+        &["gain"][..],
+        &plant,
+        &["--poly", "s^2 + 12s + 36", "--convention", "a+lc", "--json"],
+    ]
+    .concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let entries: Vec<&str> = v["gain"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r[0].as_str().unwrap())
+        .collect();
+    let l = format!("[{}]", entries.join("; "));
+    let control = [
+        &["control"][..],
+        &plant,
+        &["--b", "[2; 3]", "--f", "[42 -30]"],
+    ]
+    .concat();
+    for json in [&[][..], &["--json"]] {
+        let given = owb(&[&control[..], &["--l", &l], json].concat());
+        assert_eq!(given.0, 0, "{}", given.2);
+        for convention in ["a+lc", "a-kc"] {
+            let designed = owb(&[
+                &control[..],
+                &["--observer-poly", "(s + 6)^2", "--convention", convention],
+                json,
+            ]
+            .concat());
+            assert_eq!(
+                designed, given,
+                "--observer-poly, --convention {convention}, {json:?}"
+            );
+        }
+    }
+    // refused: neither gain, both, a polynomial of the wrong degree, an unobservable pair
+    let unobservable = [
+        "control",
+        "--a",
+        "[1 0; 0 2]",
+        "--c",
+        "[1 0]",
+        "--b",
+        "[1; 1]",
+        "--f",
+        "[0 0]",
+    ];
+    let refusals: [(Vec<&str>, &str); 4] = [
+        (control.clone(), "give --l or --observer-poly"),
+        (
+            [&control[..], &["--l", &l, "--observer-poly", "s^2 + 1"]].concat(),
+            "cannot be used with",
+        ),
+        (
+            [&control[..], &["--observer-poly", "s^3 + 1"]].concat(),
+            "monic of degree 2",
+        ),
+        (
+            [&unobservable[..], &["--observer-poly", "s^2 + 1"]].concat(),
+            "unobservable eigenvalues 2",
+        ),
+    ];
+    for (args, needle) in refusals {
+        let (code, _, err) = owb(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
 /// The stable `--json` interface of `owb gain`.
 #[test]
 fn gain_json_shape_is_stable() {

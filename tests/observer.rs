@@ -6,7 +6,7 @@ mod common;
 use common::invertible_matrix;
 use observer_workbench::algebra::{Rational, Ring};
 use observer_workbench::canonical_form::{observer_form_di_ruscio, observer_form_stoustrup};
-use observer_workbench::control::{observer_based_control, state_feedback};
+use observer_workbench::control::{observer_based_control, observer_gain, state_feedback};
 use observer_workbench::linalg::{characteristic_polynomial, inverse, Matrix};
 use observer_workbench::observability::observability_matrix;
 use observer_workbench::observer::{design, Convention, DesiredPolynomial, GainMethod};
@@ -97,6 +97,9 @@ proptest! {
         let desired = DesiredPolynomial::from_poles(&poles).unwrap();
         let l = design(&a, &c, &desired, GainMethod::Ackermann, Convention::APlusLC).unwrap();
         let l = l.gain.matrix.map(|x| x.as_rational().unwrap().clone());
+        // the control layer's own design (`control --observer-poly`) is the same gain
+        let desired_l = Poly::from_roots(&p.iter().map(|&x| Rational::from_i64(x)).collect::<Vec<_>>(), "s");
+        prop_assert_eq!(&observer_gain(&a, &c, &desired_l).unwrap(), &l);
         let plant = observer_workbench::system::StateSpace::new(a, Some(b), c, None).unwrap();
         let r = observer_based_control(&plant, &f, &l).unwrap();
         prop_assert!(r.separation_holds);

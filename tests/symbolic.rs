@@ -225,6 +225,21 @@ fn observer_based_control_in_symbols() {
     ]);
     assert_eq!(code, 0);
     assert!(out.contains("Separation principle: det(sI − A_cl) = det"));
+    // the same L designed in symbols from its polynomial gives the same report
+    let designed = owb(&[
+        "control",
+        "--a",
+        "[0 1; 0 0]",
+        "--b",
+        "[0; 1]",
+        "--c",
+        "[1 0]",
+        "--observer-poly",
+        "s^2 + 2*w*s + w^2",
+        "--feedback-poly",
+        "s^2 + 2*zeta*w*s + w^2",
+    ]);
+    assert_eq!(designed, (0, out.clone(), String::new()));
     insta::assert_snapshot!(out);
 }
 

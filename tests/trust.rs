@@ -774,6 +774,16 @@ fn every_subcommand_survives_hostile_flags() {
             ],
         ),
         (
+            "control",
+            vec![
+                ("--a", "[0 1; -2 -3]"),
+                ("--b", "[0; 1]"),
+                ("--c", "[1 0]"),
+                ("--observer-poly", "s^2 + 9s + 20"),
+                ("--feedback-poly", "s^2 + 3s + 2"),
+            ],
+        ),
+        (
             "kalman",
             vec![
                 ("--a", "[0 1; -2 -3]"),

@@ -142,7 +142,7 @@ _MATRIX_KEYS = {
 }
 _ROW_KEYS = {"c", "f", "d", "changed-c", "changed-d"}
 _LIST_KEYS = {"poles", "continuous-poles"}
-_POLY_KEYS = {"poly", "feedback-poly"}
+_POLY_KEYS = {"poly", "feedback-poly", "observer-poly"}
 
 
 def _value(key: str, v: Any) -> Any:

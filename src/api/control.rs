@@ -5,7 +5,7 @@ use super::parametric::{lift, Parametric};
 use super::{Outcome, Report};
 use crate::algebra::Field;
 use crate::algebra::Fraction;
-use crate::control::{observer_based_control, state_feedback, ObserverBasedControl};
+use crate::control::{observer_based_control, observer_gain, state_feedback, ObserverBasedControl};
 use crate::linalg::Matrix;
 use crate::observer::Convention;
 use crate::symbolic::DesiredRequest;
@@ -30,8 +30,20 @@ pub struct Args {
     #[serde(default)]
     pub b: Option<String>,
     /// The observer gain (in the convention of --convention).
-    #[cfg_attr(feature = "commands", arg(allow_hyphen_values = true, long = "l"))]
-    pub l: String,
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "l", group = "observer")
+    )]
+    #[serde(default)]
+    pub l: Option<String>,
+    /// Or: the desired polynomial of A + LC, e.g. "s^2 + 12s + 36" (the observer gain
+    /// designed exactly, Ackermann's formula).
+    #[cfg_attr(
+        feature = "commands",
+        arg(allow_hyphen_values = true, long = "observer-poly", group = "observer")
+    )]
+    #[serde(default)]
+    pub observer_poly: Option<String>,
     /// The state feedback row F in u = F x̂.
     #[cfg_attr(
         feature = "commands",
@@ -66,13 +78,14 @@ pub struct Args {
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     let values = args.system.values()?;
-    let others = [Some(&args.l), args.b.as_ref(), args.f.as_ref()];
+    let others = [args.l.as_ref(), args.b.as_ref(), args.f.as_ref()];
+    let polynomials = [args.feedback_poly.as_deref(), args.observer_poly.as_deref()];
     let others_symbolic = values.is_empty()
         && (others.iter().flatten().any(|t| mentions_parameters(t))
-            || args
-                .feedback_poly
-                .as_deref()
-                .is_some_and(|p| DesiredRequest::Poly(p).mentions_parameters(&Default::default())));
+            || polynomials
+                .iter()
+                .flatten()
+                .any(|p| DesiredRequest::Poly(p).mentions_parameters(&Default::default())));
     let (a, c) = match args.system.plant()? {
         Plant::Symbolic(a, c) => return symbolic(&args, &a, &c, rep),
         Plant::Numeric(a, c) if others_symbolic => {
@@ -85,14 +98,29 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         _ => args.system.input(args.b.as_deref())?,
     }
     .ok_or_else(|| anyhow::anyhow!("give the input matrix --b"))?;
-    let mut l = matrix_at("--l", &args.l, &values)?;
+    let given = args
+        .l
+        .as_ref()
+        .map(|l| matrix_at("--l", l, &values))
+        .transpose()?;
     super::args::check_plant(&a, Some(&b), &c, None)?;
     let (n, m, p) = (a.rows(), b.cols(), c.rows());
-    super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
-    let convention = super::args::observer_convention(&args.convention)?;
-    if convention == Convention::AMinusKC {
-        l = l.neg();
-    }
+    let l = match (given, &args.observer_poly) {
+        (Some(l), _) => {
+            super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
+            match super::args::observer_convention(&args.convention)? {
+                Convention::AMinusKC => l.neg(),
+                Convention::APlusLC => l,
+            }
+        }
+        (None, Some(text)) => {
+            // L is designed for A + LC whatever --convention says; a wrong spelling is refused
+            super::args::observer_convention(&args.convention)?;
+            let desired = polynomial_at("--observer-poly", text, &values)?;
+            observer_gain(&a, &c, &desired)?
+        }
+        (None, None) => bail!("give --l or --observer-poly"),
+    };
     let f = match (&args.f, &args.feedback_poly) {
         (Some(f), _) => {
             let f = matrix_at("--f", f, &values)?;
@@ -168,17 +196,55 @@ fn symbolic(
         bail!("give the input matrix --b");
     };
     let b = matrix::<Fraction>("--b", b)?;
-    let mut l = matrix::<Fraction>("--l", &args.l)?;
+    let given = args
+        .l
+        .as_ref()
+        .map(|l| matrix::<Fraction>("--l", l))
+        .transpose()?;
     let (n, p) = (a.rows(), c.rows());
     super::args::expect_shape("--b", &b, n, b.cols(), "states × inputs")?;
-    super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
-    if super::args::observer_convention(&args.convention)? == Convention::AMinusKC {
-        l = l.neg();
+    if let Some(l) = &given {
+        super::args::expect_shape("--l", l, n, p, "states × outputs")?;
     }
+    let convention = super::args::observer_convention(&args.convention)?;
     let mut work = Parametric::new(a)?
         .with(c.entries(), "C")?
-        .with(b.entries(), "B")?
-        .with(l.entries(), "L")?;
+        .with(b.entries(), "B")?;
+    let l = match (given, &args.observer_poly) {
+        (Some(l), _) => {
+            work = work.with(l.entries(), "L")?;
+            match convention {
+                Convention::AMinusKC => l.neg(),
+                Convention::APlusLC => l,
+            }
+        }
+        (None, Some(text)) => {
+            let desired = DesiredRequest::Poly(text)
+                .polynomial(&Default::default(), n)
+                .map_err(|e| anyhow!("in --observer-poly: {e}"))?;
+            work = work.with(desired.coeffs(), "the observer polynomial")?;
+            let design = work.run(|| {
+                crate::observer::design_symbolic(
+                    a,
+                    c,
+                    &desired,
+                    crate::observer::GainMethod::Ackermann,
+                    Convention::APlusLC,
+                    crate::observer::Detail::Summary,
+                )
+            })??;
+            if !design.identity {
+                bail!(crate::control::ControlError::NotPlaced {
+                    what: "A + LC",
+                    achieved: design.achieved.to_string(),
+                });
+            }
+            work.observability(a, c)?;
+            work.note_denominators(design.gain.matrix.entries(), "a denominator of L")?;
+            design.gain.matrix
+        }
+        (None, None) => bail!("give --l or --observer-poly"),
+    };
     let f = match (&args.f, &args.feedback_poly) {
         (Some(f), _) => {
             let f = matrix::<Fraction>("--f", f)?;

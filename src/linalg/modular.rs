@@ -976,7 +976,10 @@ mod tests {
     fn the_tables_are_the_generated_primes() {
         // the compiler's tables against a search from the bound down, and the first generated
         // prime after each table is the next prime below its last entry
-        for (table, bound) in [(&PRIMES_BELOW_2_31, 1u64 << 31), (&PRIMES_BELOW_2_30, 1 << 30)] {
+        for (table, bound) in [
+            (&PRIMES_BELOW_2_31, 1u64 << 31),
+            (&PRIMES_BELOW_2_30, 1 << 30),
+        ] {
             let searched: Vec<u64> = (1..bound / 2)
                 .rev()
                 .map(|k| 2 * k + 1)

@@ -31,11 +31,11 @@ both threads of its multimodular characteristic polynomial counted), less owb's 
   * reduced (C = e1ᵀ): the gain of (A22, A12) for (s + 1)^(n−1), its check, F = A22 − L A12 and
     G = A21 − L A11 + F L;
   * detectable: the rank of O_n (an observable plant), then the gain and its check;
-  * control (B = e1, C = e1ᵀ, L the exact gain of (s + 1)ⁿ in A + LC given to both, F placing
-    (s + 2)ⁿ): F by the dual gain and its check, the loop's determinants as rank-one and
+  * control (B = e1, C = e1ᵀ, L placing (s + 1)ⁿ in A + LC, F placing (s + 2)ⁿ): L by the gain
+    and its check, F by the dual gain and its check, the loop's determinants as rank-one and
     rank-two updates, the closed loop's blocks again on their own (compared), the plant's, the
     controller's and the closed loop's transfer functions in lowest terms (owb also factors
-    four polynomials, which FLINT does not); up to the order where L still fits one argument.
+    four polynomials, which FLINT does not).
 `--only feedback,reduced` restricts the commands (by their first word).
 Each side the least CPU time of at least ten runs (more, up to sixty, until 0.4 s were spent):
 owb's runs interleaved with runs of `owb --version`, whose least is the floor subtracted, so both
@@ -272,14 +272,16 @@ def one_fractional_row_charpoly(m_q, n):
     return chi0 - adjugate_form(rest.charpoly(), m, n)
 
 
-def flint_control_same_work(a, n, l):
-    """Observer-based control, B = e1, C = e1ᵀ, L given (A + LC) and F placing (s + 2)ⁿ: F by the
-    dual gain and its check; det(sI − (A + BF)) and det(sI − (A + LC)) as rank-one updates and
+def flint_control_same_work(a, n):
+    """Observer-based control, B = e1, C = e1ᵀ, L placing (s + 1)ⁿ in A + LC and F placing
+    (s + 2)ⁿ: L by the gain and its check (`control --observer-poly`), F by the dual gain and its
+    check; det(sI − (A + BF)) and det(sI − (A + LC)) as rank-one updates and
     the controller's two determinants as rank-two updates (owb's LoopUpdates); the closed loop's
     blocks computed again on their own (one fractional row or column: the rank-one update of the
     integral rest) and compared; the plant's, the controller's and the closed loop's transfer
     functions in lowest terms (polynomial gcds). owb also factors four polynomials (rational
     roots), which this side does not."""
+    l = [-v for v in flint_gain_same_work(a, n)]  # A − KC with K = −L, (s + 1)ⁿ
     p = [comb(n, k) * 2 ** (n - k) for k in range(n + 1)]  # (s + 2)ⁿ, lowest power first
     k = flint_gain_same_work(transpose(a), n, p=p)  # the dual: Aᵀ − K e1ᵀ
     f = flint.fmpq_mat(1, n, [-v for v in k])  # u = F x: A + BF = (Aᵀ − K Bᵀ)ᵀ
@@ -309,7 +311,7 @@ def flint_control_same_work(a, n, l):
     n_k, d_k = ctl_num / g, open_k / g
     num, den = n_g * d_k, d_g * d_k - n_k * n_g
     g = num.gcd(den)
-    return f, feedback * observer, num / g, den / g
+    return f, l, feedback * observer, num / g, den / g
 
 
 def flint_observe_same_work(a, n):
@@ -375,15 +377,9 @@ def same_work(orders, only=()):
             ("detectable", ["detectable", "--a", at, "--c", c, "--repeated", "1", "--method",
                             "ackermann", "--json"], flint_detectable_same_work),
         ]
-        if not only or "control" in only:
-            # L (A + LC) the exact observer gain for (s + 1)ⁿ, given to both sides; past about
-            # n = 50 its text is longer than Linux lets one argument be (128 KiB)
-            l = [-v for v in flint_gain_same_work(a, n)]
-            l_text = "[" + "; ".join(str(v) for v in l) + "]"
-            if len(l_text) < 120_000:
-                cases.append(("control", ["control", "--a", at, "--b", b, "--c", c, "--l", l_text,
-                                          "--feedback-poly", f"(s + 2)^{n}", "--json"],
-                              lambda a, n, l=l: flint_control_same_work(a, n, l)))
+        cases.append(("control", ["control", "--a", at, "--b", b, "--c", c, "--observer-poly",
+                                  f"(s + 1)^{n}", "--feedback-poly", f"(s + 2)^{n}", "--json"],
+                      flint_control_same_work))
         if only:
             cases = [k for k in cases if k[0].split()[0] in only]
         for name, args, peer in cases:
@@ -398,6 +394,8 @@ def same_work(orders, only=()):
             if name == "control":
                 shown = "[" + ", ".join(str(x) for x in got[0].entries()) + "]"
                 assert shown == json.loads(out)["F"], "state feedbacks differ"
+                shown = "[" + "; ".join(str(x) for x in got[1]) + "]"
+                assert shown == json.loads(out)["L"], "observer gains differ"
             print(f"| `{name}` | {n} | {own * 1e3:.2f} ms | {t_fl * 1e3:.2f} ms | "
                   f"{own / t_fl:.1f}× |", flush=True)
 

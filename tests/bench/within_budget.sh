@@ -21,13 +21,16 @@ PY
 only=${ONLY:-}
 commands=("observe" "canonical" "gain --repeated 1 --summary" "gain --repeated 1"
           "feedback --repeated 1" "discrete --poly" "discrete --deadbeat"
-          "reduced --repeated 1" "detectable --repeated 1")
+          "reduced --repeated 1" "detectable --repeated 1" "control")
 echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"
 for cmd in "${commands[@]}"; do
   [ -n "$only" ] && [ "$cmd" != "$only" ] && continue
   for n in 20 40 60 80 100 150 200; do
     case "$cmd" in
       feedback*) plant=(--a "$(cat "$dir/a$n")" --b "$(cat "$dir/b$n")") ;;
+      # both gains designed from their polynomials: observer (s + 1)ⁿ, feedback (s + 2)ⁿ
+      control) plant=(--a "$(cat "$dir/a$n")" --b "$(cat "$dir/b$n")" --c "$(cat "$dir/c$n")"
+                      --observer-poly "(s + 1)^$n" --feedback-poly "(s + 2)^$n") ;;
       *) plant=(--a "$(cat "$dir/a$n")" --c "$(cat "$dir/c$n")") ;;
     esac
     # a discrete design: every pole at z = 1/2
