@@ -186,6 +186,13 @@ impl Fraction {
         r
     }
 
+    /// Whether it holds a square root `√d` (a symbol reduced by `√d² = d`, which a
+    /// multivariate gcd would take for a free symbol).
+    pub(crate) fn has_radical(&self) -> bool {
+        let radical = |p: &MultiPoly| p.variables().iter().any(|v| radicand(v).is_some());
+        radical(&self.num) || radical(&self.den)
+    }
+
     /// The symbols it depends on (square roots excluded).
     pub fn symbols(&self) -> Vec<String> {
         let mut v: Vec<String> = self

@@ -7,6 +7,7 @@
 //! [`RationalFunction`] keeps a transfer function in lowest terms with a monic denominator.
 
 mod factor;
+mod fraction_gcd;
 mod integer_gcd;
 pub(crate) use integer_gcd::divide_exact_integers;
 mod quadratic_gcd;

@@ -57,6 +57,15 @@ impl<R: Ring> Poly<R> {
         let quadratic = back.coeffs.into_iter().map(Quadratic::rational).collect();
         crate::algebra::from_concrete(Poly::new(quadratic, &self.var)).map(Some)
     }
+    /// The gcd through one multivariate gcd when both polynomials are over the rational
+    /// functions of the parameters (`super::fraction_gcd`); `None` otherwise.
+    fn through_fractions(&self, other: &Self) -> Option<Self> {
+        use crate::algebra::Fraction;
+        use std::any::Any;
+        let a = (self as &dyn Any).downcast_ref::<Poly<Fraction>>()?;
+        let b = (other as &dyn Any).downcast_ref::<Poly<Fraction>>()?;
+        crate::algebra::from_concrete(super::fraction_gcd::gcd_fraction(a, b)?)
+    }
     /// Runs `f` on the coefficients when both polynomials are over `Q(√d)` with some coefficient
     /// irrational (the fraction-free `Z[√d]` algorithms), and brings the result back; `None`
     /// when `f` declines (another type, all rational, two fields), `Some(None)` when `f` says
@@ -355,6 +364,9 @@ impl<F: Field + 'static> Poly<F> {
         if let Some(Some(g)) = self.through_quadratics(other, |a, b| {
             super::quadratic_gcd::gcd_quadratic(a, b).map(Some)
         }) {
+            return g;
+        }
+        if let Some(g) = self.through_fractions(other) {
             return g;
         }
         let (mut a, mut b) = (self.clone(), other.clone());
