@@ -113,7 +113,8 @@ pub fn state_feedback(
 /// let a = parse_matrix::<Rational>("[0 1; -2 -3]").unwrap();
 /// let c = parse_matrix::<Rational>("[1 0]").unwrap();
 /// let p = parse_polynomial::<Rational>("s^2 + 9s + 20", "s").unwrap();
-/// assert_eq!(observer_gain(&a, &c, &p).unwrap().to_input(), "[-6; -0]");
+/// // A + LC = [l₁ 1; l₂ − 2 −3]: s² + (3 − l₁)s + 2 − 3l₁ − l₂ = s² + 9s + 20
+/// assert_eq!(observer_gain(&a, &c, &p).unwrap().to_input(), "[-6; 0]");
 /// ```
 ///
 /// # Errors

@@ -33,6 +33,9 @@ def test_to_json_is_the_command_lines_json():
          ["discrete", "--a", "[1 1; 0 1]", "--c", "[1 0]", "--deadbeat"]),
         (owb.gain(tf="(s + 1)/(s^2 + 3s + 5)", itae=1),
          ["gain", "--tf", "(s + 1)/(s^2 + 3s + 5)", "--itae", "1"]),
+        (owb.control("[2 -3; 4 -5]", "[2; 3]", "[-3 2]", observer_poly=[1, 12, 36], feedback_poly="s^2 + 3s + 2"),
+         ["control", "--a", "[2 -3; 4 -5]", "--b", "[2; 3]", "--c", "[-3 2]",
+          "--observer-poly", "s^2 + 12s + 36", "--feedback-poly", "s^2 + 3s + 2"]),
     ]
     for result, args in cases:
         status, out, err = owb_cli(*args, "--json")
