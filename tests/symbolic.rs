@@ -359,12 +359,19 @@ fn the_work_budget_stops_a_runaway_design() {
 }
 
 fn check(exercise: &str, answers: &str) -> serde_json::Value {
-    let dir = std::env::temp_dir().join(format!("owb-formula-{}-{exercise}", std::process::id()));
+    // a folder per call: the tests run in parallel in one process
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!(
+        "owb-formula-{}-{call}-{exercise}",
+        std::process::id()
+    ));
     std::fs::create_dir_all(&dir).expect("a temporary folder");
     let file = dir.join(format!("answers-{}.toml", answers.len()));
     std::fs::write(&file, answers).expect("the answers are written");
     let path = format!("worked_examples/exercises/{exercise}.toml");
     let (code, out, err) = owb(&["check", &path, file.to_str().expect("utf-8"), "--json"]);
+    std::fs::remove_dir_all(&dir).ok();
     assert!(code == 0 || code == 1, "{err}");
     serde_json::from_str(&out).expect("valid JSON")
 }

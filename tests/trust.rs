@@ -535,32 +535,53 @@ fn a_class_with_hostile_submissions_is_graded_and_the_report_is_safe() {
 #[test]
 fn a_scenario_name_never_leaves_the_output_folder() {
     let dir = temp_dir("scenario");
-    let src = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("worked_examples/stoustrup-series-connection.toml");
+    // an example with scenarios (the one named before had none, and the test returned early
+    // without running anything); its first scenario renamed everywhere it is named
+    let src =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("worked_examples/baranowski-rc-ladder.toml");
     let text = std::fs::read_to_string(&src).unwrap();
-    if !text.contains("[[scenarios]]") {
-        return;
-    }
-    let hostile = text.replacen("name = \"", "name = \"../../escape-", 1);
+    assert!(
+        text.contains("[[scenarios]]\nname = \"fig-3-4\""),
+        "the example's first scenario"
+    );
+    let hostile = text.replace("\"fig-3-4\"", "\"../../escape-fig-3-4\"");
     let example = dir.join("hostile.toml");
     std::fs::write(&example, hostile).unwrap();
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();
     let svg = out.join("fig.svg");
-    let (code, _, err) = owb(&[
+    let (code, stdout, err) = owb(&[
         "simulate",
         example.to_str().unwrap(),
         "--svg",
         svg.to_str().unwrap(),
     ]);
-    assert!(matches!(code, 0..=2), "{err}");
-    assert!(!dir.join("escape-").exists());
-    for e in std::fs::read_dir(&dir).unwrap().flatten() {
-        assert!(
-            !e.file_name().to_string_lossy().starts_with("escape"),
-            "{:?}",
-            e.path()
-        );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains("../../escape-fig-3-4 — Fig. 3 and 4"),
+        "{stdout}"
+    );
+    // the figure is written inside the folder asked for, under a name with the path made safe
+    let written: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(written.len(), 5, "{written:?}");
+    assert!(
+        written
+            .iter()
+            .any(|n| n.contains("escape-fig-3-4") && !n.contains('/')),
+        "{written:?}"
+    );
+    for folder in [dir.as_path(), dir.parent().unwrap()] {
+        for e in std::fs::read_dir(folder).unwrap().flatten() {
+            assert!(
+                !e.file_name().to_string_lossy().starts_with("escape"),
+                "{:?}",
+                e.path()
+            );
+        }
     }
     std::fs::remove_dir_all(&dir).ok();
 }

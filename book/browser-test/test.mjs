@@ -10,7 +10,7 @@
 import { chromium } from "playwright-core";
 import { execFileSync } from "node:child_process";
 import { createServer } from "node:http";
-import { readFileSync, readdirSync, mkdirSync, writeFileSync, mkdtempSync, existsSync, statSync } from "node:fs";
+import { readFileSync, readdirSync, mkdirSync, writeFileSync, mkdtempSync, existsSync, statSync, rmSync } from "node:fs";
 import { join, extname, resolve, dirname } from "node:path";
 import { tmpdir } from "node:os";
 import { fileURLToPath, pathToFileURL } from "node:url";
@@ -659,4 +659,5 @@ if (problems.length > 0) {
   failures += 1;
 }
 console.log(failures === 0 ? "browser tests: all passed" : `browser tests: ${failures} failed`);
+rmSync(scratch, { recursive: true, force: true });
 process.exit(failures === 0 ? 0 : 1);
