@@ -337,6 +337,102 @@ pub struct ObserverBasedControl<F: Field = Rational> {
     pub derivation: Derivation,
 }
 
+/// `det(sI − A_cl)` for the closed loop `[A + BF, BF; 0, A + LC]`, computed from the matrix
+/// itself: the product of its diagonal blocks' polynomials ([`linalg::characteristic_polynomial`]
+/// splits a block triangular matrix), each block taken on its own. With an integral A and a B
+/// or C of several nonzero entries, a gain's fractions fill the whole block, and scaling it by
+/// their denominator multiplies the primes the multimodular polynomial needs by n (order 40:
+/// 6 s). So the closed loop is first brought, by a similarity with integer entries and
+/// determinant 1 ([`one_line_basis`]), to a basis where B and Cᵀ have one nonzero entry each:
+/// there each diagonal block's fractions lie in one row or one column, which the polynomial
+/// takes as a rank-one update of the block's integral rest. The polynomial does not depend on
+/// the basis; the steps show A_cl as formed.
+fn closed_loop_polynomial<F: Field>(
+    closed: &Matrix<F>,
+    a: &Matrix<F>,
+    b: &Matrix<F>,
+    c: &Matrix<F>,
+) -> Result<Poly<F>, LinalgError> {
+    if let (Some(m), Some(a), Some(b), Some(c)) = (
+        linalg::as_rational(closed),
+        linalg::as_rational(a),
+        linalg::as_rational(b),
+        linalg::as_rational(c),
+    ) {
+        if a.entries().iter().all(Rational::is_integer) {
+            let similar = one_line_basis(m, b.entries(), c.entries());
+            let p = linalg::characteristic_polynomial(&similar, "s")?;
+            if let Some(p) = crate::algebra::from_concrete::<Poly<F>, _>(p) {
+                return Ok(p);
+            }
+        }
+    }
+    linalg::characteristic_polynomial(closed, "s")
+}
+
+/// `S·M·S⁻¹` for the 2n × 2n closed loop `M` and `S = diag(U, W⁻¹)`, integer matrices of
+/// determinant 1 with `U b` and `c W` each of one nonzero entry: Euclid's algorithm on the
+/// entries of b (of c), each step an elementary similarity `P = I − q e_t e_sᵀ` (row t minus q
+/// times row s, then column s plus q times column t). Then `U (A + b f) U⁻¹ = U A U⁻¹ + (U b)(f
+/// U⁻¹)`, an integral matrix plus fractions in one row, and `W⁻¹ (A + l c) W` the same in one
+/// column. The steps run on M's numerators over one common denominator (integer row and column
+/// operations, no gcd), each entry brought to lowest terms once at the end.
+fn one_line_basis(m: &Matrix<Rational>, b: &[Rational], c: &[Rational]) -> Matrix<Rational> {
+    let (n, size) = (b.len(), m.rows());
+    let (mut w, d) = crate::algebra::gcd::integer_numerators(m.entries());
+    // M ← P M P⁻¹ for P = I − q e_t e_sᵀ: row t −= q·row s, then column s += q·column t
+    let mut similarity = |t: usize, s: usize, q: &crate::algebra::BigInt| {
+        for j in 0..size {
+            let step = q * &w[s * size + j];
+            w[t * size + j] -= step;
+        }
+        for i in 0..size {
+            let step = q * &w[i * size + t];
+            w[i * size + s] += step;
+        }
+    };
+    // P b: b_t −= q b_s
+    for (t, s, q) in euclid_steps(b) {
+        similarity(t, s, &q);
+    }
+    // c P⁻¹ with P = I + q e_s e_tᵀ: c_t −= q c_s (the bottom block's indices)
+    for (t, s, q) in euclid_steps(c) {
+        similarity(n + s, n + t, &-q);
+    }
+    let mut entries = w.into_iter();
+    Matrix::from_fn(size, size, |_, _| {
+        crate::algebra::gcd::fraction(entries.next().unwrap_or_default(), d.clone())
+    })
+}
+
+/// Euclid's algorithm on the integer direction of `v` (its entries over their common
+/// denominator): steps `(t, s, q)`, each `v_t −= q v_s`, until one entry is nonzero. Each round
+/// reduces every other entry modulo the smallest in magnitude, so the smallest shrinks.
+fn euclid_steps(v: &[Rational]) -> Vec<(usize, usize, crate::algebra::BigInt)> {
+    use crate::algebra::BigInt;
+    use num_integer::Integer;
+    let d = Rational::from_integer(Rational::common_denominator(v));
+    let mut w: Vec<BigInt> = v.iter().map(|x| (x * &d).to_integer()).collect();
+    let mut steps = Vec::new();
+    loop {
+        let nonzero: Vec<usize> = (0..w.len()).filter(|&i| w[i] != BigInt::from(0)).collect();
+        let Some(&k) = nonzero.iter().min_by_key(|&&i| w[i].magnitude().clone()) else {
+            return steps;
+        };
+        if nonzero.len() == 1 {
+            return steps;
+        }
+        for &i in &nonzero {
+            if i != k {
+                let q = w[i].div_floor(&w[k]);
+                let step = &q * &w[k];
+                w[i] -= step;
+                steps.push((i, k, q));
+            }
+        }
+    }
+}
+
 /// Analyses the observer-based controller `u = F x̂` with observer gain `L` (A + LC) on a SISO
 /// plant.
 ///
@@ -384,7 +480,7 @@ pub fn observer_based_control<F: Field>(
     let bottom = Matrix::zeros(n, n).hstack(&a_lc)?;
     let closed = top.vstack(&bottom)?;
     d.push("A_cl", "[A + BF, BF; 0, A + LC] in (x, e)", &closed);
-    let closed_loop_polynomial = linalg::characteristic_polynomial(&closed, "s")?;
+    let closed_loop_polynomial = closed_loop_polynomial(&closed, a, b, c)?;
     d.push(
         "det(sI − A_cl)",
         "",
@@ -466,6 +562,42 @@ mod tests {
             proptest::prop_assert_eq!(u.open.clone() - u.cl.clone(), chi(&a_lc));
             proptest::prop_assert_eq!(u.controller_polynomial(), Some(chi(&a_k)));
             proptest::prop_assert_eq!(u.perturbed_controller_polynomial(), Some(chi(&perturbed)));
+        }
+    }
+
+    proptest::proptest! {
+        /// The closed loop in the basis of one line has the same characteristic polynomial
+        /// (Berkowitz on both), and its diagonal blocks' fractions lie in one row (the top
+        /// block) and one column (the bottom block): for integral A, b and c of any entries,
+        /// rational F and L.
+        #[test]
+        fn one_line_basis_keeps_the_polynomial_and_confines_the_fractions(
+            n in 2usize..6,
+            entries in proptest::collection::vec(-3i64..=3, 25),
+            integers in proptest::collection::vec(-9i64..=9, 10),
+            gains in proptest::collection::vec((-9i64..=9, 1i64..=7), 10),
+        ) {
+            let z = |x: i64| <Rational as crate::algebra::Ring>::from_i64(x);
+            let q = |(p, d): (i64, i64)| Rational::new(p.into(), d.into());
+            let a = Matrix::from_fn(n, n, |i, j| z(entries[5 * i + j]));
+            let b = Matrix::from_fn(n, 1, |i, _| z(integers[i]));
+            let c = Matrix::from_fn(1, n, |_, j| z(integers[5 + j]));
+            let f = Matrix::from_fn(1, n, |_, j| q(gains[j]));
+            let l = Matrix::from_fn(n, 1, |i, _| q(gains[5 + i]));
+            let bf = b.mul(&f).unwrap();
+            let top = a.add(&bf).unwrap().hstack(&bf).unwrap();
+            let bottom = Matrix::zeros(n, n).hstack(&a.add(&l.mul(&c).unwrap()).unwrap()).unwrap();
+            let closed = top.vstack(&bottom).unwrap();
+            let similar = one_line_basis(&closed, b.entries(), c.entries());
+            proptest::prop_assert_eq!(
+                linalg::charpoly::berkowitz(&similar, "s").unwrap(),
+                linalg::charpoly::berkowitz(&closed, "s").unwrap()
+            );
+            let fractional = |i: usize, j: usize| !similar.get(i, j).is_integer();
+            let rows = (0..n).filter(|&i| (0..n).any(|j| fractional(i, j))).count();
+            let columns = (n..2 * n).filter(|&j| (n..2 * n).any(|i| fractional(i, j))).count();
+            proptest::prop_assert!(rows <= 1 && columns <= 1, "{} rows, {} columns", rows, columns);
+            proptest::prop_assert!((0..n).all(|i| (0..n).all(|j| *similar.get(n + i, j) == z(0))));
         }
     }
 
