@@ -256,10 +256,40 @@ pub fn fraction(n: BigInt, d: BigInt) -> Rational {
 /// costs, instead of two big-integer gcds.
 pub fn small_ratio(n: i128, d: i128) -> Rational {
     debug_assert!(d != 0, "small_ratio: zero denominator");
+    // what a typed matrix holds: an integer (no gcd), or a fraction of two words (Stein's gcd
+    // on u64; num-integer's on i128 divided by a software routine)
+    if d == 1 {
+        return Rational::from_integer(BigInt::from(n));
+    }
+    if let (Ok(nw), Ok(dw)) = (i64::try_from(n), i64::try_from(d)) {
+        let g = binary_gcd(nw.unsigned_abs(), dw.unsigned_abs()) as i128;
+        let (n, d) = (n / g, d / g);
+        let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+        return Rational::new_raw(BigInt::from(n), BigInt::from(d));
+    }
     let g = num_integer::Integer::gcd(&n, &d);
     let (n, d) = if g == 0 { (n, d) } else { (n / g, d / g) };
     let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
     Rational::new_raw(BigInt::from(n), BigInt::from(d))
+}
+
+/// Stein's binary gcd of two words, `b` nonzero.
+fn binary_gcd(mut a: u64, mut b: u64) -> u64 {
+    if a == 0 {
+        return b;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+    }
 }
 
 /// `x + y`, reduced by Lehmer's gcd (num-rational's `+` reduces by num-bigint's binary gcd, a
@@ -343,6 +373,29 @@ pub fn lcm_of_denominators(values: &[Rational]) -> BigInt {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    proptest::proptest! {
+        /// A typed fraction of words is num-rational's reduced fraction, for any signs, small
+        /// and near the limits of i64 (and past them, through the i128 path).
+        #[test]
+        fn small_ratios_are_num_rationals(
+            n in proptest::prelude::any::<i64>(),
+            d in proptest::prelude::any::<i64>(),
+            shift in 0u32..40,
+            wide in proptest::prelude::any::<bool>(),
+        ) {
+            let d = if d == 0 { 1 } else { d };
+            let (n, d) = if wide {
+                (i128::from(n) << shift, i128::from(d) << (shift / 2))
+            } else {
+                (i128::from(n >> shift), i128::from(d >> shift).max(1))
+            };
+            let r = small_ratio(n, d);
+            proptest::prop_assert_eq!(&r, &Rational::new(BigInt::from(n), BigInt::from(d)));
+            proptest::prop_assert!(r.denom().is_positive());
+            proptest::prop_assert!(gcd(r.numer(), r.denom()).is_one() || r.numer().is_zero() && r.denom().is_one());
+        }
+    }
 
     proptest::proptest! {
         /// The Lehmer-reduced sum and product are num-rational's, in lowest terms with a
