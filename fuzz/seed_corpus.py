@@ -58,6 +58,7 @@ def main():
     for line in [
         'canonical --a "[2 -3; 4 -5]" --c "[-3 2]" --b "[1; 0]"',
         'control --a "[0 1; 0 0]" --b "[0; 1]" --c "[1 0]" --l "[2; 1]" --feedback-poly "s^2 + 2s + 2"',
+        'control --a "[0 1; -k -c]" --b "[0; 1]" --c "[1 0]" --observer-poly "(s + 3)^2" --feedback-poly "s^2 + 2s + 2"',
         'perfect --a "[0 1; -2 -3]" --b "[0; 1]" --c "[1 0]" --changed-a "[0 1; -3 -3]"',
         'exercise new --kind pole-placement --order 3 --seed 11',
         'gain --a "[0 1 0; 0 0 1; -1 -2 -3]" --c "[1 0 0]" --butterworth 1/2 --json',

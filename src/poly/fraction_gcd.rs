@@ -10,8 +10,8 @@
 //! two-state controller with two parameters ran out of the symbolic work budget in the gcd
 //! of its transfer function, which this takes in a few hundred products.
 //!
-//! **Cost.** Two lcms of the denominators and one multivariate gcd, all charged to the work
-//! meter ([`crate::algebra::budget`]).
+//! **Cost.** Two lcms of the denominators, the products that clear them and one multivariate
+//! gcd, all charged to the work meter ([`crate::algebra::budget`]).
 //!
 //! **Identity.** By Gauss's lemma the gcd over Q(parameters)[s] is the multivariate gcd up to a
 //! factor free of `s` (a unit there), which `monic` removes: `g` divides both, and the
@@ -20,11 +20,12 @@
 //! common factor).
 
 use super::Poly;
-use crate::algebra::{poly_gcd, Fraction, IntegralDomain, Monomial, MultiPoly, One, Zero};
+use crate::algebra::{budget, poly_gcd, Fraction, IntegralDomain, Monomial, MultiPoly, One, Zero};
 
 /// The monic gcd of `a` and `b` (both nonzero) over the rational functions of the parameters,
-/// `None` when a coefficient holds a square root (or a division that must be exact is not:
-/// Euclid then runs).
+/// `None` when a coefficient holds a square root, when the work meter has run out (Euclid then
+/// runs, and stops at once: see [`crate::algebra::budget`]) or a division that must be exact is
+/// not.
 pub(crate) fn gcd_fraction(a: &Poly<Fraction>, b: &Poly<Fraction>) -> Option<Poly<Fraction>> {
     if a.is_zero()
         || b.is_zero()
@@ -37,6 +38,9 @@ pub(crate) fn gcd_fraction(a: &Poly<Fraction>, b: &Poly<Fraction>) -> Option<Pol
     }
     let var = a.var();
     let g = poly_gcd(&cleared(a)?, &cleared(b)?);
+    if budget::exhausted() {
+        return None;
+    }
     let coeffs = g
         .coefficients_in(var)
         .into_iter()
@@ -46,13 +50,17 @@ pub(crate) fn gcd_fraction(a: &Poly<Fraction>, b: &Poly<Fraction>) -> Option<Pol
 }
 
 /// `p` times the lcm of its coefficients' denominators, as a polynomial in `s` and the
-/// parameters.
+/// parameters. Every product is charged to the work meter first; `None` once it has run out.
 fn cleared(p: &Poly<Fraction>) -> Option<MultiPoly> {
+    let product = |x: MultiPoly, y: MultiPoly| {
+        budget::charge(x.product_work(&y));
+        (!budget::exhausted()).then(|| x * y)
+    };
     let mut lcm = MultiPoly::one();
     for c in p.coeffs() {
         let d = c.denominator();
         let g = poly_gcd(&lcm, d);
-        lcm = lcm * d.divide_exact(&g)?;
+        lcm = product(lcm, d.divide_exact(&g)?)?;
     }
     let mut out = MultiPoly::zero();
     for (k, c) in p.coeffs().iter().enumerate() {
@@ -61,7 +69,7 @@ fn cleared(p: &Poly<Fraction>) -> Option<MultiPoly> {
             crate::algebra::Rational::one(),
             Monomial::var(p.var(), k as u32),
         );
-        out = out + c.numerator().clone() * scale * power;
+        out = out + product(c.numerator().clone(), scale)? * power;
     }
     Some(out)
 }
