@@ -73,13 +73,17 @@ pub fn standard_output_open() -> std::io::Result<()> {
     #[cfg(target_os = "linux")]
     {
         let null = std::fs::read_link("/proc/self/fd/1").is_ok_and(|p| p == Path::new("/dev/null"));
-        let read_write = std::fs::read_to_string("/proc/self/fdinfo/1").is_ok_and(|info| {
-            info.lines()
-                .find_map(|l| l.strip_prefix("flags:"))
-                .and_then(|f| u32::from_str_radix(f.trim(), 8).ok())
-                .is_some_and(|flags| flags & 0o3 == 0o2)
-        });
-        if null && read_write {
+        // its flags read only for /dev/null (an open, a read and a close less for every other
+        // output)
+        let read_write = || {
+            std::fs::read_to_string("/proc/self/fdinfo/1").is_ok_and(|info| {
+                info.lines()
+                    .find_map(|l| l.strip_prefix("flags:"))
+                    .and_then(|f| u32::from_str_radix(f.trim(), 8).ok())
+                    .is_some_and(|flags| flags & 0o3 == 0o2)
+            })
+        };
+        if null && read_write() {
             return Err(std::io::Error::other(closed));
         }
     }
