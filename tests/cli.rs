@@ -155,6 +155,12 @@ fn control_designs_the_observer_gain_from_its_polynomial() {
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+    // a JSON request is not parsed by the command line: both gains are refused by the command
+    let both = r#"{"command": "control", "a": "[2 -3; 4 -5]", "b": "[2; 3]", "c": "[-3 2]",
+        "l": "[-6; -12]", "observer-poly": "s^2 + 1", "f": "[42 -30]"}"#;
+    let request = observer_workbench::api::Command::from_json(both).expect("a well-formed request");
+    let failure = observer_workbench::api::run(request).expect_err("refused");
+    assert!(failure.to_string().contains("not both"), "{failure}");
 }
 
 /// The stable `--json` interface of `owb gain`.

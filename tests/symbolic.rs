@@ -210,7 +210,8 @@ fn state_feedback_for_the_steering_model() {
 
 #[test]
 fn observer_based_control_in_symbols() {
-    let (code, out, _) = owb(&[
+    // the double integrator; its observer gain given, or designed from its polynomial
+    let plant = [
         "control",
         "--a",
         "[0 1; 0 0]",
@@ -218,27 +219,18 @@ fn observer_based_control_in_symbols() {
         "[0; 1]",
         "--c",
         "[1 0]",
-        "--l",
-        "[-2*w; -w^2]",
-        "--feedback-poly",
-        "s^2 + 2*zeta*w*s + w^2",
-    ]);
+    ];
+    let feedback = ["--feedback-poly", "s^2 + 2*zeta*w*s + w^2"];
+    let (code, out, _) = owb(&[&plant[..], &["--l", "[-2*w; -w^2]"], &feedback].concat());
     assert_eq!(code, 0);
     assert!(out.contains("Separation principle: det(sI − A_cl) = det"));
     // the same L designed in symbols from its polynomial gives the same report
     let designed = owb(&[
-        "control",
-        "--a",
-        "[0 1; 0 0]",
-        "--b",
-        "[0; 1]",
-        "--c",
-        "[1 0]",
-        "--observer-poly",
-        "s^2 + 2*w*s + w^2",
-        "--feedback-poly",
-        "s^2 + 2*zeta*w*s + w^2",
-    ]);
+        &plant[..],
+        &["--observer-poly", "s^2 + 2*w*s + w^2"],
+        &feedback,
+    ]
+    .concat());
     assert_eq!(designed, (0, out.clone(), String::new()));
     insta::assert_snapshot!(out);
 }

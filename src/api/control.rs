@@ -106,7 +106,9 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
     super::args::check_plant(&a, Some(&b), &c, None)?;
     let (n, m, p) = (a.rows(), b.cols(), c.rows());
     let l = match (given, &args.observer_poly) {
-        (Some(l), _) => {
+        // (the command line refuses both; a JSON request is told here)
+        (Some(_), Some(_)) => bail!("give --l or --observer-poly, not both"),
+        (Some(l), None) => {
             super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
             match super::args::observer_convention(&args.convention)? {
                 Convention::AMinusKC => l.neg(),
@@ -211,7 +213,9 @@ fn symbolic(
         .with(c.entries(), "C")?
         .with(b.entries(), "B")?;
     let l = match (given, &args.observer_poly) {
-        (Some(l), _) => {
+        // (the command line refuses both; a JSON request is told here)
+        (Some(_), Some(_)) => bail!("give --l or --observer-poly, not both"),
+        (Some(l), None) => {
             work = work.with(l.entries(), "L")?;
             match convention {
                 Convention::AMinusKC => l.neg(),
