@@ -109,12 +109,16 @@ pub fn state_feedback(
 /// ```
 /// use observer_workbench::algebra::Rational;
 /// use observer_workbench::control::observer_gain;
+/// use observer_workbench::linalg::characteristic_polynomial;
 /// use observer_workbench::syntax::{parse_matrix, parse_polynomial};
 /// let a = parse_matrix::<Rational>("[0 1; -2 -3]").unwrap();
 /// let c = parse_matrix::<Rational>("[1 0]").unwrap();
 /// let p = parse_polynomial::<Rational>("s^2 + 9s + 20", "s").unwrap();
 /// // A + LC = [l₁ 1; l₂ − 2 −3]: s² + (3 − l₁)s + 2 − 3l₁ − l₂ = s² + 9s + 20
-/// assert_eq!(observer_gain(&a, &c, &p).unwrap().to_input(), "[-6; 0]");
+/// let l = observer_gain(&a, &c, &p).unwrap();
+/// assert_eq!(l.to_input(), "[-6; 0]");
+/// let a_lc = a.add(&l.mul(&c).unwrap()).unwrap();
+/// assert_eq!(characteristic_polynomial(&a_lc, "s").unwrap(), p);
 /// ```
 ///
 /// # Errors
@@ -359,8 +363,11 @@ fn closed_loop_polynomial<F: Field>(
         linalg::as_rational(b),
         linalg::as_rational(c),
     ) {
-        if a.entries().iter().all(Rational::is_integer) {
-            let similar = one_line_basis(m, b.entries(), c.entries());
+        let (b_steps, c_steps) = (euclid_steps(b.entries()), euclid_steps(c.entries()));
+        // (B and Cᵀ of one nonzero entry each, B = e₁ and C = e₁ᵀ: the basis is already so)
+        let moves = !(b_steps.is_empty() && c_steps.is_empty());
+        if moves && a.entries().iter().all(Rational::is_integer) {
+            let similar = one_line_basis(m, b.rows(), &b_steps, &c_steps);
             let p = linalg::characteristic_polynomial(&similar, "s")?;
             if let Some(p) = crate::algebra::from_concrete::<Poly<F>, _>(p) {
                 return Ok(p);
@@ -377,8 +384,14 @@ fn closed_loop_polynomial<F: Field>(
 /// U⁻¹)`, an integral matrix plus fractions in one row, and `W⁻¹ (A + l c) W` the same in one
 /// column. The steps run on M's numerators over one common denominator (integer row and column
 /// operations, no gcd), each entry brought to lowest terms once at the end.
-fn one_line_basis(m: &Matrix<Rational>, b: &[Rational], c: &[Rational]) -> Matrix<Rational> {
-    let (n, size) = (b.len(), m.rows());
+/// `b_steps` and `c_steps` are [`euclid_steps`] of b and of c; n is the plant's order.
+fn one_line_basis(
+    m: &Matrix<Rational>,
+    n: usize,
+    b_steps: &[(usize, usize, crate::algebra::BigInt)],
+    c_steps: &[(usize, usize, crate::algebra::BigInt)],
+) -> Matrix<Rational> {
+    let size = m.rows();
     let (mut w, d) = crate::algebra::gcd::integer_numerators(m.entries());
     // M ← P M P⁻¹ for P = I − q e_t e_sᵀ: row t −= q·row s, then column s += q·column t
     let mut similarity = |t: usize, s: usize, q: &crate::algebra::BigInt| {
@@ -392,11 +405,11 @@ fn one_line_basis(m: &Matrix<Rational>, b: &[Rational], c: &[Rational]) -> Matri
         }
     };
     // P b: b_t −= q b_s
-    for (t, s, q) in euclid_steps(b) {
-        similarity(t, s, &q);
+    for (t, s, q) in b_steps {
+        similarity(*t, *s, q);
     }
     // c P⁻¹ with P = I + q e_s e_tᵀ: c_t −= q c_s (the bottom block's indices)
-    for (t, s, q) in euclid_steps(c) {
+    for (t, s, q) in c_steps {
         similarity(n + s, n + t, &-q);
     }
     let mut entries = w.into_iter();
@@ -409,19 +422,20 @@ fn one_line_basis(m: &Matrix<Rational>, b: &[Rational], c: &[Rational]) -> Matri
 /// denominator): steps `(t, s, q)`, each `v_t −= q v_s`, until one entry is nonzero. Each round
 /// reduces every other entry modulo the smallest in magnitude, so the smallest shrinks.
 fn euclid_steps(v: &[Rational]) -> Vec<(usize, usize, crate::algebra::BigInt)> {
-    use crate::algebra::BigInt;
     use num_integer::Integer;
-    let d = Rational::from_integer(Rational::common_denominator(v));
-    let mut w: Vec<BigInt> = v.iter().map(|x| (x * &d).to_integer()).collect();
+    use num_traits::Zero;
+    let (mut w, _) = crate::algebra::gcd::integer_numerators(v);
     let mut steps = Vec::new();
     loop {
-        let nonzero: Vec<usize> = (0..w.len()).filter(|&i| w[i] != BigInt::from(0)).collect();
-        let Some(&k) = nonzero.iter().min_by_key(|&&i| w[i].magnitude().clone()) else {
-            return steps;
-        };
-        if nonzero.len() == 1 {
+        let nonzero: Vec<usize> = (0..w.len()).filter(|&i| !w[i].is_zero()).collect();
+        if nonzero.len() <= 1 {
             return steps;
         }
+        let k = nonzero
+            .iter()
+            .copied()
+            .min_by(|&i, &j| w[i].magnitude().cmp(w[j].magnitude()))
+            .unwrap_or(nonzero[0]);
         for &i in &nonzero {
             if i != k {
                 let q = w[i].div_floor(&w[k]);
@@ -588,7 +602,8 @@ mod tests {
             let top = a.add(&bf).unwrap().hstack(&bf).unwrap();
             let bottom = Matrix::zeros(n, n).hstack(&a.add(&l.mul(&c).unwrap()).unwrap()).unwrap();
             let closed = top.vstack(&bottom).unwrap();
-            let similar = one_line_basis(&closed, b.entries(), c.entries());
+            let (b_steps, c_steps) = (euclid_steps(b.entries()), euclid_steps(c.entries()));
+            let similar = one_line_basis(&closed, n, &b_steps, &c_steps);
             proptest::prop_assert_eq!(
                 linalg::charpoly::berkowitz(&similar, "s").unwrap(),
                 linalg::charpoly::berkowitz(&closed, "s").unwrap()

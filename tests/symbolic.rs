@@ -5,7 +5,7 @@
 mod common;
 use common::owb;
 use observer_workbench::algebra::{Fraction, Rational};
-use observer_workbench::syntax::{parse_matrix, parse_scalar};
+use observer_workbench::syntax::{parse_matrix, parse_polynomial, parse_scalar};
 
 fn json(args: &[&str]) -> serde_json::Value {
     let (code, out, err) = owb(args);
@@ -831,21 +831,34 @@ fn a_desired_polynomial_too_costly_to_read_is_refused_quickly() {
 /// (Euclid's algorithm there ran out of it).
 #[test]
 fn a_controller_designed_in_two_parameters() {
-    let (code, out, err) = owb(&[
-        "control",
-        "--a",
-        "[0 1; -k -c]",
+    let plant = ["--a", "[0 1; -k -c]", "--c", "[1 0]"];
+    let (observer, feedback) = ("s^2 + 9s + 20", "(s + 2)^2");
+    let both = [
         "--b",
         "[0; 1]",
-        "--c",
-        "[1 0]",
         "--observer-poly",
-        "s^2 + 9s + 20",
+        observer,
         "--feedback-poly",
-        "(s + 2)^2",
-    ]);
+        feedback,
+    ];
+    let (code, out, err) = owb(&[&["control"][..], &plant, &both].concat());
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("L = [c - 9; -c^2 + 9*c + k - 20]"), "{out}");
-    assert!(out.contains("(s^4 + 13s^3 + 60s^2 + 116s + 80)"), "{out}");
+    // L as `owb gain` designs it for A + LC
+    let poly = ["--poly", observer, "--convention", "a+lc", "--json"];
+    let (code, gain, err) = owb(&[&["gain"][..], &plant, &poly].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&gain).expect("JSON");
+    let entries: Vec<&str> = v["gain"]
+        .as_array()
+        .expect("the gain")
+        .iter()
+        .filter_map(|row| row[0].as_str())
+        .collect();
+    let l = format!("[{}]", entries.join("; "));
+    assert!(out.contains(&format!("L = {l} (A + LC)")), "{l}: {out}");
+    // the closed loop's denominator is the product of the two polynomials
+    let p = |text: &str| parse_polynomial::<Rational>(text, "s").expect("a polynomial");
+    let product = p(observer) * p(feedback);
+    assert!(out.contains(&format!("({product})")), "{product}: {out}");
     assert!(out.contains("identically in s and c, k"), "{out}");
 }

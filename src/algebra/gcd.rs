@@ -256,40 +256,27 @@ pub fn fraction(n: BigInt, d: BigInt) -> Rational {
 /// costs, instead of two big-integer gcds.
 pub fn small_ratio(n: i128, d: i128) -> Rational {
     debug_assert!(d != 0, "small_ratio: zero denominator");
-    // what a typed matrix holds: an integer (no gcd), or a fraction of two words (Stein's gcd
-    // on u64; num-integer's on i128 divided by a software routine)
+    // what a typed matrix holds: an integer (no gcd), or a fraction of two words, reduced on
+    // u64 magnitudes (num-integer's gcd is Stein's there; on i128 each division is a software
+    // routine)
     if d == 1 {
         return Rational::from_integer(BigInt::from(n));
     }
     if let (Ok(nw), Ok(dw)) = (i64::try_from(n), i64::try_from(d)) {
-        let g = binary_gcd(nw.unsigned_abs(), dw.unsigned_abs()) as i128;
-        let (n, d) = (n / g, d / g);
-        let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-        return Rational::new_raw(BigInt::from(n), BigInt::from(d));
+        let (nu, du) = (nw.unsigned_abs(), dw.unsigned_abs());
+        let g = num_integer::Integer::gcd(&nu, &du);
+        let magnitude = BigInt::from(nu / g);
+        let numerator = if (nw < 0) != (dw < 0) {
+            -magnitude
+        } else {
+            magnitude
+        };
+        return Rational::new_raw(numerator, BigInt::from(du / g));
     }
     let g = num_integer::Integer::gcd(&n, &d);
     let (n, d) = if g == 0 { (n, d) } else { (n / g, d / g) };
     let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
     Rational::new_raw(BigInt::from(n), BigInt::from(d))
-}
-
-/// Stein's binary gcd of two words, `b` nonzero.
-fn binary_gcd(mut a: u64, mut b: u64) -> u64 {
-    if a == 0 {
-        return b;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
-    }
 }
 
 /// `x + y`, reduced by Lehmer's gcd (num-rational's `+` reduces by num-bigint's binary gcd, a

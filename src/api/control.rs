@@ -110,10 +110,7 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         (Some(_), Some(_)) => bail!("give --l or --observer-poly, not both"),
         (Some(l), None) => {
             super::args::expect_shape("--l", &l, n, p, "states × outputs")?;
-            match super::args::observer_convention(&args.convention)? {
-                Convention::AMinusKC => l.neg(),
-                Convention::APlusLC => l,
-            }
+            in_a_plus_lc(l, super::args::observer_convention(&args.convention)?)
         }
         (None, Some(text)) => {
             // L is designed for A + LC whatever --convention says; a wrong spelling is refused
@@ -143,6 +140,17 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         control_text(rep, &f, &l, &r, "");
     }
     Ok(Outcome::Ok)
+}
+
+/// A given observer gain in `convention`, written for A + LC (what the analysis and the
+/// answer use): the sign flipped, when it flips, by the convention type's one place.
+fn in_a_plus_lc<F: Field>(l: Matrix<F>, convention: Convention) -> Matrix<F> {
+    crate::observer::ObserverGain {
+        matrix: l,
+        convention,
+    }
+    .to_convention(Convention::APlusLC)
+    .matrix
 }
 
 /// The answer as `--json` gives it (the stable shape), for numbers or formulas.
@@ -217,10 +225,7 @@ fn symbolic(
         (Some(_), Some(_)) => bail!("give --l or --observer-poly, not both"),
         (Some(l), None) => {
             work = work.with(l.entries(), "L")?;
-            match convention {
-                Convention::AMinusKC => l.neg(),
-                Convention::APlusLC => l,
-            }
+            in_a_plus_lc(l, convention)
         }
         (None, Some(text)) => {
             let desired = DesiredRequest::Poly(text)

@@ -989,7 +989,11 @@ mod tests {
             let taken: Vec<u64> = primes_after(table).take(TABLED + 5).collect();
             assert_eq!(taken, searched);
         }
-        assert_eq!(elimination_primes().next(), Some(1_073_741_789));
+        // and the first is the largest prime below 2³⁰, by trial division (not Miller–Rabin)
+        let composite = |c: u64| (2..).take_while(|d| d * d <= c).any(|d| c % d == 0);
+        let first = elimination_primes().next().expect("a prime");
+        assert!(first < 1 << 30 && !composite(first));
+        assert!((first + 1..1 << 30).all(composite));
     }
 
     #[test]

@@ -1,8 +1,9 @@
 //! The gcd of two polynomials in `s` whose coefficients are rational functions of the plant's
 //! parameters (`Poly<Fraction>`), by one multivariate gcd instead of Euclid's algorithm.
 //!
-//! **Algorithm.** Each polynomial is multiplied by the lcm of its coefficients' denominators,
-//! which makes it a polynomial in `s` and the parameters over Q; the two are handed to the
+//! **Algorithm.** Each polynomial is multiplied by the lcm of its coefficients' denominators
+//! (read as one rational function in `s` and the parameters, its numerator), which makes it a
+//! polynomial in `s` and the parameters over Q; the two are handed to the
 //! multivariate gcd ([`crate::algebra::poly_gcd`], recursive primitive remainder sequences),
 //! and the result, read again as a polynomial in `s`, is made monic. Euclid's algorithm over
 //! the field of rational functions divides by remainders whose coefficients grow fast in the
@@ -10,8 +11,8 @@
 //! two-state controller with two parameters ran out of the symbolic work budget in the gcd
 //! of its transfer function, which this takes in a few hundred products.
 //!
-//! **Cost.** Two lcms of the denominators, the products that clear them and one multivariate
-//! gcd, all charged to the work meter ([`crate::algebra::budget`]).
+//! **Cost.** The two polynomials read as rational functions (Horner's rule in lowest terms) and
+//! one multivariate gcd, all charged to the work meter ([`crate::algebra::budget`]).
 //!
 //! **Identity.** By Gauss's lemma the gcd over Q(parameters)[s] is the multivariate gcd up to a
 //! factor free of `s` (a unit there), which `monic` removes: `g` divides both, and the
@@ -20,7 +21,7 @@
 //! common factor).
 
 use super::Poly;
-use crate::algebra::{budget, poly_gcd, Fraction, IntegralDomain, Monomial, MultiPoly, One, Zero};
+use crate::algebra::{budget, poly_gcd, Fraction, MultiPoly, Zero};
 
 /// The monic gcd of `a` and `b` (both nonzero) over the rational functions of the parameters,
 /// `None` when a coefficient holds a square root, when the work meter has run out (Euclid then
@@ -49,35 +50,24 @@ pub(crate) fn gcd_fraction(a: &Poly<Fraction>, b: &Poly<Fraction>) -> Option<Pol
     Some(Poly::new(coeffs, var).monic())
 }
 
-/// `p` times the lcm of its coefficients' denominators, as a polynomial in `s` and the
-/// parameters. Every product is charged to the work meter first; `None` once it has run out.
+/// `p` times the lcm of its coefficients' denominators (up to a factor free of s), as a
+/// polynomial in `s` and the parameters: the numerator of `p` read as one rational function,
+/// whose arithmetic keeps lowest terms and charges the work meter. `None` once the meter has
+/// run out.
 fn cleared(p: &Poly<Fraction>) -> Option<MultiPoly> {
-    let product = |x: MultiPoly, y: MultiPoly| {
-        budget::charge(x.product_work(&y));
-        (!budget::exhausted()).then(|| x * y)
-    };
-    let mut lcm = MultiPoly::one();
-    for c in p.coeffs() {
-        let d = c.denominator();
-        let g = poly_gcd(&lcm, d);
-        lcm = product(lcm, d.divide_exact(&g)?)?;
-    }
-    let mut out = MultiPoly::zero();
-    for (k, c) in p.coeffs().iter().enumerate() {
-        let scale = lcm.divide_exact(c.denominator())?;
-        let power = MultiPoly::term(
-            crate::algebra::Rational::one(),
-            Monomial::var(p.var(), k as u32),
-        );
-        out = out + product(c.numerator().clone(), scale)? * power;
-    }
-    Some(out)
+    let s = Fraction::symbol(p.var());
+    let whole = p
+        .coeffs()
+        .iter()
+        .rev()
+        .fold(Fraction::zero(), |acc, c| acc * s.clone() + c.clone());
+    (!budget::exhausted()).then(|| whole.numerator().clone())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::algebra::Field;
+    use crate::algebra::{Field, One};
     use crate::syntax::parse_polynomial;
 
     fn poly(text: &str) -> Poly<Fraction> {
