@@ -1072,6 +1072,67 @@ fn a_computation_past_its_time_budget_stops_with_the_limit_named() {
     assert!(out.contains("K = [6; 0]"), "{out}");
 }
 
+/// The budget's alarm and a command finishing race at budgets of a few microseconds: each run
+/// ends one way or the other, never both and never a crash — the report and status 0, or the
+/// budget's error alone (standard error in text, one JSON object under `--json`) and status 2.
+/// A text run past its budget prints nothing on standard output.
+#[test]
+fn a_budget_running_out_as_the_command_finishes_gives_one_ending() {
+    let gain = [
+        "gain",
+        "--a",
+        "[0 1 0; 0 0 1; -6 -11 -6]",
+        "--c",
+        "[1 0 0]",
+        "--poles",
+        "-2, -3, -4",
+    ];
+    let (mut finished, mut stopped) = (0, 0);
+    for (i, budget) in ["0.000001", "0.00002", "0.0001", "0.0003", "0.001"]
+        .iter()
+        .cycle()
+        .take(40)
+        .enumerate()
+    {
+        let json = i % 2 == 1;
+        let mut args = gain.to_vec();
+        args.extend(["--time-budget", budget]);
+        if json {
+            args.push("--json");
+        }
+        let (code, out, err, _) = owb_within(&args, Duration::from_secs(10));
+        match code {
+            0 => {
+                finished += 1;
+                assert!(err.is_empty(), "budget {budget}: {err}");
+                if json {
+                    let v: serde_json::Value = serde_json::from_str(&out).expect("a report");
+                    assert!(v.get("error").is_none(), "{out}");
+                } else {
+                    assert!(out.contains("K = ["), "budget {budget}: {out}");
+                }
+            }
+            2 => {
+                stopped += 1;
+                let expected = format!("error: stopped after {budget} s, the time budget");
+                assert!(err.starts_with(&expected), "budget {budget}: {err}");
+                assert_eq!(err.lines().count(), 1, "{err}");
+                if json {
+                    let v: serde_json::Value = serde_json::from_str(&out).expect("one object");
+                    assert_eq!(v["exit_status"], 2, "{out}");
+                    assert!(v["error"].as_str().unwrap_or("").contains("time budget"));
+                } else {
+                    assert!(out.is_empty(), "budget {budget}: {out}");
+                }
+            }
+            other => panic!("budget {budget}: status {other}: {out} {err}"),
+        }
+    }
+    // a microsecond is always too short, a millisecond almost never
+    assert!(stopped > 0, "no run was stopped");
+    assert!(finished + stopped == 40);
+}
+
 /// Above ten states the exact check of dlqe costs more than the float solution, so it runs only
 /// when asked: on a plant whose Riccati solution is P = I exactly (A = S/2 with S the cyclic
 /// shift, so A Aᵀ = I/4; C = R_n = I and Q_n = I − A Aᵀ/2 = 7/8 I, whence

@@ -6,6 +6,8 @@
 
 #[macro_use]
 mod output;
+#[cfg(unix)]
+mod alarm;
 
 use crate::api::{self, Command, Outcome};
 use clap::Parser;
@@ -35,7 +37,9 @@ pub struct Cli {
 /// The default of `--time-budget`, in seconds.
 pub const DEFAULT_TIME_BUDGET: f64 = 10.0;
 
-/// The stack of the thread that watches a command's time budget (it only sleeps and prints).
+/// The stack of the thread that watches a command's time budget where there is no alarm (it
+/// only sleeps and prints).
+#[cfg(not(unix))]
 const WATCHDOG_STACK: usize = 64 << 10;
 
 /// Why a command did not finish.
@@ -47,8 +51,8 @@ pub enum Stopped {
     /// The budget given is not a number of seconds.
     #[error("in --time-budget: {0} is not a number of seconds from 0 (no limit) to 86400")]
     BadBudget(f64),
-    /// The thread watching the time budget could not start.
-    #[error("the command could not be started (its time budget is watched by a thread): {0}")]
+    /// The alarm (or thread) watching the time budget could not start.
+    #[error("the command could not be started (its time budget could not be watched): {0}")]
     Spawn(std::io::Error),
 }
 
@@ -68,8 +72,9 @@ fn json_requested() -> bool {
     std::env::args().skip(1).any(|a| a == "--json")
 }
 
-/// Runs a command within a time budget (seconds, 0 for none): on this thread, watched by a
-/// second that ends the process with the budget's error when the budget runs out first. A
+/// Runs a command within a time budget (seconds, 0 for none): on this thread, watched by an
+/// alarm ([`watch`]) that ends the process with the budget's error when the budget runs out
+/// first. A
 /// command that writes files runs to the end unwatched, so that no half-written file is left.
 ///
 /// The command keeps the main thread (its caches warm, no stack of its own to fault in): a
@@ -89,6 +94,34 @@ fn run_within(command: Command, budget: f64) -> anyhow::Result<Result<api::Repor
         }
         _ => budget,
     };
+    watch(budget)?;
+    let result = api::run_text(command);
+    if !Race::claim(Race::Finished) {
+        // the budget ran out first: the watchdog is printing its error and ends the process
+        loop {
+            std::thread::park();
+        }
+    }
+    #[cfg(unix)]
+    alarm::disarm();
+    Ok(result)
+}
+
+/// Starts watching the time budget: on Unix an alarm (the kernel's timer and a signal
+/// handler, [`alarm`]), elsewhere a thread that sleeps. Either ends the process with the
+/// budget's error when it runs out before the command claims its end.
+#[cfg(unix)]
+fn watch(budget: f64) -> anyhow::Result<()> {
+    let ending = Ending::of(Err(Stopped::TimeBudget(budget).into()));
+    alarm::arm(budget, ending.out, ending.err).map_err(Stopped::Spawn)?;
+    Ok(())
+}
+
+/// Starts watching the time budget: on Unix an alarm (the kernel's timer and a signal
+/// handler, [`alarm`]), elsewhere a thread that sleeps. Either ends the process with the
+/// budget's error when it runs out before the command claims its end.
+#[cfg(not(unix))]
+fn watch(budget: f64) -> anyhow::Result<()> {
     std::thread::Builder::new()
         .name("owb-watchdog".into())
         .stack_size(WATCHDOG_STACK)
@@ -103,14 +136,7 @@ fn run_within(command: Command, budget: f64) -> anyhow::Result<Result<api::Repor
             }
         })
         .map_err(Stopped::Spawn)?;
-    let result = api::run_text(command);
-    if !Race::claim(Race::Finished) {
-        // the budget ran out first: the watchdog is printing its error and ends the process
-        loop {
-            std::thread::park();
-        }
-    }
-    Ok(result)
+    Ok(())
 }
 
 /// Who ends a watched command: it finishing, or its budget running out. The first to claim
@@ -220,27 +246,48 @@ pub fn main() -> ExitCode {
 
 /// The status of a finished command, its error printed (as JSON too when asked).
 fn report(result: anyhow::Result<Outcome>) -> ExitCode {
-    // an error may quote what the user typed: nothing invisible reaches the terminal or a script
-    let safe = |t: String| crate::files::escape_untrusted(&t);
-    match result {
-        Ok(Outcome::Ok) => ExitCode::SUCCESS,
-        Ok(Outcome::Failed) => ExitCode::from(1),
-        Err(e) if json_requested() => {
-            // a script asked for JSON: it gets a JSON error object (and the status)
-            let causes: Vec<String> = e.chain().skip(1).map(|c| safe(c.to_string())).collect();
-            outln!(
-                "{}",
-                serde_json::json!({"error": safe(e.to_string()), "causes": causes, "exit_status": 2})
-            );
-            eprintln!("error: {}", safe(e.to_string()));
-            ExitCode::from(2)
-        }
-        Err(e) => {
-            eprintln!("error: {}", safe(e.to_string()));
-            for cause in e.chain().skip(1) {
-                eprintln!("  caused by: {}", safe(cause.to_string()));
+    let ending = Ending::of(result);
+    out!("{}", ending.out);
+    eprint!("{}", ending.err);
+    ExitCode::from(ending.status)
+}
+
+/// What a finished command prints after its report, and its status.
+struct Ending {
+    /// For standard output: the error as a JSON object when `--json` was asked, else nothing.
+    out: String,
+    /// For standard error: the error and its causes.
+    err: String,
+    /// 0 success, 1 a mismatch found, 2 an error.
+    status: u8,
+}
+
+impl Ending {
+    fn of(result: anyhow::Result<Outcome>) -> Ending {
+        // an error may quote what the user typed: nothing invisible reaches the terminal or a
+        // script
+        let safe = |t: String| crate::files::escape_untrusted(&t);
+        let ending = |out: String, err: String, status: u8| Ending { out, err, status };
+        match result {
+            Ok(Outcome::Ok) => ending(String::new(), String::new(), 0),
+            Ok(Outcome::Failed) => ending(String::new(), String::new(), 1),
+            Err(e) if json_requested() => {
+                // a script asked for JSON: it gets a JSON error object (and the status)
+                let causes: Vec<String> = e.chain().skip(1).map(|c| safe(c.to_string())).collect();
+                let json = serde_json::json!({"error": safe(e.to_string()), "causes": causes, "exit_status": 2});
+                ending(
+                    format!("{json}\n"),
+                    format!("error: {}\n", safe(e.to_string())),
+                    2,
+                )
             }
-            ExitCode::from(2)
+            Err(e) => {
+                let mut err = format!("error: {}\n", safe(e.to_string()));
+                for cause in e.chain().skip(1) {
+                    err.push_str(&format!("  caused by: {}\n", safe(cause.to_string())));
+                }
+                ending(String::new(), err, 2)
+            }
         }
     }
 }
