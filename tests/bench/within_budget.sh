@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# What each exact command finishes within the default time budget (10 s): the whole `owb`
-# process on dense random integer plants (entries −9…9, seed 1), orders 20, 40, 60, 80, 100,
-# 150, 200; a command is not tried at larger orders once it ran out of budget. Prints one line
-# per run: command, order, seconds, and "ok" or "budget". By hand (not in CI); the README's
-# "Commands" section reports a run.
+# What each command finishes within the default time budget (10 s): the whole `owb` process on
+# dense random integer plants (entries −9…9, seed 1), orders 20, 40, 60, 80, 100, 150, 200; a
+# command is not tried at larger orders once it ran out of budget or failed. Prints one line per
+# run: command, order, seconds, and "ok", "budget", the error, or "too long" (a matrix whose
+# text exceeds Linux's 128 KiB for one argument). The float commands take the comparison
+# script's plants: `zoh` the integer A with B the random column and T = 1/(10n); `kalman` A,
+# B = G = I, C the first n/2 states, unit noises; `dlqe` A/n (as in
+# tests/bench/flint_compare.py --float) with the same C and unit noises. By hand (not in CI);
+# the README's "Commands" section reports a run.
 #   bash tests/bench/within_budget.sh [path/to/owb]
 set -uo pipefail
 owb=${1:-target/release/owb}
@@ -17,11 +21,20 @@ for n in (20, 40, 60, 80, 100, 150, 200):
     open(f"{sys.argv[1]}/a{n}", "w").write("[" + "; ".join(row() for _ in range(n)) + "]")
     open(f"{sys.argv[1]}/c{n}", "w").write("[" + row() + "]")
     open(f"{sys.argv[1]}/b{n}", "w").write("[" + "; ".join(str(random.randint(-9, 9)) for _ in range(n)) + "]")
+    # the float commands' plants: A/n, the identity, the first n/2 states measured
+    a = open(f"{sys.argv[1]}/a{n}").read()[1:-1].split("; ")
+    scaled = [" ".join(f"{x}/{n}" if x != "0" else "0" for x in r.split(" ")) for r in a]
+    open(f"{sys.argv[1]}/s{n}", "w").write("[" + "; ".join(scaled) + "]")
+    eye = lambda r, c: "[" + "; ".join(" ".join("1" if i == j else "0" for j in range(c)) for i in range(r)) + "]"
+    open(f"{sys.argv[1]}/i{n}", "w").write(eye(n, n))
+    open(f"{sys.argv[1]}/ik{n}", "w").write(eye(n // 2, n // 2))
+    open(f"{sys.argv[1]}/ck{n}", "w").write(eye(n // 2, n))
 PY
 only=${ONLY:-}
 commands=("observe" "canonical" "gain --repeated 1 --summary" "gain --repeated 1"
           "feedback --repeated 1" "discrete --poly" "discrete --deadbeat"
-          "reduced --repeated 1" "detectable --repeated 1" "control")
+          "reduced --repeated 1" "detectable --repeated 1" "control" "perfect"
+          "zoh" "kalman" "dlqe")
 echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"
 for cmd in "${commands[@]}"; do
   [ -n "$only" ] && [ "$cmd" != "$only" ] && continue
@@ -31,8 +44,17 @@ for cmd in "${commands[@]}"; do
       # both gains designed from their polynomials: observer (s + 1)ⁿ, feedback (s + 2)ⁿ
       control) plant=(--a "$(cat "$dir/a$n")" --b "$(cat "$dir/b$n")" --c "$(cat "$dir/c$n")"
                       --observer-poly "(s + 1)^$n" --feedback-poly "(s + 2)^$n") ;;
+      perfect) plant=(--a "$(cat "$dir/a$n")" --b "$(cat "$dir/b$n")" --c "$(cat "$dir/c$n")") ;;
+      zoh) plant=(--a "$(cat "$dir/a$n")" --b "$(cat "$dir/b$n")" --period "1/$((10 * n))") ;;
+      kalman) plant=(--a "$(cat "$dir/a$n")" --b "$(cat "$dir/i$n")" --c "$(cat "$dir/ck$n")"
+                     --input-noise "$(cat "$dir/i$n")" --output-noise "$(cat "$dir/ik$n")") ;;
+      dlqe) plant=(--a "$(cat "$dir/s$n")" --c "$(cat "$dir/ck$n")" --qn "$(cat "$dir/i$n")"
+                   --rn "$(cat "$dir/ik$n")") ;;
       *) plant=(--a "$(cat "$dir/a$n")" --c "$(cat "$dir/c$n")") ;;
     esac
+    longest=0
+    for word in "${plant[@]}"; do [ ${#word} -gt $longest ] && longest=${#word}; done
+    if [ "$longest" -ge 131072 ]; then echo "$cmd | $n | | too long"; break; fi
     # a discrete design: every pole at z = 1/2
     run=$cmd
     [ "$cmd" = "discrete --poly" ] && run=discrete && plant+=(--poly "(z - 1/2)^$n")
