@@ -161,6 +161,20 @@ fn control_designs_the_observer_gain_from_its_polynomial() {
     let request = observer_workbench::api::Command::from_json(both).expect("a well-formed request");
     let failure = observer_workbench::api::run(request).expect_err("refused");
     assert!(failure.to_string().contains("not both"), "{failure}");
+    // and so are both feedbacks, a given F and its polynomial (numbers and symbols alike)
+    for a in ["[2 -3; 4 -5]", "[2 -3; k -5]"] {
+        let both = serde_json::json!({"command": "control", "a": a, "b": "[2; 3]",
+            "c": "[-3 2]", "observer-poly": "s^2 + 3s + 2", "f": "[42 -30]",
+            "feedback-poly": "s^2 + 2s + 1"});
+        let request = observer_workbench::api::Command::from_value(&both).expect("well-formed");
+        let failure = observer_workbench::api::run(request).expect_err("refused");
+        assert!(
+            failure
+                .to_string()
+                .contains("give --f or --feedback-poly, not both"),
+            "{a}: {failure}"
+        );
+    }
 }
 
 /// The stable `--json` interface of `owb gain`.

@@ -121,7 +121,9 @@ pub fn run(args: Args, rep: &mut Report) -> Result<Outcome> {
         (None, None) => bail!("give --l or --observer-poly"),
     };
     let f = match (&args.f, &args.feedback_poly) {
-        (Some(f), _) => {
+        // (the command line refuses both; a JSON request is told here)
+        (Some(_), Some(_)) => bail!("give --f or --feedback-poly, not both"),
+        (Some(f), None) => {
             let f = matrix_at("--f", f, &values)?;
             super::args::expect_shape("--f", &f, m, n, "inputs × states")?;
             f
@@ -255,7 +257,8 @@ fn symbolic(
         (None, None) => bail!("give --l or --observer-poly"),
     };
     let f = match (&args.f, &args.feedback_poly) {
-        (Some(f), _) => {
+        (Some(_), Some(_)) => bail!("give --f or --feedback-poly, not both"),
+        (Some(f), None) => {
             let f = matrix::<Fraction>("--f", f)?;
             super::args::expect_shape("--f", &f, b.cols(), n, "inputs × states")?;
             work = work.with(f.entries(), "F")?;
