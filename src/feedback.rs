@@ -220,22 +220,21 @@ pub fn design_feedback(
         &Words(format!("Aᵀ = {}, Bᵀ = {}", at.to_input(), bt.to_input())),
     );
     let observer = design_with(&at, &bt, desired, method, Convention::AMinusKC, detail)?;
+    // det(sI − (A − BK)) = det(sI − (Aᵀ − Kᵀ Bᵀ)): the dual observer's polynomial, which its
+    // design recomputed from the gain by the rank-one update (only C_nᵀ Kᵀ and det(sI − A)
+    // enter, whatever the size of K's numbers) — the check `gain` makes, taken with its
+    // rendering rather than made a second time
+    let achieved = observer.achieved.clone();
+    let check = observer.derivation.step("det(sI − (A − KC))").cloned();
     d.extend(observer.derivation);
     let k = observer.gain.matrix.transpose();
     d.push("K (u = −K x, closed loop A − BK)", "K_dualᵀ", &k);
     let gain = in_convention(&k, convention, &mut d);
-    // det(sI − (A − BK)) = det(sI − (Aᵀ − Kᵀ Bᵀ)): the dual observer's polynomial, recomputed
-    // from the gain by the rank-one update (only C_nᵀ Kᵀ and det(sI − A) enter, whatever the
-    // size of K's numbers) — the check `gain` makes
-    let lift = |x: &Rational| Quadratic::rational(x.clone());
-    let open_loop = linalg::characteristic_polynomial(&a.map(lift), "s")?;
-    let achieved =
-        crate::linalg::rank_one_update(&dual.matrix.map(lift), &open_loop, &k.transpose())?;
-    d.push(
-        &format!("det(sI − ({})), checked exactly", convention.closed_loop()),
-        "",
-        &achieved,
-    );
+    let label = format!("det(sI − ({})), checked exactly", convention.closed_loop());
+    match check {
+        Some(step) => d.push_step(step.renamed(&label, "")),
+        None => d.push(&label, "", &achieved),
+    }
     Ok(FeedbackDesign {
         convention,
         gain,
