@@ -176,11 +176,17 @@ pub fn perfect_observer(
         gy.set(row, i, -Rational::one());
         row += 1;
     }
-    let (pencil_determinant, reconstruction) = match by_chains(&t, &e, &f, &e_rows, &f_rows) {
-        Some(rows) => (rows.determinant(&t)?, rows.reconstruction(&t, &gu, &gy)?),
+    let chains = by_chains(&t, &e, &f, &e_rows, &f_rows);
+    let (pencil_determinant, reconstruction, similar) = match &chains {
+        Some(rows) => (
+            rows.determinant(&t)?,
+            rows.reconstruction(&t, &gu, &gy)?,
+            rows.similar(&t, &ta)?,
+        ),
         None => (
             pencil_determinant(&e, &f)?,
             reconstruction(&e, &f, &gu, &gy)?,
+            linalg::solve(&t.transpose(), &ta.transpose())?.transpose(),
         ),
     };
     let mut derivation = Derivation::new(&format!(
@@ -194,13 +200,7 @@ pub fn perfect_observer(
         &Words(nu_text.join(", ")),
     );
     derivation.push("T", "rows c_i A^k, k < ν_i, chain by chain", &t);
-    // T A T⁻¹ as the solution X of Tᵀ Xᵀ = (T A)ᵀ: its entries are small (a shift in every
-    // chain, the chains' last rows the coordinates of c_i A^ν_i), T⁻¹'s are not
-    derivation.push(
-        "T A T⁻¹",
-        "a shift in every chain",
-        &linalg::solve(&t.transpose(), &ta.transpose())?.transpose(),
-    );
+    derivation.push("T A T⁻¹", "a shift in every chain", &similar);
     derivation.push("T B", "", &tb);
     derivation.push("E", "[rows c_i A^k, k < ν_i − 1; 0]", &e);
     derivation.push("F", "[rows c_i A^(k+1); C]", &f);
@@ -327,6 +327,43 @@ impl ChainRows<'_> {
         };
         let det_t = linalg::determinant(t)?;
         Ok(factor.map(|c| c.clone() * sign.clone() * det_t.clone()))
+    }
+
+    /// `T A T⁻¹`, the solution X of `X T = T A`: a row of T A that is a row of T (checked: the
+    /// shifts `c_i A^(k+1)`, `k + 1 < ν_i`) gives a unit row; only the chains' last rows,
+    /// `c_i A^ν_i`, are solved for — p right-hand sides instead of n, and their entries are
+    /// small where T⁻¹'s are not. Any other row of T A is solved for too.
+    fn similar(
+        &self,
+        t: &Matrix<Rational>,
+        ta: &Matrix<Rational>,
+    ) -> Result<Matrix<Rational>, linalg::LinalgError> {
+        let n = t.rows();
+        let mut unit: Vec<Option<usize>> = vec![None; n];
+        for r in 0..n {
+            if let Some(q) = self.e[r] {
+                if ta.row(q) == t.row(self.f[r]) {
+                    unit[q] = Some(self.f[r]);
+                }
+            }
+        }
+        let rest: Vec<usize> = (0..n).filter(|&q| unit[q].is_none()).collect();
+        let mut x = Matrix::zeros(n, n);
+        if !rest.is_empty() {
+            let rows = Matrix::from_fn(n, rest.len(), |j, c| ta.get(rest[c], j).clone());
+            let solved = linalg::solve(&t.transpose(), &rows)?;
+            for (c, &q) in rest.iter().enumerate() {
+                for j in 0..n {
+                    x.set(q, j, solved.get(j, c).clone());
+                }
+            }
+        }
+        for (q, k) in unit.iter().enumerate() {
+            if let Some(k) = *k {
+                x.set(q, k, Rational::one());
+            }
+        }
+        Ok(x)
     }
 
     /// [`reconstruction`]'s terms through T: with `N = F⁻¹E = T⁻¹ S T` and
@@ -670,9 +707,10 @@ mod tests {
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
-        /// The pencil's determinant and the reconstruction read from the chain structure
-        /// (`ChainRows`) equal the general computations — fraction-free elimination over
-        /// polynomials in s, and the powers of F⁻¹E applied to [G_u G_y] — on random plants of
+        /// The pencil's determinant, the reconstruction and T A T⁻¹ read from the chain
+        /// structure (`ChainRows`) equal the general computations — fraction-free elimination
+        /// over polynomials in s, the powers of F⁻¹E applied to [G_u G_y], one solve for all of
+        /// T A T⁻¹ — on random plants of
         /// orders 1–7 with one to three outputs (chains of unequal lengths included), D nonzero.
         #[test]
         fn the_chain_structure_gives_the_general_results(
@@ -705,6 +743,13 @@ mod tests {
             )
             .unwrap();
             proptest::prop_assert_eq!(&observer.reconstruction, &terms);
+            // T A T⁻¹ from the unit rows and p solves, against one solve for all of it
+            let ta = observer.t.mul(plant.a()).unwrap();
+            let similar = linalg::solve(&observer.t.transpose(), &ta.transpose())
+                .unwrap()
+                .transpose();
+            let shown = observer.derivation.step("T A T⁻¹").map(|s| s.input.clone());
+            proptest::prop_assert_eq!(shown, Some(similar.to_input()));
         }
     }
 
