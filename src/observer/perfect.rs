@@ -16,12 +16,13 @@
 //! `E e' = F e` and vanishes for `t > 0`. Written with a symbolic plant these are affine
 //! equations in its entries: exactly the changes the observer tolerates.
 
-use crate::algebra::{MultiPoly, One, Rational, Ring, Zero};
+use crate::algebra::{MultiPoly, One, Rational, Zero};
 use crate::derivation::{Derivation, Words};
 use crate::linalg::{self, Matrix};
 use crate::observability::{require_observable, ObservabilityError};
 use crate::poly::Poly;
 use crate::system::StateSpace;
+use num_traits::Signed;
 
 /// The coefficients `(U_k, Y_k)` of `u^(k)` and `y^(k)` in the reconstruction of `x̂`.
 pub type Term = (Matrix<Rational>, Matrix<Rational>);
@@ -462,9 +463,21 @@ fn reconstruction(
 /// The reconstruction `x̂ = Σ_k (U_k u^(k) + Y_k y^(k))`, shown per state.
 pub struct Reconstruction<'a>(pub &'a [Term]);
 
+/// One term of a reconstructed state: its coefficient's sign and magnitude (digits made once,
+/// as text `n` or `n/d` and as LaTeX), the signal and its derivative order.
+struct Piece {
+    negative: bool,
+    /// `|c| = 1`: no coefficient written.
+    unit: bool,
+    text: String,
+    latex: String,
+    signal: String,
+    order: usize,
+}
+
 impl Reconstruction<'_> {
-    /// Per state, the terms `(coefficient, signal, derivative order)`, highest order first.
-    fn terms(&self) -> Vec<Vec<(Rational, String, usize)>> {
+    /// Per state, the nonzero terms, highest derivative order first.
+    fn pieces(&self) -> Vec<Vec<Piece>> {
         let Some((u0, y0)) = self.0.first() else {
             return Vec::new();
         };
@@ -476,50 +489,85 @@ impl Reconstruction<'_> {
                 base.to_string()
             }
         };
+        let piece = |c: &Rational, signal: String, order: usize| {
+            let negative = *c < Rational::zero();
+            let unit = c.numer().magnitude().is_one() && c.denom().is_one();
+            let (numer, denom) = if unit {
+                (String::new(), String::new())
+            } else {
+                (
+                    crate::algebra::decimal::decimal(&c.numer().abs()),
+                    crate::algebra::decimal::decimal(c.denom()),
+                )
+            };
+            let text = if unit || denom == "1" {
+                numer.clone()
+            } else {
+                format!("{numer}/{denom}")
+            };
+            Piece {
+                negative,
+                unit,
+                latex: if unit {
+                    String::new()
+                } else {
+                    crate::algebra::latex_of_parts(&numer, &denom)
+                },
+                text,
+                signal,
+                order,
+            }
+        };
         (0..n)
             .map(|i| {
                 let mut out = Vec::new();
                 for (k, (u, y)) in self.0.iter().enumerate().rev() {
                     for j in 0..p {
-                        out.push((y.get(i, j).clone(), name("y", j, p), k));
+                        let c = y.get(i, j);
+                        if !c.is_zero() {
+                            out.push(piece(c, name("y", j, p), k));
+                        }
                     }
                     for j in 0..m {
-                        out.push((u.get(i, j).clone(), name("u", j, m), k));
+                        let c = u.get(i, j);
+                        if !c.is_zero() {
+                            out.push(piece(c, name("u", j, m), k));
+                        }
                     }
                 }
-                out.retain(|t| !t.0.is_zero());
                 out
             })
             .collect()
     }
 
     fn render(
-        &self,
+        pieces: &[Vec<Piece>],
         signal: impl Fn(&str, usize) -> String,
-        coefficient: impl Fn(&Rational) -> String,
+        coefficient: impl Fn(&Piece) -> String,
         lhs: impl Fn(usize) -> String,
         sep: &str,
     ) -> String {
-        self.terms()
+        pieces
             .iter()
             .enumerate()
             .map(|(i, terms)| {
                 let mut text = String::new();
-                for (t, (c, name, k)) in terms.iter().enumerate() {
-                    let negative = *c < Rational::zero();
-                    let magnitude = if negative { -c.clone() } else { c.clone() };
-                    let sign = match (t, negative) {
+                for (t, piece) in terms.iter().enumerate() {
+                    let sign = match (t, piece.negative) {
                         (0, false) => "",
                         (0, true) => "−",
                         (_, false) => " + ",
                         (_, true) => " − ",
                     };
-                    let coef = if magnitude.is_one() {
+                    let coef = if piece.unit {
                         String::new()
                     } else {
-                        coefficient(&magnitude)
+                        coefficient(piece)
                     };
-                    text.push_str(&format!("{sign}{coef}{}", signal(name, *k)));
+                    text.push_str(&format!(
+                        "{sign}{coef}{}",
+                        signal(&piece.signal, piece.order)
+                    ));
                 }
                 if terms.is_empty() {
                     text.push('0');
@@ -529,25 +577,25 @@ impl Reconstruction<'_> {
             .collect::<Vec<_>>()
             .join(sep)
     }
-}
 
-impl crate::derivation::Show for Reconstruction<'_> {
-    fn text(&self) -> String {
-        self.render(
+    fn text_of(pieces: &[Vec<Piece>]) -> String {
+        Self::render(
+            pieces,
             |name, k| match k {
                 0 => name.to_string(),
                 1 => format!("{name}'"),
                 2 => format!("{name}''"),
                 _ => format!("{name}^({k})"),
             },
-            // as Display writes it, the digits by the project's faster conversion
-            |c| format!("{} ", Ring::to_input(c)),
+            |c| format!("{} ", c.text),
             |i| format!("x̂{}", i + 1),
             "\n",
         )
     }
-    fn latex(&self) -> String {
-        let body = self.render(
+
+    fn latex_of(pieces: &[Vec<Piece>]) -> String {
+        let body = Self::render(
+            pieces,
             |name, k| {
                 let (base, index) = name.split_at(1);
                 let sym = if index.is_empty() {
@@ -562,7 +610,7 @@ impl crate::derivation::Show for Reconstruction<'_> {
                     _ => format!("{sym}^{{({k})}}"),
                 }
             },
-            |c| format!("{} ", Ring::to_latex(c)).replace("−", "-"),
+            |c| format!("{} ", c.latex).replace("−", "-"),
             |i| format!("\\hat{{x}}_{{{}}}", i + 1),
             " \\\\ ",
         );
@@ -571,14 +619,24 @@ impl crate::derivation::Show for Reconstruction<'_> {
             body.replace('−', "-")
         )
     }
+}
+
+impl crate::derivation::Show for Reconstruction<'_> {
+    fn text(&self) -> String {
+        Self::text_of(&self.pieces())
+    }
+    fn latex(&self) -> String {
+        Self::latex_of(&self.pieces())
+    }
     fn input(&self) -> String {
         self.text().replace('\n', "; ")
     }
-    /// The text rendered once for both the text and the input syntax.
+    /// Every coefficient's digits made once for the text, the LaTeX and the input syntax.
     fn all(&self) -> (String, String, String, Option<Vec<String>>) {
-        let text = self.text();
+        let pieces = self.pieces();
+        let text = Self::text_of(&pieces);
         let input = text.replace('\n', "; ");
-        (text, self.latex(), input, None)
+        (text, Self::latex_of(&pieces), input, None)
     }
 }
 
@@ -663,6 +721,7 @@ pub fn robustness_residuals(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::algebra::Ring;
     use crate::syntax::parse_matrix;
 
     fn m(s: &str) -> Matrix<Rational> {
