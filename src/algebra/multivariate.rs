@@ -301,6 +301,15 @@ impl MultiPoly {
     pub fn coefficient(&self, m: &Monomial) -> Rational {
         self.terms.get(m).cloned().unwrap_or_else(Rational::zero)
     }
+    /// The sum of the terms `c·m`: equal monomials added, zero coefficients dropped — a
+    /// polynomial written down term by term, without the products and sums that would build it.
+    pub fn from_terms(terms: impl IntoIterator<Item = (Monomial, Rational)>) -> Self {
+        let mut p = MultiPoly::default();
+        for (m, c) in terms {
+            p.add_term(m, c);
+        }
+        p
+    }
 
     fn add_term(&mut self, m: Monomial, c: Rational) {
         if c.is_zero() {
