@@ -225,7 +225,10 @@ pub fn design_feedback(
     // enter, whatever the size of K's numbers) — the check `gain` makes, taken with its
     // rendering rather than made a second time
     let achieved = observer.achieved.clone();
-    let check = observer.derivation.step("det(sI − (A − KC))").cloned();
+    let check = observer
+        .derivation
+        .step(crate::observer::CHECK_STEP)
+        .cloned();
     d.extend(observer.derivation);
     let k = observer.gain.matrix.transpose();
     d.push("K (u = −K x, closed loop A − BK)", "K_dualᵀ", &k);

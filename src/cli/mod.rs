@@ -74,8 +74,8 @@ fn json_requested() -> bool {
 
 /// Runs a command within a time budget (seconds, 0 for none): on this thread, watched by an
 /// alarm ([`watch`]) that ends the process with the budget's error when the budget runs out
-/// first. A
-/// command that writes files runs to the end unwatched, so that no half-written file is left.
+/// first. A command that writes files runs to the end unwatched, so that no half-written file
+/// is left.
 ///
 /// The command keeps the main thread (its caches warm, no stack of its own to fault in): a
 /// worker thread for the command cost about 0.15 ms of CPU per process, as much as a whole

@@ -481,6 +481,10 @@ pub fn design_symbolic(
 /// The label of a full design's step showing the observer matrix `A − KC`.
 pub(crate) const OBSERVER_MATRIX_STEP: &str = "A − KC";
 
+/// The label of a design's check, `det(sI − (A − KC))` recomputed from the gain (a state
+/// feedback takes it from its dual design).
+pub(crate) const CHECK_STEP: &str = "det(sI − (A − KC))";
+
 /// A derivation that records a step only when the detail asks for it.
 struct Steps {
     d: Derivation,
@@ -563,7 +567,7 @@ fn design_in<F: Field>(
         None
     };
     let achieved = s.observer_polynomial(&k)?;
-    d.push("det(sI − (A − KC))", "check", &achieved);
+    d.push(CHECK_STEP, "check", &achieved);
     Ok(Designed {
         gain: k,
         derivation: d.d,

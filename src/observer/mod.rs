@@ -13,6 +13,7 @@ pub mod discrete_kalman;
 pub mod dynamical_error;
 pub mod float_check;
 mod gain;
+pub(crate) use gain::CHECK_STEP;
 pub mod kalman;
 pub mod multi_output;
 pub mod optimal;
