@@ -1128,9 +1128,9 @@ fn a_budget_running_out_as_the_command_finishes_gives_one_ending() {
             other => panic!("budget {budget}: status {other}: {out} {err}"),
         }
     }
-    // a microsecond is always too short, a millisecond almost never
-    assert!(stopped > 0, "no run was stopped");
-    assert!(finished + stopped == 40);
+    // a microsecond is always too short (a millisecond is usually enough: the runs that
+    // finish check the report's side of the race)
+    assert!(stopped > 0, "no run was stopped ({finished} finished)");
 }
 
 /// Above ten states the exact check of dlqe costs more than the float solution, so it runs only

@@ -11,18 +11,21 @@
 //! Cost: two system calls to arm, one to disarm. Identity: the bytes and the status are those
 //! the finished command's error path gives for [`super::Stopped::TimeBudget`].
 //!
-//! The project's one module with `unsafe` (the crate denies it everywhere else): five calls
-//! into the C library, each with the reason it is sound beside it.
+//! The project's one module with `unsafe` (the crate denies it everywhere else): four calls
+//! into the C library and the read of the leaked ending, each with the reason it is sound
+//! beside it.
 #![allow(unsafe_code)]
 
-use std::sync::atomic::{AtomicPtr, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicPtr, Ordering};
 
-/// What the handler prints: standard output's bytes, then standard error's (leaked once per
-/// process: a command arms the alarm once).
-static OUT: AtomicPtr<u8> = AtomicPtr::new(std::ptr::null_mut());
-static OUT_LEN: AtomicUsize = AtomicUsize::new(0);
-static ERR: AtomicPtr<u8> = AtomicPtr::new(std::ptr::null_mut());
-static ERR_LEN: AtomicUsize = AtomicUsize::new(0);
+/// What the handler prints: standard output's bytes, then standard error's.
+struct Prepared {
+    out: Box<[u8]>,
+    err: Box<[u8]>,
+}
+
+/// The prepared ending, leaked once per process (a command arms the alarm once); null before.
+static PREPARED: AtomicPtr<Prepared> = AtomicPtr::new(std::ptr::null_mut());
 
 /// Writes all of `bytes` to descriptor `fd` (retrying short writes and interruptions): the
 /// `errno` of a failure, if any.
@@ -42,28 +45,21 @@ fn write_all(fd: libc::c_int, mut bytes: &[u8]) -> Result<(), libc::c_int> {
     Ok(())
 }
 
-/// The prepared bytes at `ptr` (`len` long; empty when none were prepared).
-fn prepared(ptr: &AtomicPtr<u8>, len: &AtomicUsize) -> &'static [u8] {
-    let p = ptr.load(Ordering::SeqCst);
-    if p.is_null() {
-        return &[];
-    }
-    // SAFETY: `p` and the length were stored together by `arm` from a leaked boxed slice,
-    // which lives to the end of the process.
-    unsafe { std::slice::from_raw_parts(p, len.load(Ordering::SeqCst)) }
-}
-
 /// The `SIGALRM` handler: when the command has not finished first, the budget's error is
 /// printed and the process ends (status 2, or 141 when standard output's reader is gone).
 extern "C" fn on_alarm(_signal: libc::c_int) {
     if !super::Race::claim(super::Race::TimedOut) {
         return;
     }
-    let status = match write_all(libc::STDOUT_FILENO, prepared(&OUT, &OUT_LEN)) {
+    // SAFETY: the pointer is null or was leaked by `arm` before the timer was armed, and lives
+    // to the end of the process.
+    let prepared = unsafe { PREPARED.load(Ordering::SeqCst).as_ref() };
+    let (out, err) = prepared.map_or((&[][..], &[][..]), |p| (&p.out[..], &p.err[..]));
+    let status = match write_all(libc::STDOUT_FILENO, out) {
         Err(libc::EPIPE) => 141,
         Ok(()) | Err(_) => 2,
     };
-    let _ = write_all(libc::STDERR_FILENO, prepared(&ERR, &ERR_LEN));
+    let _ = write_all(libc::STDERR_FILENO, err);
     // SAFETY: _exit(2) is async-signal-safe; nothing is left to flush (the command printed
     // nothing before it finished).
     unsafe { libc::_exit(status) }
@@ -73,13 +69,11 @@ extern "C" fn on_alarm(_signal: libc::c_int) {
 /// standard output, `err` to standard error, and the process ends — unless the command has
 /// claimed its end first ([`super::Race::claim`]).
 pub fn arm(budget: f64, out: String, err: String) -> std::io::Result<()> {
-    let keep = |text: String, ptr: &AtomicPtr<u8>, len: &AtomicUsize| {
-        let bytes: &'static mut [u8] = Box::leak(text.into_bytes().into_boxed_slice());
-        len.store(bytes.len(), Ordering::SeqCst);
-        ptr.store(bytes.as_mut_ptr(), Ordering::SeqCst);
-    };
-    keep(out, &OUT, &OUT_LEN);
-    keep(err, &ERR, &ERR_LEN);
+    let prepared = Box::new(Prepared {
+        out: out.into_bytes().into_boxed_slice(),
+        err: err.into_bytes().into_boxed_slice(),
+    });
+    PREPARED.store(Box::leak(prepared), Ordering::SeqCst);
     // SAFETY: a zeroed sigaction is a valid empty one; the handler only does
     // async-signal-safe work; SA_RESTART resumes system calls the signal interrupts.
     unsafe {

@@ -109,33 +109,31 @@ fn run_within(command: Command, budget: f64) -> anyhow::Result<Result<api::Repor
 
 /// Starts watching the time budget: on Unix an alarm (the kernel's timer and a signal
 /// handler, [`alarm`]), elsewhere a thread that sleeps. Either ends the process with the
-/// budget's error when it runs out before the command claims its end.
-#[cfg(unix)]
+/// budget's error — [`Ending`]'s, as a finished command's error path prints it — when the
+/// budget runs out before the command claims its end.
 fn watch(budget: f64) -> anyhow::Result<()> {
-    let ending = Ending::of(Err(Stopped::TimeBudget(budget).into()));
-    alarm::arm(budget, ending.out, ending.err).map_err(Stopped::Spawn)?;
-    Ok(())
-}
-
-/// Starts watching the time budget: on Unix an alarm (the kernel's timer and a signal
-/// handler, [`alarm`]), elsewhere a thread that sleeps. Either ends the process with the
-/// budget's error when it runs out before the command claims its end.
-#[cfg(not(unix))]
-fn watch(budget: f64) -> anyhow::Result<()> {
-    std::thread::Builder::new()
-        .name("owb-watchdog".into())
-        .stack_size(WATCHDOG_STACK)
-        .spawn(move || {
-            std::thread::sleep(std::time::Duration::from_secs_f64(budget));
-            if Race::claim(Race::TimedOut) {
-                let _ = report(Err(Stopped::TimeBudget(budget).into()));
-                std::process::exit(match output::finish() {
-                    Err(std::io::ErrorKind::BrokenPipe) => 141,
-                    Ok(()) | Err(_) => 2,
-                });
-            }
-        })
-        .map_err(Stopped::Spawn)?;
+    #[cfg(unix)]
+    {
+        let ending = Ending::of(Err(Stopped::TimeBudget(budget).into()));
+        alarm::arm(budget, ending.out, ending.err).map_err(Stopped::Spawn)?;
+    }
+    #[cfg(not(unix))]
+    {
+        std::thread::Builder::new()
+            .name("owb-watchdog".into())
+            .stack_size(WATCHDOG_STACK)
+            .spawn(move || {
+                std::thread::sleep(std::time::Duration::from_secs_f64(budget));
+                if Race::claim(Race::TimedOut) {
+                    let _ = report(Err(Stopped::TimeBudget(budget).into()));
+                    std::process::exit(match output::finish() {
+                        Err(std::io::ErrorKind::BrokenPipe) => 141,
+                        Ok(()) | Err(_) => 2,
+                    });
+                }
+            })
+            .map_err(Stopped::Spawn)?;
+    }
     Ok(())
 }
 

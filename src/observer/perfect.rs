@@ -145,45 +145,37 @@ pub fn perfect_observer(
     let (t, indices) = observability_chains(a, c)?;
     let tb = t.mul(b)?;
     let ta = t.mul(a)?;
+    // row r of E, F and G_u: the shift c_i A^k (T's row q = e[r]) to c_i A^(k+1), or, in the
+    // last p rows, output i's algebraic equation
+    let rows = ChainRows::of(&indices);
     let mut e = Matrix::zeros(n, n);
     let mut f = Matrix::zeros(n, n);
     let mut gu = Matrix::zeros(n, m);
     let mut gy = Matrix::zeros(n, p);
-    // the row of T each row of E (none: a zero row) and of F is, by construction
-    let mut e_rows = vec![None; n];
-    let mut f_rows = vec![0; n];
-    let mut row = 0;
-    let mut start = 0;
-    let mut starts = Vec::with_capacity(p);
-    for &nu in &indices {
-        starts.push(start);
-        for k in 0..nu.saturating_sub(1) {
-            e_rows[row] = Some(start + k);
-            f_rows[row] = start + k + 1;
-            for j in 0..n {
-                e.set(row, j, t.get(start + k, j).clone());
-                f.set(row, j, ta.get(start + k, j).clone());
+    for (r, q) in rows.e.iter().enumerate() {
+        match *q {
+            Some(q) => {
+                for j in 0..n {
+                    e.set(r, j, t.get(q, j).clone());
+                    f.set(r, j, ta.get(q, j).clone());
+                }
+                for j in 0..m {
+                    gu.set(r, j, tb.get(q, j).clone());
+                }
             }
-            for j in 0..m {
-                gu.set(row, j, tb.get(start + k, j).clone());
+            None => {
+                let i = r + p - n;
+                for j in 0..n {
+                    f.set(r, j, c.get(i, j).clone());
+                }
+                for j in 0..m {
+                    gu.set(r, j, d.get(i, j).clone());
+                }
+                gy.set(r, i, -Rational::one());
             }
-            row += 1;
         }
-        start += nu;
     }
-    for i in 0..p {
-        f_rows[row] = starts[i];
-        for j in 0..n {
-            f.set(row, j, c.get(i, j).clone());
-        }
-        for j in 0..m {
-            gu.set(row, j, d.get(i, j).clone());
-        }
-        gy.set(row, i, -Rational::one());
-        row += 1;
-    }
-    let chains = by_chains(&t, &e, &f, &e_rows, &f_rows);
-    let (pencil_determinant, reconstruction, similar) = match &chains {
+    let (pencil_determinant, reconstruction, similar) = match rows.checked(&t, &e, &f) {
         Some(rows) => (
             rows.determinant(&t)?,
             rows.reconstruction(&t, &gu, &gy)?,
@@ -233,49 +225,70 @@ pub fn perfect_observer(
 
 /// `E = P_E T` and `F = P_F T`: the row of T that each row of E (`None`: a zero row) and of F
 /// is. Every row of both is one by construction (the shifts `c_i A^k`, `k < ν_i`, and the rows
-/// of C); [`by_chains`] checks it entry by entry.
-struct ChainRows<'a> {
-    e: &'a [Option<usize>],
-    f: &'a [usize],
+/// of C); [`ChainRows::checked`] checks it entry by entry.
+struct ChainRows {
+    e: Vec<Option<usize>>,
+    f: Vec<usize>,
 }
 
-/// The rows of E and F as rows of T, when every one is exactly the row of T it is said to be,
-/// F's rows are all of T's (a permutation) and E's nonzero rows distinct ones; else `None`.
-fn by_chains<'a>(
-    t: &Matrix<Rational>,
-    e: &Matrix<Rational>,
-    f: &Matrix<Rational>,
-    e_rows: &'a [Option<usize>],
-    f_rows: &'a [usize],
-) -> Option<ChainRows<'a>> {
-    let n = t.rows();
-    let mut seen_f = vec![false; n];
-    let mut seen_e = vec![false; n];
-    for r in 0..n {
-        let k = *f_rows.get(r)?;
-        if k >= n || std::mem::replace(&mut seen_f[k], true) || f.row(r) != t.row(k) {
+impl ChainRows {
+    /// The rows for chains of lengths `indices`: chain i's rows `c_i A^k`, `k < ν_i − 1`, first
+    /// (E has T's row, F the next one), then one row per output (E zero, F the chain's first).
+    fn of(indices: &[usize]) -> ChainRows {
+        let (mut e, mut f, mut starts) = (Vec::new(), Vec::new(), Vec::new());
+        let mut start = 0;
+        for &nu in indices {
+            starts.push(start);
+            for k in 0..nu.saturating_sub(1) {
+                e.push(Some(start + k));
+                f.push(start + k + 1);
+            }
+            start += nu;
+        }
+        for s in starts {
+            e.push(None);
+            f.push(s);
+        }
+        ChainRows { e, f }
+    }
+
+    /// Itself, when every row of E and F is exactly the row of T it is said to be, F's rows are
+    /// all of T's (a permutation) and E's nonzero rows distinct ones; else `None`.
+    fn checked(
+        self,
+        t: &Matrix<Rational>,
+        e: &Matrix<Rational>,
+        f: &Matrix<Rational>,
+    ) -> Option<ChainRows> {
+        let n = t.rows();
+        if self.e.len() != n || self.f.len() != n {
             return None;
         }
-        match *e_rows.get(r)? {
-            Some(k) => {
-                if k >= n || std::mem::replace(&mut seen_e[k], true) || e.row(r) != t.row(k) {
-                    return None;
-                }
+        let mut seen_f = vec![false; n];
+        let mut seen_e = vec![false; n];
+        for r in 0..n {
+            let k = self.f[r];
+            if k >= n || std::mem::replace(&mut seen_f[k], true) || f.row(r) != t.row(k) {
+                return None;
             }
-            None => {
-                if !e.row(r).iter().all(Zero::is_zero) {
-                    return None;
+            match self.e[r] {
+                Some(k) => {
+                    if k >= n || std::mem::replace(&mut seen_e[k], true) || e.row(r) != t.row(k) {
+                        return None;
+                    }
+                }
+                None => {
+                    if !e.row(r).iter().all(Zero::is_zero) {
+                        return None;
+                    }
                 }
             }
         }
+        Some(self)
     }
-    Some(ChainRows {
-        e: e_rows,
-        f: f_rows,
-    })
 }
 
-impl ChainRows<'_> {
+impl ChainRows {
     /// `det(Es − F) = det(P_E s − P_F) · det T`, where `det(P_E s − P_F) = det(−P_F) ·
     /// det(I − s S)` with `S = P_Fᵀ P_E`. `P_F` is the permutation `r ↦ f[r]`, so
     /// `det(−P_F) = (−1)^n sgn`; `S` has a one at `(f[r], e[r])` and at most one in each row and
@@ -335,10 +348,10 @@ impl ChainRows<'_> {
         Ok(factor.map(|c| c.clone() * sign.clone() * det_t.clone()))
     }
 
-    /// `T A T⁻¹`, the solution X of `X T = T A`: a row of T A that is a row of T (checked: the
-    /// shifts `c_i A^(k+1)`, `k + 1 < ν_i`) gives a unit row; only the chains' last rows,
-    /// `c_i A^ν_i`, are solved for — p right-hand sides instead of n, and their entries are
-    /// small where T⁻¹'s are not. Any other row of T A is solved for too.
+    /// `T A T⁻¹`, the solution X of `X T = T A`: row `e[r]` of T A is row r of F, which is row
+    /// `f[r]` of T ([`ChainRows::checked`]), so row `e[r]` of X is the unit row `f[r]`; only the
+    /// chains' last rows, `c_i A^ν_i`, are solved for — p right-hand sides instead of n, and
+    /// their entries are small where T⁻¹'s are not.
     fn similar(
         &self,
         t: &Matrix<Rational>,
@@ -346,11 +359,9 @@ impl ChainRows<'_> {
     ) -> Result<Matrix<Rational>, linalg::LinalgError> {
         let n = t.rows();
         let mut unit: Vec<Option<usize>> = vec![None; n];
-        for r in 0..n {
-            if let Some(q) = self.e[r] {
-                if ta.row(q) == t.row(self.f[r]) {
-                    unit[q] = Some(self.f[r]);
-                }
+        for (q, k) in self.e.iter().zip(&self.f) {
+            if let Some(q) = *q {
+                unit[q] = Some(*k);
             }
         }
         let rest: Vec<usize> = (0..n).filter(|&q| unit[q].is_none()).collect();
@@ -875,23 +886,36 @@ mod tests {
         let t = m("[1 0 0; 0 1 0; 0 0 1]");
         let e = m("[1 0 0; 0 1 0; 0 0 0]");
         let f = m("[0 1 0; 0 0 1; 1 0 0]");
+        let rows = |e: &[Option<usize>], f: &[usize]| ChainRows {
+            e: e.to_vec(),
+            f: f.to_vec(),
+        };
         let (e_rows, f_rows) = ([Some(0), Some(1), None], [1, 2, 0]);
-        assert!(by_chains(&t, &e, &f, &e_rows, &f_rows).is_some());
-        assert!(by_chains(&t, &e, &f, &e_rows, &[2, 1, 0]).is_none());
-        assert!(by_chains(&t, &e, &f, &e_rows, &[1, 1, 0]).is_none());
-        assert!(by_chains(&t, &e, &f, &[Some(0), Some(0), None], &f_rows).is_none());
-        assert!(by_chains(&t, &f, &f, &e_rows, &f_rows).is_none());
-        assert!(by_chains(&t, &e, &f, &[Some(0), Some(1), Some(2)], &f_rows).is_none());
+        // the rows a single chain of length 3 gives
+        let chain = ChainRows::of(&[3]);
+        assert_eq!((&chain.e[..], &chain.f[..]), (&e_rows[..], &f_rows[..]));
+        assert!(chain.checked(&t, &e, &f).is_some());
+        assert!(rows(&e_rows, &[2, 1, 0]).checked(&t, &e, &f).is_none());
+        assert!(rows(&e_rows, &[1, 1, 0]).checked(&t, &e, &f).is_none());
+        assert!(rows(&[Some(0), Some(0), None], &f_rows)
+            .checked(&t, &e, &f)
+            .is_none());
+        assert!(rows(&e_rows, &f_rows).checked(&t, &f, &f).is_none());
+        assert!(rows(&[Some(0), Some(1), Some(2)], &f_rows)
+            .checked(&t, &e, &f)
+            .is_none());
         // det(Es − F) for the 3-cycle: (−1)³ · sgn(3-cycle) = −1, no cycle in S
-        let rows = by_chains(&t, &e, &f, &e_rows, &f_rows).unwrap();
+        let checked = rows(&e_rows, &f_rows).checked(&t, &e, &f).unwrap();
         assert_eq!(
-            rows.determinant(&t).unwrap(),
+            checked.determinant(&t).unwrap(),
             pencil_determinant(&e, &f).unwrap()
         );
         // E = I (S = P_Fᵀ, one 3-cycle): det(Is − F) = s³ − 1, against elimination
         let eye = m("[1 0 0; 0 1 0; 0 0 1]");
-        let rows = by_chains(&t, &eye, &f, &[Some(0), Some(1), Some(2)], &f_rows).unwrap();
-        let det = rows.determinant(&t).unwrap();
+        let checked = rows(&[Some(0), Some(1), Some(2)], &f_rows)
+            .checked(&t, &eye, &f)
+            .unwrap();
+        let det = checked.determinant(&t).unwrap();
         assert_eq!(det, pencil_determinant(&eye, &f).unwrap());
         assert_eq!(det.degree(), Some(3));
     }

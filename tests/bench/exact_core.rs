@@ -235,8 +235,9 @@ fn bench_commands(c: &mut Criterion) {
 
 /// The commands that do not scale with an order: `optimal` (two outputs of a 3-state plant,
 /// 8 seeded starts), `verify` (one worked example), `check` (an answer file), `exercise new`,
-/// `grade` (a class of 30 submissions, the report written to a temporary folder) — each as
-/// the command line reads it, run by `api::run`.
+/// `simulate` (a worked example's scenarios, no figure written), `grade` (a class of 30
+/// submissions, the report written to a temporary folder) — each as the command line reads it,
+/// run by `api::run`.
 fn bench_fixed_commands(c: &mut Criterion) {
     use observer_workbench::api::{run, Command};
     let root = env!("CARGO_MANIFEST_DIR");
@@ -259,7 +260,7 @@ fn bench_fixed_commands(c: &mut Criterion) {
         submissions.display().to_string(),
         dir.join("report.csv").display().to_string(),
     );
-    let lines: [(&str, Vec<&str>); 5] = [
+    let lines: [(&str, Vec<&str>); 6] = [
         (
             "optimal j1, n = 3, 8 starts",
             vec![
@@ -295,6 +296,10 @@ fn bench_fixed_commands(c: &mut Criterion) {
                 "7",
                 "--key",
             ],
+        ),
+        (
+            "simulate baranowski-rc-ladder (every scenario, its claims checked)",
+            vec!["simulate", "baranowski-rc-ladder", "--dir", &examples],
         ),
         (
             "grade, 30 submissions",

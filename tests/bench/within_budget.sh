@@ -16,19 +16,19 @@ trap 'rm -rf "$dir"' EXIT
 python3 - "$dir" <<'PY'
 import random, sys
 random.seed(1)
+text = lambda rows: "[" + "; ".join(" ".join(r) for r in rows) + "]"
 for n in (20, 40, 60, 80, 100, 150, 200):
-    row = lambda: " ".join(str(random.randint(-9, 9)) for _ in range(n))
-    open(f"{sys.argv[1]}/a{n}", "w").write("[" + "; ".join(row() for _ in range(n)) + "]")
-    open(f"{sys.argv[1]}/c{n}", "w").write("[" + row() + "]")
-    open(f"{sys.argv[1]}/b{n}", "w").write("[" + "; ".join(str(random.randint(-9, 9)) for _ in range(n)) + "]")
-    # the float commands' plants: A/n, the identity, the first n/2 states measured
-    a = open(f"{sys.argv[1]}/a{n}").read()[1:-1].split("; ")
-    scaled = [" ".join(f"{x}/{n}" if x != "0" else "0" for x in r.split(" ")) for r in a]
-    open(f"{sys.argv[1]}/s{n}", "w").write("[" + "; ".join(scaled) + "]")
-    eye = lambda r, c: "[" + "; ".join(" ".join("1" if i == j else "0" for j in range(c)) for i in range(r)) + "]"
-    open(f"{sys.argv[1]}/i{n}", "w").write(eye(n, n))
-    open(f"{sys.argv[1]}/ik{n}", "w").write(eye(n // 2, n // 2))
-    open(f"{sys.argv[1]}/ck{n}", "w").write(eye(n // 2, n))
+    draw = lambda: [str(random.randint(-9, 9)) for _ in range(n)]
+    a = [draw() for _ in range(n)]
+    c, b = draw(), draw()
+    files = {"a": text(a), "c": text([c]), "b": text([[x] for x in b]),
+             # the float commands' plants: A/n, the identity, the first n/2 states measured
+             "s": text([[f"{x}/{n}" if x != "0" else "0" for x in r] for r in a]),
+             "i": text([["1" if i == j else "0" for j in range(n)] for i in range(n)]),
+             "ik": text([["1" if i == j else "0" for j in range(n // 2)] for i in range(n // 2)]),
+             "ck": text([["1" if i == j else "0" for j in range(n)] for i in range(n // 2)])}
+    for name, content in files.items():
+        open(f"{sys.argv[1]}/{name}{n}", "w").write(content)
 PY
 only=${ONLY:-}
 commands=("observe" "canonical" "gain --repeated 1 --summary" "gain --repeated 1"
