@@ -10,10 +10,12 @@
 //! * [`kronecker`](mod@kronecker): Kronecker products and `vec`, for Lyapunov equations.
 //! * [`lyapunov`]: `F X + X Fᵀ + W = 0`, exact (vectorised) and in `f64` (Bartels–Stewart).
 //! * [`float`]: the `f64` side through nalgebra: eigenvalues, singular values, condition numbers.
+//! * [`expm`](mod@expm): the matrix exponential in `f64` (scaling and squaring, Padé).
 
 pub mod charpoly;
 pub mod definiteness;
 pub mod elimination;
+pub mod expm;
 pub mod float;
 pub mod kronecker;
 mod limbs;
