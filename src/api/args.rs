@@ -122,6 +122,26 @@ pub fn json_exp_matrix(
     )
 }
 
+/// A float matrix of a JSON answer, given as [`json_exp_matrix`] gives it: made a value only
+/// when the report keeps values, and otherwise written straight into the text
+/// ([`super::Report::json_with_exp_matrices`]; at n = 100 `zoh`'s Φ is 10 000 strings, each
+/// its own allocation in a value).
+pub struct ExpMatrix<'a> {
+    /// Its rows.
+    pub rows: usize,
+    /// Its columns.
+    pub cols: usize,
+    /// Entry (i, j).
+    pub entry: &'a dyn Fn(usize, usize) -> f64,
+}
+
+impl ExpMatrix<'_> {
+    /// The matrix as a JSON value, [`json_exp_matrix`].
+    pub fn value(&self) -> serde_json::Value {
+        json_exp_matrix(self.rows, self.cols, self.entry)
+    }
+}
+
 /// A JSON object from `(key, value)` pairs, each value moved in: `json!` serialises every
 /// value it is given into a new one, a second copy of a whole matrix of strings (at n = 100
 /// `zoh`'s Φ is 10 000 of them; a canonical form's T at n = 60 megabytes of digits).

@@ -593,9 +593,7 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
     let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
     // the plant's fractions freed before the answer's strings are made, which take their room
     drop((a, b));
-    let rows = |m: &[Vec<f64>]| {
-        super::args::json_exp_matrix(m.len(), m.first().map_or(0, Vec::len), |i, j| m[i][j])
-    };
+    let rows = |m: &[Vec<f64>]| (m.len(), m.first().map_or(0, Vec::len));
     match (&s, args.json) {
         (Sampled::Exact { phi, gamma, index }, true) => rep.json(super::args::object(vec![
             ("exact", true.into()),
@@ -610,12 +608,24 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
                 error_estimate,
             },
             true,
-        ) => rep.json(super::args::object(vec![
-            ("exact", false.into()),
-            ("phi", rows(phi)),
-            ("gamma", rows(gamma)),
-            ("error_estimate", (*error_estimate).into()),
-        ])),
+        ) => {
+            let (phi_entry, gamma_entry) = (
+                |i: usize, j: usize| phi[i][j],
+                |i: usize, j: usize| gamma[i][j],
+            );
+            let matrix =
+                |(rows, cols): (usize, usize), entry| super::args::ExpMatrix { rows, cols, entry };
+            rep.json_with_exp_matrices(
+                super::args::object(vec![
+                    ("exact", false.into()),
+                    ("error_estimate", (*error_estimate).into()),
+                ]),
+                &[
+                    ("phi", matrix(rows(phi), &phi_entry)),
+                    ("gamma", matrix(rows(gamma), &gamma_entry)),
+                ],
+            );
+        }
         (Sampled::Exact { phi, gamma, index }, false) => {
             outln!(rep, "Zero-order hold, T = {t}: exact (A is nilpotent, A^{index} = 0, so e^(AT) = Σ_(k<{index}) (AT)^k/k!)");
             outln!(rep, "  Φ = e^(AT) = {}", phi.to_input());
@@ -728,11 +738,6 @@ pub fn dlqe(args: DlqeArgs, rep: &mut Report) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
-/// A float matrix's entries as `{:e}` writes them, row by row.
-fn exp_rows(m: &nalgebra::DMatrix<f64>) -> serde_json::Value {
-    super::args::json_exp_matrix(m.nrows(), m.ncols(), |i, j| m[(i, j)])
-}
-
 /// `owb dlqe --json`.
 fn dlqe_json(k: &crate::observer::discrete_kalman::DiscreteKalman, rep: &mut Report) {
     let mut out = json!({
@@ -746,14 +751,28 @@ fn dlqe_json(k: &crate::observer::discrete_kalman::DiscreteKalman, rep: &mut Rep
         "exact_check": k.exact_check.name(),
     });
     // moved in, not serialised again by `json!`
-    out["p"] = exp_rows(&k.p);
-    out["gain"] = exp_rows(&k.gain);
-    out["current_gain"] = exp_rows(&k.current_gain);
     if let (Some(p), Some(l)) = (&k.exact_p, &k.exact_gain) {
         out["exact_p"] = json_matrix(p);
         out["exact_gain"] = json_matrix(l);
     }
-    rep.json(out);
+    let (p, gain, current) = (
+        |i, j| k.p[(i, j)],
+        |i, j| k.gain[(i, j)],
+        |i, j| k.current_gain[(i, j)],
+    );
+    let matrix = |m: &nalgebra::DMatrix<f64>, entry| super::args::ExpMatrix {
+        rows: m.nrows(),
+        cols: m.ncols(),
+        entry,
+    };
+    rep.json_with_exp_matrices(
+        out,
+        &[
+            ("p", matrix(&k.p, &p)),
+            ("gain", matrix(&k.gain, &gain)),
+            ("current_gain", matrix(&k.current_gain, &current)),
+        ],
+    );
 }
 
 /// `owb dlqe`'s text.

@@ -118,6 +118,38 @@ pub fn write_pretty_with_steps(
     failure.map_or(Ok(()), Err)
 }
 
+/// `value` with each `(key, matrix)` of `matrices` set as [`super::args::ExpMatrix::value`]
+/// makes it, as [`write_pretty`] writes the value after they were inserted (in the map's own
+/// order of keys). The entries are written as they are formatted: `{:e}`'s text has no byte
+/// JSON escapes, so each string is its quotes around it.
+pub fn write_pretty_with_exp_matrices(
+    out: &mut String,
+    mut value: Value,
+    matrices: &[(&str, super::args::ExpMatrix<'_>)],
+) {
+    let Some(map) = value.as_object_mut() else {
+        write_value(out, &value, 0);
+        return;
+    };
+    // placeholders take the keys' places among the others
+    for (key, _) in matrices {
+        map.insert((*key).into(), Value::Null);
+    }
+    write_object(out, map.iter(), 0, |out, key, item, level| {
+        // a repeated key's last matrix, as inserting them one after another leaves it
+        let Some((_, m)) = matrices.iter().rev().find(|(k, _)| *k == key) else {
+            return write_value(out, item, level);
+        };
+        write_array(out, 0..m.rows, level, |out, i, level| {
+            write_array(out, 0..m.cols, level, |out, j, _| {
+                out.push('"');
+                crate::algebra::float_text::push_exp(out, (m.entry)(i, j));
+                out.push('"');
+            });
+        });
+    });
+}
+
 /// Whether JSON escapes this byte.
 #[inline]
 fn special(b: u8) -> bool {
@@ -234,6 +266,46 @@ mod tests {
             write_pretty(&mut inserted, &expected);
             let mut streamed = String::new();
             write_pretty_with_steps(&mut streamed, v, &steps).unwrap();
+            prop_assert_eq!(streamed, inserted);
+        }
+
+        /// Float matrices written into the text as they are formatted are the matrices made
+        /// values and inserted: at their keys' places, replacing entries already there, empty
+        /// ones as `[]`, every kind of f64 (NaN, infinities, −0, subnormals).
+        #[test]
+        fn exp_matrices_written_in_place_are_matrices_inserted(
+            v in prop_oneof![
+                value(),
+                proptest::collection::vec(("[a-z_]{0,7}", leaf()), 0..6)
+                    .prop_map(|kv| Value::Object(kv.into_iter().collect())),
+            ],
+            keys in proptest::collection::vec("[a-z_]{0,7}", 0..4),
+            shapes in proptest::collection::vec((0usize..4, 0usize..4), 4),
+            bits in proptest::collection::vec(any::<u64>(), 16),
+        ) {
+            let mut keys = keys;
+            keys.dedup();
+            let entry = |i: usize, j: usize| {
+                let x = f64::from_bits(bits[(4 * i + j) % bits.len()]);
+                [x, f64::NAN, f64::NEG_INFINITY, -0.0][(i + j) % 4 * usize::from(i == 1)]
+            };
+            let matrices: Vec<(&str, crate::api::args::ExpMatrix<'_>)> = keys
+                .iter()
+                .zip(&shapes)
+                .map(|(k, &(rows, cols))| {
+                    (k.as_str(), crate::api::args::ExpMatrix { rows, cols, entry: &entry })
+                })
+                .collect();
+            let mut expected = v.clone();
+            if let Some(map) = expected.as_object_mut() {
+                for (k, m) in &matrices {
+                    map.insert((*k).into(), m.value());
+                }
+            }
+            let mut inserted = String::new();
+            write_pretty(&mut inserted, &expected);
+            let mut streamed = String::new();
+            write_pretty_with_exp_matrices(&mut streamed, v, &matrices);
             prop_assert_eq!(streamed, inserted);
         }
     }

@@ -141,6 +141,28 @@ impl Report {
         self.json = Some(v);
     }
 
+    /// [`Report::json`] for an answer whose bulk is float matrices: each `(key, matrix)` is the
+    /// value's entry `key`, written as [`args::json_exp_matrix`] gives it. A report that keeps
+    /// its text only writes the matrices straight into the text, never making them values;
+    /// the text is the same.
+    pub fn json_with_exp_matrices(
+        &mut self,
+        mut v: serde_json::Value,
+        matrices: &[(&str, args::ExpMatrix<'_>)],
+    ) {
+        if self.keep == Keep::Text {
+            json_text::write_pretty_with_exp_matrices(&mut self.text, v, matrices);
+            self.text.push('\n');
+            return;
+        }
+        if let Some(answer) = v.as_object_mut() {
+            for (key, m) in matrices {
+                answer.insert((*key).into(), m.value());
+            }
+        }
+        self.json(v);
+    }
+
     /// [`Report::json`] for an answer with a derivation: `steps` become its `"steps"` and are
     /// kept as they are, instead of being read back from the value (at n = 20 a reduced
     /// observer spent a twentieth of its time reading its own steps back).
