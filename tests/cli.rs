@@ -553,6 +553,46 @@ fn perfect_observer_and_a_plant_it_does_not_fit() {
     assert!(err.contains("2 poles given"), "{err}");
 }
 
+/// `optimal` on a dense integer plant of order 5 (entries −9…9, two outputs): its constraints'
+/// terms reach 10⁵ and more, where f64 cannot bring them below the absolute 10⁻¹³ Newton's
+/// method first asks for, and no start converged. Now Newton stops at f64's resolution for
+/// these coefficients and says so with the residual; the gain it reports places the poles.
+#[test]
+fn optimal_converges_on_a_plant_with_large_coefficients_and_says_to_what() {
+    let a = "[8 -9 3 -3 4; -9 7 -2 5 6; 8 -2 2 -2 -2; 5 0 -9 4 8; -6 -4 0 -6 1]";
+    let c = "[1 0 0 0 0; 0 1 0 0 0]";
+    let (code, out, err) = owb(&["optimal", "--a", a, "--c", c, "--repeated", "1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("the constraints hold to"), "{out}");
+    let (code, json, err) = owb(&["optimal", "--a", a, "--c", c, "--repeated", "1", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let best = &v["report"]["minima"][0];
+    let residual = best["constraint_residual"].as_f64().unwrap();
+    assert!(residual > 1e-13 && residual < 1e-6, "{residual}");
+    let k: Vec<f64> = best["gain"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    // det(sI − (A − GC)) in f64 against (s + 1)⁵, G filled column by column
+    let entries: Vec<f64> = a
+        .trim_matches(['[', ']'])
+        .split(';')
+        .flat_map(|row| row.split_whitespace().map(|x| x.parse::<f64>().unwrap()))
+        .collect();
+    let m = observer_workbench::linalg::Matrix::from_fn(5, 5, |i, j| {
+        // (GC)_ij = G_ij for the two measured states, column j of G being k[5j..5j + 5]
+        entries[5 * i + j] - if j < 2 { k[5 * j + i] } else { 0.0 }
+    });
+    let p = observer_workbench::linalg::berkowitz(&m, "s").unwrap();
+    for (i, binomial) in [1.0, 5.0, 10.0, 10.0, 5.0, 1.0].iter().enumerate() {
+        let got = p.coeff(5 - i);
+        assert!((got - binomial).abs() < 1e-6, "s^{}: {got}", 5 - i);
+    }
+}
+
 /// `owb verify | head -1`: the reader goes away, the program ends quietly (it panicked with
 /// "failed printing to stdout: Broken pipe").
 #[test]

@@ -269,6 +269,19 @@ impl MultiPoly {
             })
             .sum()
     }
+    /// The size of its terms at a float point, Σ |c| Π |x_v|^e: what the rounding error of
+    /// [`MultiPoly::evaluate_f64`] is a small multiple of (symbols missing count as 0).
+    pub fn evaluate_abs_f64(&self, values: &BTreeMap<String, f64>) -> f64 {
+        self.terms
+            .iter()
+            .map(|(m, c)| {
+                m.0.iter()
+                    .fold(crate::algebra::rational_to_f64(c).abs(), |acc, (v, e)| {
+                        acc * values.get(v).copied().unwrap_or(0.0).abs().powi(*e as i32)
+                    })
+            })
+            .sum()
+    }
     /// How many terms it has.
     pub fn number_of_terms(&self) -> usize {
         self.terms.len()

@@ -4,7 +4,10 @@
 //! The constraints are the coefficient equations of `det(λI − (A − GC))` against the desired
 //! polynomial, derived symbolically (eq. (15)); their exact Jacobians and Hessians come from
 //! differentiating those polynomials. Newton's method on the Karush–Kuhn–Tucker system
-//! `2k + Jᵀμ = 0, g(k) = 0` is run from many seeded random starts; each converged point is
+//! `2k + Jᵀμ = 0, g(k) = 0` is run from many seeded random starts — converged when the
+//! residuals are below 10⁻¹³, or, for plants whose coefficients put that below f64's
+//! resolution, below 10⁻¹² of the size of their terms (the report then gives the residual);
+//! each converged point is
 //! classified (second-order test on the tangent space), and the report says how many starts
 //! reached the best minimum, which other minima exist, and whether the best is unique.
 
@@ -81,6 +84,14 @@ impl Constraints {
             self.equations.iter().map(|e| e.evaluate_f64(&x)),
         )
     }
+    /// The size of each equation's terms at `k` (see [`MultiPoly::evaluate_abs_f64`]).
+    fn magnitudes(&self, k: &DVector<f64>) -> DVector<f64> {
+        let x = self.point(k);
+        DVector::from_iterator(
+            self.equations.len(),
+            self.equations.iter().map(|e| e.evaluate_abs_f64(&x)),
+        )
+    }
     fn jacobian(&self, k: &DVector<f64>) -> DMatrix<f64> {
         let x = self.point(k);
         DMatrix::from_fn(self.equations.len(), self.variables.len(), |i, j| {
@@ -121,8 +132,19 @@ pub struct MinimumNormReport {
     pub best_count: usize,
 }
 
+/// The largest residual Newton's method is taken to reach on equations whose terms have size
+/// `magnitude`, relative: f64 evaluates such an equation to within a few units of roundoff of
+/// it for each of its terms, and a plant with entries up to 10 has order-5 terms of 10⁵ and
+/// more, where the absolute 10⁻¹³ the iteration first asks for is below f64's resolution.
+const RELATIVE_RESIDUAL: f64 = 1e-12;
+
 /// Newton's method on the KKT system from one start; `Some` when it converges to a point
 /// satisfying the second-order condition for a minimum.
+///
+/// Converged means the constraints below 10⁻¹³ and the Lagrangian's gradient below 10⁻¹²,
+/// absolute; or, when eighty steps do not reach that, both below [`RELATIVE_RESIDUAL`] times
+/// the size of their terms at the last point (the iteration has reached the resolution of f64
+/// for this plant's numbers).
 fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, f64)> {
     let m = cons.variables.len();
     let r = cons.equations.len();
@@ -144,25 +166,7 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, 
         let g = cons.values(&k);
         let grad = &k * 2.0 + jac.transpose() * &mu;
         if grad.amax() < 1e-12 && g.amax() < 1e-13 {
-            // second order: the Hessian of the Lagrangian on the tangent space is positive
-            let mut hl = DMatrix::<f64>::identity(m, m) * 2.0;
-            for i in 0..r {
-                hl += cons.hessian(i, &k) * mu[i];
-            }
-            // tangent basis: the right singular vectors of the smallest singular values of the
-            // Jacobian padded to square (its null space)
-            let mut padded = DMatrix::zeros(m, m);
-            padded.view_mut((0, 0), (r, m)).copy_from(&jac);
-            let svd = crate::linalg::float::try_svd(&padded, false, true)?;
-            let vt = svd.v_t?;
-            let mut idx: Vec<usize> = (0..m).collect();
-            idx.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
-            let z = DMatrix::from_fn(m, m - r, |i, j| vt[(idx[j], i)]);
-            let reduced = z.transpose() * hl * &z;
-            // NaN when it cannot be computed: not a minimum
-            let min_eig = crate::linalg::float::symmetric_eigen(&reduced)
-                .map_or(f64::NAN, |e| e.eigenvalues.min());
-            return (min_eig > 1e-9).then(|| (k.clone(), k.norm_squared()));
+            return second_order_minimum(cons, k, &mu, &jac);
         }
         let mut kkt = DMatrix::<f64>::zeros(m + r, m + r);
         let mut hl = DMatrix::<f64>::identity(m, m) * 2.0;
@@ -182,7 +186,54 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<(DVector<f64>, 
             return None;
         }
     }
+    // not reached absolutely: reached to the resolution of the plant's numbers?
+    let jac = cons.jacobian(&k);
+    let g = cons.values(&k);
+    let grad = &k * 2.0 + jac.transpose() * &mu;
+    let size = cons.magnitudes(&k);
+    // the gradient's terms: 2|k_j| and |∂g_i/∂k_j| |μ_i|
+    let grad_size = k.abs() * 2.0 + jac.abs().transpose() * mu.abs();
+    let within = |residual: &DVector<f64>, size: &DVector<f64>| {
+        residual
+            .iter()
+            .zip(size.iter())
+            .all(|(x, s)| x.abs() <= RELATIVE_RESIDUAL * s.max(1.0))
+    };
+    if within(&g, &size) && within(&grad, &grad_size) {
+        return second_order_minimum(cons, k, &mu, &jac);
+    }
     None
+}
+
+/// `k` with its cost when the Hessian of the Lagrangian is positive definite on the tangent
+/// space of the constraints (a strict local minimum); `None` otherwise.
+fn second_order_minimum(
+    cons: &Constraints,
+    k: DVector<f64>,
+    mu: &DVector<f64>,
+    jac: &DMatrix<f64>,
+) -> Option<(DVector<f64>, f64)> {
+    let m = cons.variables.len();
+    let r = cons.equations.len();
+    let mut hl = DMatrix::<f64>::identity(m, m) * 2.0;
+    for i in 0..r {
+        hl += cons.hessian(i, &k) * mu[i];
+    }
+    // tangent basis: the right singular vectors of the smallest singular values of the
+    // Jacobian padded to square (its null space)
+    let mut padded = DMatrix::zeros(m, m);
+    padded.view_mut((0, 0), (r, m)).copy_from(jac);
+    let svd = crate::linalg::float::try_svd(&padded, false, true)?;
+    let vt = svd.v_t?;
+    let mut idx: Vec<usize> = (0..m).collect();
+    idx.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
+    let z = DMatrix::from_fn(m, m - r, |i, j| vt[(idx[j], i)]);
+    let reduced = z.transpose() * hl * &z;
+    // NaN when it cannot be computed: not a minimum
+    let min_eig =
+        crate::linalg::float::symmetric_eigen(&reduced).map_or(f64::NAN, |e| e.eigenvalues.min());
+    let cost = k.norm_squared();
+    (min_eig > 1e-9).then_some((k, cost))
 }
 
 /// Minimises `J1 = Σ k_i²` subject to the constraints from `starts` seeded random starts
