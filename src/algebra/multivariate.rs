@@ -48,7 +48,8 @@ impl Monomial {
     pub fn factors(&self) -> &[(String, u32)] {
         &self.0
     }
-    fn mul(&self, other: &Monomial) -> Monomial {
+    /// The product of two monomials.
+    pub(crate) fn mul(&self, other: &Monomial) -> Monomial {
         let mut out: Vec<(String, u32)> = Vec::with_capacity(self.0.len() + other.0.len());
         let (mut i, mut j) = (0, 0);
         while i < self.0.len() || j < other.0.len() {

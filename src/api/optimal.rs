@@ -256,6 +256,13 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
         ));
     }
     if r.converged == 0 || r.minima.is_empty() {
+        if let Some(error) = r.unplaced {
+            bail!(
+                "no minimum-norm gain is reported ({} seeded starts, seed {}): starts reached the resolution of f64 for this plant's terms, but their gains place the polynomial's coefficients only to {error:.1e} (relative, computed exactly), beyond 1e-6 — the plant's numbers are too large for an f64 gain; scale the plant (units of time or of the states) so that its entries are near 1",
+                r.starts,
+                args.seed
+            );
+        }
         bail!(
             "no start converged to a local minimum ({} seeded starts, seed {}): no minimum-norm gain is reported; try more --starts or another --seed",
             r.starts,
@@ -271,12 +278,11 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
             "unique among the minima found"
         }
     ));
-    // below 10⁻¹³ the constraints hold to the absolute tolerance; above it Newton stopped at
-    // f64's resolution for these coefficients, which the reader is told with the number
-    if let Some(best) = r.minima.first().filter(|m| m.constraint_residual >= 1e-13) {
+    // Newton stopped at f64's resolution for this plant's terms, not at the absolute
+    // tolerance: the reader is told how closely the printed gain places the polynomial
+    if let Some(error) = r.minima.first().and_then(|m| m.placement_error) {
         text.push_str(&format!(
-            "  the constraints hold to {:.1e} at the best gain (the resolution of f64 for their coefficients: within 10⁻¹² of the size of their terms)\n",
-            best.constraint_residual
+            "  the best gain places each coefficient of the polynomial within {error:.1e} of the desired one (relative, computed exactly from the f64 gain, whose every digit --json gives): f64 cannot bring this plant's constraints to 10⁻¹³\n"
         ));
     }
     Ok(serde_json::to_value(&r)?)
