@@ -299,7 +299,7 @@ pub struct MinimumNormReport {
     /// minimiser is not unique.
     pub best_count: usize,
     /// The closest placement among starts that reached f64's resolution for the plant's terms
-    /// but whose gains place the polynomial only beyond [`PLACED_COEFFICIENTS`] (relative):
+    /// but whose gains place the polynomial only beyond 10⁻⁶ (relative, computed exactly):
     /// why no gain is reported when none is.
     #[serde(skip)]
     pub unplaced: Option<f64>,
