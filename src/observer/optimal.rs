@@ -98,8 +98,8 @@ pub fn pole_placement_constraints(
         if size > 1 {
             chi_power = chi_power * chi.clone();
         }
-        for_each_subset(p, size, &mut subset, &mut |outputs: &[usize]| {
-            for_each_arrangement(n, size, &mut rows, &mut |rows: &[usize]| {
+        for_each_choice(p, size, true, &mut subset, &mut |outputs: &[usize]| {
+            for_each_choice(n, size, false, &mut rows, &mut |rows: &[usize]| {
                 let minor = poly_determinant(size, &|x, y| p_entry(outputs[x], rows[y]));
                 if minor.is_zero() {
                     return;
@@ -152,38 +152,26 @@ pub fn pole_placement_constraints(
     })
 }
 
-/// Calls `f` with each increasing `size`-subset of `0..count`.
-fn for_each_subset(
+/// Calls `f` with each sequence of `size` distinct elements of `0..count`: only the
+/// increasing ones (the subsets) when `increasing`, otherwise every order of them.
+fn for_each_choice(
     count: usize,
     size: usize,
+    increasing: bool,
     chosen: &mut Vec<usize>,
     f: &mut dyn FnMut(&[usize]),
 ) {
     if chosen.len() == size {
         return f(chosen);
     }
-    let from = chosen.last().map_or(0, |&x| x + 1);
+    let from = match chosen.last() {
+        Some(&last) if increasing => last + 1,
+        _ => 0,
+    };
     for x in from..count {
-        chosen.push(x);
-        for_each_subset(count, size, chosen, f);
-        chosen.pop();
-    }
-}
-
-/// Calls `f` with each sequence of `size` distinct elements of `0..count`.
-fn for_each_arrangement(
-    count: usize,
-    size: usize,
-    chosen: &mut Vec<usize>,
-    f: &mut dyn FnMut(&[usize]),
-) {
-    if chosen.len() == size {
-        return f(chosen);
-    }
-    for x in 0..count {
         if !chosen.contains(&x) {
             chosen.push(x);
-            for_each_arrangement(count, size, chosen, f);
+            for_each_choice(count, size, increasing, chosen, f);
             chosen.pop();
         }
     }
