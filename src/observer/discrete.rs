@@ -413,8 +413,8 @@ pub enum Sampled {
         phi: Vec<Vec<f64>>,
         /// Γ, row by row.
         gamma: Vec<Vec<f64>>,
-        /// The largest difference between two independent evaluations (Padé
-        /// exponential ([`linalg::expm::expm`]) and a scaled Taylor series of the augmented matrix).
+        /// The largest difference between two independent evaluations (the Padé exponential,
+        /// [`linalg::expm::expm`], and a scaled Taylor series of the augmented matrix).
         error_estimate: f64,
     },
 }
@@ -472,8 +472,6 @@ type Rows = Vec<Vec<f64>>;
 
 /// `Σ_(k<16) X^k / k!` by Paterson and Stockmeyer's scheme: X², X³, X⁴ formed once, then
 /// Horner's rule in X⁴ over blocks of four terms — six matrix products instead of fifteen.
-/// The products go into buffers made once, and the blocks are summed over the entries'
-/// storage in place.
 fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
     use nalgebra::DMatrix;
     let size = x.nrows();
@@ -487,27 +485,20 @@ fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
     for k in 1..16 {
         inverse_factorial[k] = inverse_factorial[k - 1] / k as f64;
     }
-    // adds block j, Σ_(i<4) X^i/(4j+i)!, to `sum`, term by term in order
-    let add_block = |sum: &mut DMatrix<f64>, j: usize| {
+    let block = |j: usize| {
+        let mut sum = DMatrix::<f64>::zeros(size, size);
         for (i, power) in powers.iter().enumerate() {
+            // in place: no matrix allocated per term
             let c = inverse_factorial[4 * j + i];
-            for (s, p) in sum.as_mut_slice().iter_mut().zip(power.as_slice()) {
+            for (s, p) in sum.iter_mut().zip(power.iter()) {
                 *s += p * c;
             }
         }
+        sum
     };
-    let mut result = DMatrix::<f64>::zeros(size, size);
-    add_block(&mut result, 3);
-    let mut product = DMatrix::<f64>::zeros(size, size);
+    let mut result = block(3);
     for j in (0..3).rev() {
-        // result·X⁴ + block j, the block's sum made apart and added last
-        product.gemm(1.0, &result, &x4, 0.0);
-        let mut block = DMatrix::<f64>::zeros(size, size);
-        add_block(&mut block, j);
-        for (p, b) in product.as_mut_slice().iter_mut().zip(block.as_slice()) {
-            *p += b;
-        }
-        std::mem::swap(&mut result, &mut product);
+        result = &result * &x4 + block(j);
     }
     result
 }
@@ -555,25 +546,18 @@ fn float_zoh(
     // a singular Padé denominator needs entries beyond f64 (the scaling keeps ‖X/2^s‖ ≤ 4.25,
     // where q_13 is nonsingular), which the checks above have refused
     let pade = linalg::expm::expm(&aug).ok_or_else(overflow)?;
-    if pade.as_slice().iter().any(|x| !x.is_finite()) {
+    if pade.iter().any(|x| !x.is_finite()) {
         return Err(overflow());
     }
     let mut taylor = taylor_16(&(&aug / 2f64.powi(squarings)));
-    let mut square = DMatrix::<f64>::zeros(n + m, n + m);
     for _ in 0..squarings {
-        square.gemm(1.0, &taylor, &taylor, 0.0);
-        std::mem::swap(&mut taylor, &mut square);
-        if taylor.as_slice().iter().any(|x| !x.is_finite()) {
+        taylor = &taylor * &taylor;
+        if taylor.iter().any(|x| !x.is_finite()) {
             return Err(overflow());
         }
     }
     // the largest difference, a NaN counted as failure
-    let error = linalg::float::max_or_nan(
-        pade.as_slice()
-            .iter()
-            .zip(taylor.as_slice())
-            .map(|(p, t)| (p - t).abs()),
-    );
+    let error = linalg::float::max_or_nan((&pade - &taylor).iter().map(|x| x.abs()));
     if !error.is_finite() {
         return Err(overflow());
     }

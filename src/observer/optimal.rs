@@ -50,11 +50,11 @@ pub struct Constraints {
 /// **Identity.** The same polynomials as the characteristic polynomial of A − GC taken
 /// symbolically (Berkowitz over polynomials in the n·p symbols), which a test checks; that
 /// path's intermediate polynomials have degree up to n in the symbols, and at order 10 with
-/// two outputs it took 15 s.
+/// two outputs it took 14 s.
 ///
 /// **Cost.** n products of n × n rationals for the adjugate, then per term a |S| × |S|
 /// determinant of polynomials in λ and one exact division: Σ_s C(p, s)·n!/(n − s)! terms
-/// (121 at n = 10, p = 2).
+/// (111 at n = 10, p = 2).
 ///
 /// # Errors
 /// A message for mismatched dimensions.
@@ -216,8 +216,9 @@ impl Constraints {
         )
     }
     /// Each equation's residual at `k` read exactly (every f64 is a rational), relative to the
-    /// coefficient it places (to 1 when that is smaller): how far the polynomial of the gain
-    /// as printed is from the desired one, without f64's rounding in the evaluation.
+    /// coefficient it places (to 1 when that is smaller): how far the polynomial of the f64
+    /// gain reported (`--json` gives all its digits) is from the desired one, without f64's
+    /// rounding in the evaluation.
     fn placement_errors(&self, k: &DVector<f64>) -> Option<Vec<f64>> {
         let x: BTreeMap<String, Rational> = self
             .variables
@@ -293,10 +294,10 @@ pub struct MinimumNormReport {
     pub unplaced: Option<f64>,
 }
 
-/// The largest residual Newton's method is taken to reach on equations whose terms have size
-/// `magnitude`, relative: f64 evaluates such an equation to within a few units of roundoff of
-/// it for each of its terms, and a plant with entries up to 10 has order-5 terms of 10⁵ and
-/// more, where the absolute 10⁻¹³ the iteration first asks for is below f64's resolution.
+/// The residual, relative to the size of an equation's terms (Σ |c| Π |k|^e at the point),
+/// that Newton's method is taken to have reached when the absolute 10⁻¹³ is out of reach: f64
+/// evaluates an equation to within a few units of roundoff of that size for each term, and a
+/// plant with entries up to 10 has order-5 terms of 10⁵ and more.
 const RELATIVE_RESIDUAL: f64 = 1e-12;
 
 /// How closely a gain accepted at f64's resolution must still place the polynomial, checked
