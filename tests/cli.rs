@@ -593,9 +593,11 @@ fn optimal_converges_on_a_plant_with_large_coefficients_and_says_to_what() {
         entries[5 * i + j] - if j < 2 { k[5 * j + i] } else { 0.0 }
     });
     let p = observer_workbench::linalg::berkowitz(&m, "s").unwrap();
-    for (i, binomial) in [1.0, 5.0, 10.0, 10.0, 5.0, 1.0].iter().enumerate() {
-        let got = p.coeff(5 - i);
-        assert!((got - binomial).abs() < 1e-6, "s^{}: {got}", 5 - i);
+    // the desired polynomial of `--repeated 1`, made by the workbench, not typed
+    let desired = observer_workbench::poly::Poly::from_roots(&[-1.0f64; 5], "s");
+    for power in 0..=5 {
+        let (got, want) = (p.coeff(power), desired.coeff(power));
+        assert!((got - want).abs() < 1e-6, "s^{power}: {got} ≠ {want}");
     }
 }
 

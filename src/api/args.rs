@@ -126,19 +126,32 @@ pub fn json_exp_matrix(
 /// when the report keeps values, and otherwise written straight into the text
 /// ([`super::Report::json_with_exp_matrices`]; at n = 100 `zoh`'s Φ is 10 000 strings, each
 /// its own allocation in a value).
-pub struct ExpMatrix<'a> {
-    /// Its rows.
-    pub rows: usize,
-    /// Its columns.
-    pub cols: usize,
-    /// Entry (i, j).
-    pub entry: &'a dyn Fn(usize, usize) -> f64,
+pub enum ExpMatrix<'a> {
+    /// Row by row.
+    Rows(&'a [Vec<f64>]),
+    /// nalgebra's.
+    Dense(&'a nalgebra::DMatrix<f64>),
 }
 
 impl ExpMatrix<'_> {
+    /// Its rows and columns.
+    pub fn shape(&self) -> (usize, usize) {
+        match self {
+            ExpMatrix::Rows(m) => (m.len(), m.first().map_or(0, Vec::len)),
+            ExpMatrix::Dense(m) => m.shape(),
+        }
+    }
+    /// Entry (i, j).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        match self {
+            ExpMatrix::Rows(m) => m[i][j],
+            ExpMatrix::Dense(m) => m[(i, j)],
+        }
+    }
     /// The matrix as a JSON value, [`json_exp_matrix`].
     pub fn value(&self) -> serde_json::Value {
-        json_exp_matrix(self.rows, self.cols, self.entry)
+        let (rows, cols) = self.shape();
+        json_exp_matrix(rows, cols, |i, j| self.get(i, j))
     }
 }
 

@@ -593,7 +593,6 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
     let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
     // the plant's fractions freed before the answer's strings are made, which take their room
     drop((a, b));
-    let rows = |m: &[Vec<f64>]| (m.len(), m.first().map_or(0, Vec::len));
     match (&s, args.json) {
         (Sampled::Exact { phi, gamma, index }, true) => rep.json(super::args::object(vec![
             ("exact", true.into()),
@@ -608,24 +607,16 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
                 error_estimate,
             },
             true,
-        ) => {
-            let (phi_entry, gamma_entry) = (
-                |i: usize, j: usize| phi[i][j],
-                |i: usize, j: usize| gamma[i][j],
-            );
-            let matrix =
-                |(rows, cols): (usize, usize), entry| super::args::ExpMatrix { rows, cols, entry };
-            rep.json_with_exp_matrices(
-                super::args::object(vec![
-                    ("exact", false.into()),
-                    ("error_estimate", (*error_estimate).into()),
-                ]),
-                &[
-                    ("phi", matrix(rows(phi), &phi_entry)),
-                    ("gamma", matrix(rows(gamma), &gamma_entry)),
-                ],
-            );
-        }
+        ) => rep.json_with_exp_matrices(
+            super::args::object(vec![
+                ("exact", false.into()),
+                ("error_estimate", (*error_estimate).into()),
+            ]),
+            &[
+                ("phi", super::args::ExpMatrix::Rows(phi)),
+                ("gamma", super::args::ExpMatrix::Rows(gamma)),
+            ],
+        ),
         (Sampled::Exact { phi, gamma, index }, false) => {
             outln!(rep, "Zero-order hold, T = {t}: exact (A is nilpotent, A^{index} = 0, so e^(AT) = Σ_(k<{index}) (AT)^k/k!)");
             outln!(rep, "  Φ = e^(AT) = {}", phi.to_input());
@@ -755,22 +746,15 @@ fn dlqe_json(k: &crate::observer::discrete_kalman::DiscreteKalman, rep: &mut Rep
         out["exact_p"] = json_matrix(p);
         out["exact_gain"] = json_matrix(l);
     }
-    let (p, gain, current) = (
-        |i, j| k.p[(i, j)],
-        |i, j| k.gain[(i, j)],
-        |i, j| k.current_gain[(i, j)],
-    );
-    let matrix = |m: &nalgebra::DMatrix<f64>, entry| super::args::ExpMatrix {
-        rows: m.nrows(),
-        cols: m.ncols(),
-        entry,
-    };
     rep.json_with_exp_matrices(
         out,
         &[
-            ("p", matrix(&k.p, &p)),
-            ("gain", matrix(&k.gain, &gain)),
-            ("current_gain", matrix(&k.current_gain, &current)),
+            ("p", super::args::ExpMatrix::Dense(&k.p)),
+            ("gain", super::args::ExpMatrix::Dense(&k.gain)),
+            (
+                "current_gain",
+                super::args::ExpMatrix::Dense(&k.current_gain),
+            ),
         ],
     );
 }

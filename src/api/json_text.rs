@@ -83,6 +83,33 @@ fn write_object<'a>(
     out.push('}');
 }
 
+/// `value` as [`write_pretty`] writes it after each of `keys` was set (in the map's own order
+/// of keys), the entry of such a key written by `fill(out, key, level)` instead of being made
+/// a value first: what a report writes straight into its text (its steps, its float
+/// matrices). A value that is not an object is written alone.
+fn write_pretty_filled(
+    out: &mut String,
+    mut value: Value,
+    keys: &[&str],
+    mut fill: impl FnMut(&mut String, &str, usize),
+) {
+    let Some(map) = value.as_object_mut() else {
+        write_value(out, &value, 0);
+        return;
+    };
+    // placeholders take the keys' places among the others
+    for key in keys {
+        map.insert((*key).into(), Value::Null);
+    }
+    write_object(out, map.iter(), 0, |out, key, item, level| {
+        if keys.contains(&key) {
+            fill(out, key, level);
+        } else {
+            write_value(out, item, level);
+        }
+    });
+}
+
 /// `value` with its key `"steps"` set to `steps`, as [`write_pretty`] writes the value after
 /// `steps` were inserted (in the map's own order of keys), each step made a JSON value only
 /// while it is written: an order-40 reduced observer's steps are 20 MB, not copied whole.
@@ -91,20 +118,11 @@ fn write_object<'a>(
 /// A step that cannot be made a value (none can: a step is strings).
 pub fn write_pretty_with_steps(
     out: &mut String,
-    mut value: Value,
+    value: Value,
     steps: &[crate::derivation::Step],
 ) -> serde_json::Result<()> {
-    let Some(map) = value.as_object_mut() else {
-        write_value(out, &value, 0);
-        return Ok(());
-    };
-    // a placeholder takes the key's place among the others
-    map.insert("steps".into(), Value::Null);
     let mut failure = None;
-    write_object(out, map.iter(), 0, |out, key, item, level| {
-        if key != "steps" {
-            return write_value(out, item, level);
-        }
+    write_pretty_filled(out, value, &["steps"], |out, _, level| {
         write_array(
             out,
             steps.iter(),
@@ -124,26 +142,20 @@ pub fn write_pretty_with_steps(
 /// JSON escapes, so each string is its quotes around it.
 pub fn write_pretty_with_exp_matrices(
     out: &mut String,
-    mut value: Value,
+    value: Value,
     matrices: &[(&str, super::args::ExpMatrix<'_>)],
 ) {
-    let Some(map) = value.as_object_mut() else {
-        write_value(out, &value, 0);
-        return;
-    };
-    // placeholders take the keys' places among the others
-    for (key, _) in matrices {
-        map.insert((*key).into(), Value::Null);
-    }
-    write_object(out, map.iter(), 0, |out, key, item, level| {
+    let keys: Vec<&str> = matrices.iter().map(|(key, _)| *key).collect();
+    write_pretty_filled(out, value, &keys, |out, key, level| {
         // a repeated key's last matrix, as inserting them one after another leaves it
         let Some((_, m)) = matrices.iter().rev().find(|(k, _)| *k == key) else {
-            return write_value(out, item, level);
+            return;
         };
-        write_array(out, 0..m.rows, level, |out, i, level| {
-            write_array(out, 0..m.cols, level, |out, j, _| {
+        let (rows, cols) = m.shape();
+        write_array(out, 0..rows, level, |out, i, level| {
+            write_array(out, 0..cols, level, |out, j, _| {
                 out.push('"');
-                crate::algebra::float_text::push_exp(out, (m.entry)(i, j));
+                crate::algebra::float_text::push_exp(out, m.get(i, j));
                 out.push('"');
             });
         });
@@ -289,12 +301,14 @@ mod tests {
                 let x = f64::from_bits(bits[(4 * i + j) % bits.len()]);
                 [x, f64::NAN, f64::NEG_INFINITY, -0.0][(i + j) % 4 * usize::from(i == 1)]
             };
+            let dense: Vec<nalgebra::DMatrix<f64>> = shapes
+                .iter()
+                .map(|&(rows, cols)| nalgebra::DMatrix::from_fn(rows, cols, entry))
+                .collect();
             let matrices: Vec<(&str, crate::api::args::ExpMatrix<'_>)> = keys
                 .iter()
-                .zip(&shapes)
-                .map(|(k, &(rows, cols))| {
-                    (k.as_str(), crate::api::args::ExpMatrix { rows, cols, entry: &entry })
-                })
+                .zip(&dense)
+                .map(|(k, m)| (k.as_str(), crate::api::args::ExpMatrix::Dense(m)))
                 .collect();
             let mut expected = v.clone();
             if let Some(map) = expected.as_object_mut() {
