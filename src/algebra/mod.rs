@@ -28,7 +28,7 @@ pub use fraction::Fraction;
 pub use gcd::{fraction, gcd, lcm_of_denominators, small_ratio};
 pub use multigcd::{normalised, normalising_factor, poly_gcd};
 pub(crate) use multivariate::latex_symbol;
-pub use multivariate::{DivisionTooCostly, Monomial, MultiPoly};
+pub use multivariate::{DivisionTooCostly, FloatPoly, Monomial, MultiPoly};
 pub use num_bigint::BigInt;
 pub use quadratic::{Quadratic, QuadraticError};
 pub(crate) use scalars::latex_of_parts;

@@ -270,18 +270,25 @@ impl MultiPoly {
             })
             .sum()
     }
-    /// The size of its terms at a float point, Σ |c| Π |x_v|^e: what the rounding error of
-    /// [`MultiPoly::evaluate_f64`] is a small multiple of (symbols missing count as 0).
-    pub fn evaluate_abs_f64(&self, values: &BTreeMap<String, f64>) -> f64 {
-        self.terms
-            .iter()
-            .map(|(m, c)| {
-                m.0.iter()
-                    .fold(crate::algebra::rational_to_f64(c).abs(), |acc, (v, e)| {
-                        acc * values.get(v).copied().unwrap_or(0.0).abs().powi(*e as i32)
-                    })
-            })
-            .sum()
+    /// The polynomial prepared for evaluation at many f64 points whose coordinates are the
+    /// symbols `variables`, in that order (symbols not among them count as 0, as in
+    /// [`MultiPoly::evaluate_f64`]).
+    pub fn to_float(&self, variables: &[String]) -> FloatPoly {
+        let mut float = FloatPoly {
+            coeffs: Vec::with_capacity(self.terms.len()),
+            starts: Vec::with_capacity(self.terms.len() + 1),
+            factors: Vec::new(),
+        };
+        float.starts.push(0);
+        for (m, c) in &self.terms {
+            float.coeffs.push(crate::algebra::rational_to_f64(c));
+            float.factors.extend(m.0.iter().map(|(v, e)| {
+                let index = variables.iter().position(|x| x == v);
+                (index.unwrap_or(usize::MAX), *e as i32)
+            }));
+            float.starts.push(float.factors.len());
+        }
+        float
     }
     /// How many terms it has.
     pub fn number_of_terms(&self) -> usize {
@@ -642,6 +649,54 @@ impl IntegralDomain for MultiPoly {
     }
 }
 
+/// A [`MultiPoly`] compiled for evaluation at f64 points ([`MultiPoly::to_float`]): each
+/// coefficient converted to f64 once and each symbol replaced by its coordinate's index, where
+/// [`MultiPoly::evaluate_f64`] converts every coefficient and looks every symbol up by name at
+/// each point. The arithmetic is the same, in the same order, so the values are the same bits;
+/// a Newton iteration over a few thousand derivatives (`optimal`'s Hessians) evaluates them at
+/// every step.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FloatPoly {
+    /// Each term's coefficient, in the polynomial's term order.
+    coeffs: Vec<f64>,
+    /// Where each term's factors start in `factors`; one entry more than there are terms.
+    starts: Vec<usize>,
+    /// Every term's (coordinate, exponent) pairs, term after term; a symbol that is not a
+    /// coordinate has the index `usize::MAX`, and its value is 0.
+    factors: Vec<(usize, i32)>,
+}
+
+impl FloatPoly {
+    /// The value at `x`: Σ c Π x_v^e (a coordinate beyond `x` counts as 0).
+    pub fn evaluate(&self, x: &[f64]) -> f64 {
+        self.terms()
+            .map(|(c, factors)| {
+                factors.iter().fold(c, |acc, &(v, e)| {
+                    acc * x.get(v).copied().unwrap_or(0.0).powi(e)
+                })
+            })
+            .sum()
+    }
+    /// The size of its terms at `x`, Σ |c| Π |x_v|^e: what the rounding error of
+    /// [`FloatPoly::evaluate`] is a small multiple of.
+    pub fn evaluate_abs(&self, x: &[f64]) -> f64 {
+        self.terms()
+            .map(|(c, factors)| {
+                factors.iter().fold(c.abs(), |acc, &(v, e)| {
+                    acc * x.get(v).copied().unwrap_or(0.0).abs().powi(e)
+                })
+            })
+            .sum()
+    }
+    /// Each term's coefficient with its factors.
+    fn terms(&self) -> impl Iterator<Item = (f64, &[(usize, i32)])> {
+        self.coeffs
+            .iter()
+            .zip(self.starts.windows(2))
+            .map(|(&c, w)| (c, &self.factors[w[0]..w[1]]))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -677,5 +732,56 @@ mod tests {
         vals.insert("s".to_string(), Rational::from_i64(-4));
         assert_eq!(q.evaluate(&vals), Some(Rational::from_i64(-20)));
         assert_eq!(p.evaluate(&vals), None);
+    }
+}
+
+#[cfg(test)]
+mod float_tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const NAMES: [&str; 4] = ["a", "k1", "k2", "s"];
+
+    /// A polynomial from (coefficient numerator, denominator, exponents of the four names).
+    fn poly(terms: &[(i64, i64, [u32; 4])]) -> MultiPoly {
+        let mut p = MultiPoly::zero();
+        for (num, den, exps) in terms {
+            let m = NAMES
+                .iter()
+                .zip(exps)
+                .fold(Monomial::one(), |m, (name, &e)| {
+                    m.mul(&Monomial::var(name, e))
+                });
+            p = p + MultiPoly::term(Rational::new((*num).into(), (*den).into()), m);
+        }
+        p
+    }
+
+    proptest! {
+        /// The compiled form gives evaluate_f64's bits, for the size of the terms too, with
+        /// symbols left out of the coordinates counting as 0.
+        #[test]
+        fn compiled_evaluation_is_the_same_bits(
+            terms in prop::collection::vec(
+                (-50i64..50, 1i64..20, prop::array::uniform4(0u32..4)), 0..12),
+            x in prop::array::uniform4(-3.0f64..3.0),
+            kept in 1usize..=4,
+        ) {
+            let p = poly(&terms);
+            let coordinates: Vec<String> = NAMES[..kept].iter().map(|s| s.to_string()).collect();
+            let by_name: BTreeMap<String, f64> =
+                coordinates.iter().cloned().zip(x.iter().copied()).collect();
+            let compiled = p.to_float(&coordinates);
+            prop_assert_eq!(compiled.evaluate(&x[..kept]).to_bits(), p.evaluate_f64(&by_name).to_bits());
+            let size: f64 = p
+                .terms()
+                .map(|(m, c)| {
+                    m.factors().iter().fold(crate::algebra::rational_to_f64(c).abs(), |acc, (v, e)| {
+                        acc * by_name.get(v).copied().unwrap_or(0.0).abs().powi(*e as i32)
+                    })
+                })
+                .sum();
+            prop_assert_eq!(compiled.evaluate_abs(&x[..kept]).to_bits(), size.to_bits());
+        }
     }
 }

@@ -14,7 +14,7 @@
 //! reached the best minimum, which other minima exist, and whether the best is unique.
 
 use super::search::Multistart;
-use crate::algebra::{Monomial, MultiPoly, Rational, Ring, Zero};
+use crate::algebra::{FloatPoly, Monomial, MultiPoly, Rational, Ring, Zero};
 use crate::linalg::{self, Matrix};
 use crate::poly::Poly;
 use nalgebra::{DMatrix, DVector};
@@ -28,11 +28,26 @@ pub struct Constraints {
     pub variables: Vec<String>,
     /// `g_i`: coefficient of `λ^(n−i)` minus the desired one.
     pub equations: Vec<MultiPoly>,
-    jacobian: Vec<Vec<MultiPoly>>,
-    hessians: Vec<Vec<Vec<MultiPoly>>>,
+    /// The equations and their first derivatives, compiled for f64 points (coordinates:
+    /// `variables`), which Newton's method evaluates at every step.
+    float_equations: Vec<FloatPoly>,
+    jacobian: Vec<Vec<FloatPoly>>,
+    /// The second derivatives that are not identically zero, by entry of the Hessian: most
+    /// are (each term has at most one symbol of each output's column, so with two outputs
+    /// every second derivative is a constant, and most are 0).
+    hessian_entries: Vec<HessianEntry>,
     /// The desired coefficient each equation places, in f64: what a residual is measured
     /// against when the absolute tolerance is out of f64's reach.
     targets: Vec<f64>,
+}
+
+/// One entry of the constraints' Hessians: the second derivatives ∂²g_i/∂k_row∂k_column that
+/// are not identically zero, with their equations' indices i, increasing.
+#[derive(Clone, Debug)]
+struct HessianEntry {
+    row: usize,
+    column: usize,
+    terms: Vec<(usize, FloatPoly)>,
 }
 
 /// The constraints for a gain of symbols `k1, k2, …` (filled column by column, as Baranowski's
@@ -132,13 +147,26 @@ pub fn pole_placement_constraints(
         .iter()
         .map(|e| variables.iter().map(|v| e.derivative(v)).collect())
         .collect();
-    let hessians = jacobian
+    let m = variables.len();
+    let mut hessian_entries = Vec::new();
+    for row in 0..m {
+        for column in 0..m {
+            let terms: Vec<(usize, FloatPoly)> = jacobian
+                .iter()
+                .enumerate()
+                .map(|(i, first)| (i, first[row].derivative(&variables[column])))
+                .filter(|(_, second)| !second.is_zero())
+                .map(|(i, second)| (i, second.to_float(&variables)))
+                .collect();
+            if !terms.is_empty() {
+                hessian_entries.push(HessianEntry { row, column, terms });
+            }
+        }
+    }
+    let float_equations = equations.iter().map(|e| e.to_float(&variables)).collect();
+    let jacobian = jacobian
         .iter()
-        .map(|row| {
-            row.iter()
-                .map(|d| variables.iter().map(|v| d.derivative(v)).collect())
-                .collect()
-        })
+        .map(|row| row.iter().map(|d| d.to_float(&variables)).collect())
         .collect();
     let targets = (1..=n)
         .map(|i| crate::algebra::rational_to_f64(&desired.coeff(n - i)))
@@ -146,8 +174,9 @@ pub fn pole_placement_constraints(
     Ok(Constraints {
         variables,
         equations,
+        float_equations,
         jacobian,
-        hessians,
+        hessian_entries,
         targets,
     })
 }
@@ -201,18 +230,12 @@ fn poly_determinant(size: usize, entry: &dyn Fn(usize, usize) -> Poly<Rational>)
 }
 
 impl Constraints {
-    fn point(&self, k: &DVector<f64>) -> BTreeMap<String, f64> {
-        self.variables
-            .iter()
-            .cloned()
-            .zip(k.iter().copied())
-            .collect()
-    }
     fn values(&self, k: &DVector<f64>) -> DVector<f64> {
-        let x = self.point(k);
         DVector::from_iterator(
-            self.equations.len(),
-            self.equations.iter().map(|e| e.evaluate_f64(&x)),
+            self.float_equations.len(),
+            self.float_equations
+                .iter()
+                .map(|e| e.evaluate(k.as_slice())),
         )
     }
     /// Each equation's residual at `k` read exactly (every f64 is a rational), relative to the
@@ -236,24 +259,33 @@ impl Constraints {
             })
             .collect()
     }
-    /// The size of each equation's terms at `k` (see [`MultiPoly::evaluate_abs_f64`]).
+    /// The size of each equation's terms at `k` (see [`FloatPoly::evaluate_abs`]).
     fn magnitudes(&self, k: &DVector<f64>) -> DVector<f64> {
-        let x = self.point(k);
         DVector::from_iterator(
-            self.equations.len(),
-            self.equations.iter().map(|e| e.evaluate_abs_f64(&x)),
+            self.float_equations.len(),
+            self.float_equations
+                .iter()
+                .map(|e| e.evaluate_abs(k.as_slice())),
         )
     }
     fn jacobian(&self, k: &DVector<f64>) -> DMatrix<f64> {
-        let x = self.point(k);
         DMatrix::from_fn(self.equations.len(), self.variables.len(), |i, j| {
-            self.jacobian[i][j].evaluate_f64(&x)
+            self.jacobian[i][j].evaluate(k.as_slice())
         })
     }
-    fn hessian(&self, i: usize, k: &DVector<f64>) -> DMatrix<f64> {
-        let x = self.point(k);
+    /// The Hessian of the Lagrangian, 2I + Σ_i μ_i ∇²g_i(k): each entry summed in increasing
+    /// i, as adding the matrices μ_i ∇²g_i one after the other would (the terms skipped are
+    /// zeros, which leave the sum's bits as they are).
+    fn lagrangian_hessian(&self, k: &DVector<f64>, mu: &DVector<f64>) -> DMatrix<f64> {
         let m = self.variables.len();
-        DMatrix::from_fn(m, m, |a, b| self.hessians[i][a][b].evaluate_f64(&x))
+        let mut hl = DMatrix::<f64>::identity(m, m) * 2.0;
+        for entry in &self.hessian_entries {
+            let sum = &mut hl[(entry.row, entry.column)];
+            for (i, second) in &entry.terms {
+                *sum += second.evaluate(k.as_slice()) * mu[*i];
+            }
+        }
+        hl
     }
 }
 
@@ -343,10 +375,7 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<Converged> {
             });
         }
         let mut kkt = DMatrix::<f64>::zeros(m + r, m + r);
-        let mut hl = DMatrix::<f64>::identity(m, m) * 2.0;
-        for i in 0..r {
-            hl += cons.hessian(i, &k) * mu[i];
-        }
+        let hl = cons.lagrangian_hessian(&k, &mu);
         kkt.view_mut((0, 0), (m, m)).copy_from(&hl);
         kkt.view_mut((0, m), (m, r)).copy_from(&jac.transpose());
         kkt.view_mut((m, 0), (r, m)).copy_from(&jac);
@@ -413,10 +442,7 @@ fn second_order_minimum(
 ) -> Option<(DVector<f64>, f64)> {
     let m = cons.variables.len();
     let r = cons.equations.len();
-    let mut hl = DMatrix::<f64>::identity(m, m) * 2.0;
-    for i in 0..r {
-        hl += cons.hessian(i, &k) * mu[i];
-    }
+    let hl = cons.lagrangian_hessian(&k, mu);
     // tangent basis: the right singular vectors of the smallest singular values of the
     // Jacobian padded to square (its null space)
     let mut padded = DMatrix::zeros(m, m);

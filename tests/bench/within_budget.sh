@@ -7,7 +7,8 @@
 # script's plants: `zoh` the integer A with B the random column and T = 1/(10n); `kalman` A,
 # B = G = I, C the first n/2 states, unit noises; `dlqe` A/n (as in
 # tests/bench/flint_compare.py --float) with the same C and unit noises; `optimal` the first
-# two states measured, at orders 5 to 20. By hand (not in CI);
+# two states measured, at orders 5 to 20, with A and with A/n (entries near 1, what an f64 gain
+# can place; orders 10 to 30). By hand (not in CI);
 # the README's "Commands" section reports a run.
 #   bash tests/bench/within_budget.sh [path/to/owb]
 set -uo pipefail
@@ -19,7 +20,7 @@ import random, sys
 random.seed(1)
 text = lambda rows: "[" + "; ".join(" ".join(r) for r in rows) + "]"
 # `optimal`'s small orders drawn after the others: the larger plants stay those of earlier runs
-for n in (20, 40, 60, 80, 100, 150, 200, 5, 8, 10, 12, 15):
+for n in (20, 40, 60, 80, 100, 150, 200, 5, 8, 10, 12, 15, 25, 30):
     draw = lambda: [str(random.randint(-9, 9)) for _ in range(n)]
     a = [draw() for _ in range(n)]
     c, b = draw(), draw()
@@ -30,7 +31,7 @@ for n in (20, 40, 60, 80, 100, 150, 200, 5, 8, 10, 12, 15):
              "ik": text([["1" if i == j else "0" for j in range(n // 2)] for i in range(n // 2)]),
              "ck": text([["1" if i == j else "0" for j in range(n)] for i in range(n // 2)]),
              # `optimal`: the first two states measured
-             "c2": text([["1" if i == j else "0" for j in range(n)] for i in range(2)])}
+             "co": text([["1" if i == j else "0" for j in range(n)] for i in range(2)])}
     for name, content in files.items():
         open(f"{sys.argv[1]}/{name}{n}", "w").write(content)
 PY
@@ -38,12 +39,13 @@ only=${ONLY:-}
 commands=("observe" "canonical" "gain --repeated 1 --summary" "gain --repeated 1"
           "feedback --repeated 1" "discrete --poly" "discrete --deadbeat"
           "reduced --repeated 1" "detectable --repeated 1" "control" "perfect"
-          "zoh" "kalman" "dlqe" "optimal")
+          "zoh" "kalman" "dlqe" "optimal" "optimal A/n")
 echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"
 for cmd in "${commands[@]}"; do
   [ -n "$only" ] && [ "$cmd" != "$only" ] && continue
   orders="20 40 60 80 100 150 200"
   [ "$cmd" = optimal ] && orders="5 8 10 12 15 20"
+  [ "$cmd" = "optimal A/n" ] && orders="10 12 15 20 25 30"
   for n in $orders; do
     case "$cmd" in
       feedback*) plant=(--a "$(cat "$dir/a$n")" --b "$(cat "$dir/b$n")") ;;
@@ -56,7 +58,8 @@ for cmd in "${commands[@]}"; do
                      --input-noise "$(cat "$dir/i$n")" --output-noise "$(cat "$dir/ik$n")") ;;
       # minimum-norm gains (J1) for (s + 1)ⁿ from the default 40 seeded starts, whose search
       # stops starting new ones after its own --time-limit (10 s)
-      optimal) plant=(--a "$(cat "$dir/a$n")" --c "$(cat "$dir/c2$n")" --repeated 1) ;;
+      optimal) plant=(--a "$(cat "$dir/a$n")" --c "$(cat "$dir/co$n")" --repeated 1) ;;
+      "optimal A/n") plant=(--a "$(cat "$dir/s$n")" --c "$(cat "$dir/co$n")" --repeated 1) ;;
       dlqe) plant=(--a "$(cat "$dir/s$n")" --c "$(cat "$dir/ck$n")" --qn "$(cat "$dir/i$n")"
                    --rn "$(cat "$dir/ik$n")") ;;
       *) plant=(--a "$(cat "$dir/a$n")" --c "$(cat "$dir/c$n")") ;;
@@ -67,6 +70,7 @@ for cmd in "${commands[@]}"; do
     # a discrete design: every pole at z = 1/2
     run=$cmd
     [ "$cmd" = "discrete --poly" ] && run=discrete && plant+=(--poly "(z - 1/2)^$n")
+    [ "$cmd" = "optimal A/n" ] && run=optimal
     start=$(date +%s.%N)
     # shellcheck disable=SC2086
     "$owb" $run "${plant[@]}" >/dev/null 2>"$dir/err"
