@@ -628,6 +628,92 @@ fn optimal_says_when_the_plant_is_too_large_for_an_f64_gain() {
     assert!(out.contains("best J1"), "{out}");
 }
 
+/// Order 15 with entries near 1 (a dense integer plant divided by 15, two outputs): Newton's
+/// undamped steps on the KKT system leave the constraint set from every random start, and no
+/// start converged. The same starts, first moved by a descent on the constraint set, converge,
+/// and the report says that is how; the best gain places (s + 1)¹⁵.
+#[test]
+fn optimal_descends_on_the_constraint_set_when_newton_alone_does_not_converge() {
+    let integers = "[4 -5 7 9 1 5 8 -3 -8 6 9 -2 4 7 0; -4 -7 -6 0 6 7 2 -8 2 -8 7 0 6 -9 5; -3 4 4 -5 -4 7 4 -9 7 -6 -2 3 4 -7 -5; 9 -4 -4 9 -8 -8 3 1 5 -3 -8 -5 -5 -4 1; -3 -8 -3 8 -5 5 -9 -9 -5 -7 1 -5 0 0 2; -8 8 -6 -8 -9 8 -1 0 4 8 -4 0 -6 -3 -6; -3 7 1 3 -6 -5 1 8 -3 -5 5 7 -1 -6 -1; 5 8 -6 -3 -8 -3 9 2 -9 6 3 5 -3 -4 -9; 0 9 9 -2 8 -3 5 -2 0 8 -4 -3 -4 2 3; -4 0 -2 -9 -4 5 4 3 -3 7 3 8 -4 1 -3; -7 2 5 3 7 2 2 4 -7 1 -8 1 2 7 -7; -3 4 9 -4 8 -9 5 -6 -9 5 -2 -4 -2 -7 2; -8 -7 3 6 3 9 -3 4 -8 -8 -2 -2 -5 8 2; 7 -9 8 8 9 8 0 -4 -6 3 4 6 -3 9 2; -4 7 5 2 8 8 -4 -2 0 -8 4 -4 -9 5 4]";
+    let a = format!(
+        "[{}]",
+        integers
+            .trim_matches(['[', ']'])
+            .split(';')
+            .map(|row| row
+                .split_whitespace()
+                .map(|x| format!("{x}/15"))
+                .collect::<Vec<_>>()
+                .join(" "))
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
+    let c = format!(
+        "[{}; {}]",
+        (0..15)
+            .map(|j| if j == 0 { "1" } else { "0" })
+            .collect::<Vec<_>>()
+            .join(" "),
+        (0..15)
+            .map(|j| if j == 1 { "1" } else { "0" })
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    let args = [
+        "optimal",
+        "--a",
+        &a,
+        "--c",
+        &c,
+        "--repeated",
+        "1",
+        "--starts",
+        "2",
+    ];
+    let (code, out, err) = owb(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("none converged from where it began"), "{out}");
+    let (code, json, err) = owb(&[&args[..], &["--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let report = &v["report"];
+    assert_eq!(report["descended"], 2, "{report}");
+    assert!(report["converged"].as_u64().unwrap() >= 1, "{report}");
+    let best = &report["minima"][0];
+    assert!(best["placement_error"].as_f64().unwrap() <= 1e-6, "{best}");
+    let k: Vec<f64> = best["gain"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    // det(sI − (A − GC)) computed exactly from the gain as printed (every f64 is a rational):
+    // f64 itself cannot check it, the constant term being a sum of terms near 60¹⁵
+    use observer_workbench::algebra::Rational;
+    use observer_workbench::linalg::Matrix;
+    let exact = |x: f64| <Rational as num_traits::FromPrimitive>::from_f64(x).unwrap();
+    let plant = observer_workbench::syntax::parse_matrix::<Rational>(&a).unwrap();
+    // A − GC, G filled column by column, C measuring the first two states
+    let m = Matrix::from_fn(15, 15, |i, j| {
+        let g = if j < 2 {
+            exact(k[15 * j + i])
+        } else {
+            Rational::from_integer(0.into())
+        };
+        plant.get(i, j).clone() - g
+    });
+    let p = observer_workbench::linalg::characteristic_polynomial(&m, "s").unwrap();
+    let desired = observer_workbench::poly::Poly::from_roots(&[-1.0f64; 15], "s");
+    for power in 0..=15 {
+        let got = observer_workbench::algebra::rational_to_f64(&p.coeff(power));
+        let want = desired.coeff(power);
+        assert!(
+            (got - want).abs() <= 1e-6 * want.abs().max(1.0),
+            "s^{power}: {got} ≠ {want}"
+        );
+    }
+}
+
 /// `owb verify | head -1`: the reader goes away, the program ends quietly (it panicked with
 /// "failed printing to stdout: Broken pipe").
 #[test]

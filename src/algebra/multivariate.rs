@@ -9,7 +9,7 @@
 //! [`IntegralDomain::divide_exact`] (needed by Bareiss elimination) is ordinary multivariate
 //! division that fails as soon as a leading term does not divide.
 
-use super::{IntegralDomain, Rational, Ring};
+use super::{BigInt, IntegralDomain, Rational, Ring};
 use num_traits::{One, Signed, Zero};
 use std::cmp::Ordering;
 use std::collections::BTreeMap;
@@ -244,6 +244,39 @@ impl MultiPoly {
             total += t;
         }
         Some(total)
+    }
+    /// The exact value at a point of f64 coordinates for the symbols `variables`, in that
+    /// order — each f64 is a rational m·2^e — or `None` when a symbol is not among them or a
+    /// coordinate is not finite. The terms are summed as integers over one denominator (the
+    /// coefficients' common denominator and a power of two) and reduced once, where
+    /// [`MultiPoly::evaluate`] reduces a fraction after every product and sum: the same number.
+    pub fn evaluate_at_floats(&self, variables: &[String], x: &[f64]) -> Option<Rational> {
+        if variables.len() != x.len() {
+            return None;
+        }
+        let dyadic: Vec<(BigInt, i64)> = x.iter().map(|&v| dyadic(v)).collect::<Option<_>>()?;
+        let coefficients: Vec<Rational> = self.terms.values().cloned().collect();
+        let (numerators, denominator) = super::gcd::integer_numerators(&coefficients);
+        let mut scaled: Vec<(BigInt, i64)> = Vec::with_capacity(numerators.len());
+        for (m, mut term) in self.terms.keys().zip(numerators) {
+            let mut exponent = 0i64;
+            for (v, e) in &m.0 {
+                let (mantissa, power) = &dyadic[variables.iter().position(|y| y == v)?];
+                term *= num_traits::pow(mantissa.clone(), *e as usize);
+                exponent += power * i64::from(*e);
+            }
+            scaled.push((term, exponent));
+        }
+        let low = scaled.iter().map(|t| t.1).min().unwrap_or(0);
+        let sum: BigInt = scaled
+            .into_iter()
+            .map(|(term, exponent)| term << ((exponent - low) as u64))
+            .sum();
+        Some(if low >= 0 {
+            super::fraction(sum << (low as u64), denominator)
+        } else {
+            super::fraction(sum, denominator << (low.unsigned_abs()))
+        })
     }
     /// The partial derivative with respect to `name`.
     pub fn derivative(&self, name: &str) -> MultiPoly {
@@ -494,7 +527,6 @@ impl Mul for MultiPoly {
     /// denominators), the products summed in integers, and each result coefficient reduced
     /// once — no gcd per product term.
     fn mul(self, rhs: Self) -> Self {
-        use num_bigint::BigInt;
         fn integer(p: &MultiPoly) -> (Vec<(&Monomial, BigInt)>, BigInt) {
             let coefficients: Vec<Rational> = p.terms.values().cloned().collect();
             let (ints, d) = crate::algebra::gcd::integer_numerators(&coefficients);
@@ -649,6 +681,31 @@ impl IntegralDomain for MultiPoly {
     }
 }
 
+/// A finite f64 as the exact rational m·2^e it is: `(m, e)`, m an integer of at most 53 bits.
+fn dyadic(v: f64) -> Option<(BigInt, i64)> {
+    if !v.is_finite() {
+        return None;
+    }
+    let bits = v.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i64;
+    let fraction = bits & ((1u64 << 52) - 1);
+    // subnormals have no implicit leading bit and the smallest exponent
+    let (mantissa, exponent) = if biased == 0 {
+        (fraction, -1074)
+    } else {
+        (fraction | (1u64 << 52), biased - 1075)
+    };
+    let magnitude = BigInt::from(mantissa);
+    Some((
+        if bits >> 63 == 1 {
+            -magnitude
+        } else {
+            magnitude
+        },
+        exponent,
+    ))
+}
+
 /// A [`MultiPoly`] compiled for evaluation at f64 points ([`MultiPoly::to_float`]): each
 /// coefficient converted to f64 once and each symbol replaced by its coordinate's index, where
 /// [`MultiPoly::evaluate_f64`] converts every coefficient and looks every symbol up by name at
@@ -755,6 +812,29 @@ mod float_tests {
             p = p + MultiPoly::term(Rational::new((*num).into(), (*den).into()), m);
         }
         p
+    }
+
+    proptest! {
+        /// The exact value at f64 coordinates, summed over one denominator, is the value
+        /// evaluate gives with every f64 read as its rational, including zeros, negative
+        /// numbers, subnormals and large exponents.
+        #[test]
+        fn exact_value_at_floats_is_the_rational_evaluation(
+            terms in prop::collection::vec(
+                (-50i64..50, 1i64..20, prop::array::uniform4(0u32..4)), 0..12),
+            mantissas in prop::array::uniform4(-1.0f64..1.0),
+            exponents in prop::array::uniform4(-1080i32..60),
+        ) {
+            let p = poly(&terms);
+            let x: Vec<f64> = mantissas.iter().zip(&exponents).map(|(m, e)| m * 2f64.powi(*e)).collect();
+            let names: Vec<String> = NAMES.iter().map(|s| s.to_string()).collect();
+            let exact: BTreeMap<String, Rational> = names
+                .iter()
+                .cloned()
+                .zip(x.iter().map(|v| <Rational as num_traits::FromPrimitive>::from_f64(*v).unwrap()))
+                .collect();
+            prop_assert_eq!(p.evaluate_at_floats(&names, &x), p.evaluate(&exact));
+        }
     }
 
     proptest! {

@@ -240,11 +240,24 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
     for e in &cons.equations {
         text.push_str(&format!("    {e} = 0\n"));
     }
-    text.push_str(&format!(
+    if r.descended == 0 {
+        text.push_str(&format!(
             "  {} seeded starts (seed {}), {} converged to a local minimum (Newton on the KKT system, second-order check)\n",
             r.starts, args.seed, r.converged
         ));
-    text.push_str(&stopped_early(args, r.starts));
+    } else {
+        text.push_str(&format!(
+            "  {} seeded starts (seed {}): none converged from where it began (Newton's steps left the constraint set)\n  the same {} starts, each first moved by a descent on the constraint set, then Newton on the KKT system: {} converged to a local minimum (second-order check)\n",
+            r.starts, args.seed, r.descended, r.converged
+        ));
+    }
+    // the starts taken again stop at the time limit too
+    let ran = if r.descended > 0 {
+        r.descended
+    } else {
+        r.starts
+    };
+    text.push_str(&stopped_early(args, ran));
     for (i, m) in r.minima.iter().enumerate() {
         let g = DMatrix::from_fn(n, c.rows(), |row, col| m.gain[col * n + row]);
         text.push_str(&format!(

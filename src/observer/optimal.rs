@@ -19,7 +19,6 @@ use crate::linalg::{self, Matrix};
 use crate::poly::Poly;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
-use std::collections::BTreeMap;
 
 /// Pole-placement equations `g_i(k) = 0` with exact derivatives.
 #[derive(Clone, Debug)]
@@ -243,18 +242,12 @@ impl Constraints {
     /// gain reported (`--json` gives all its digits) is from the desired one, without f64's
     /// rounding in the evaluation.
     fn placement_errors(&self, k: &DVector<f64>) -> Option<Vec<f64>> {
-        let x: BTreeMap<String, Rational> = self
-            .variables
-            .iter()
-            .cloned()
-            .zip(k.iter().map(|v| num_traits::FromPrimitive::from_f64(*v)))
-            .map(|(name, v)| v.map(|v| (name, v)))
-            .collect::<Option<_>>()?;
         self.equations
             .iter()
             .zip(&self.targets)
             .map(|(e, t)| {
-                let r = crate::algebra::rational_to_f64(&e.evaluate(&x)?);
+                let exact = e.evaluate_at_floats(&self.variables, k.as_slice())?;
+                let r = crate::algebra::rational_to_f64(&exact);
                 Some(r.abs() / t.abs().max(1.0))
             })
             .collect()
@@ -289,6 +282,11 @@ impl Constraints {
     }
 }
 
+/// Serde's test for a count left out of the JSON when 0.
+fn is_zero(x: &usize) -> bool {
+    *x == 0
+}
+
 /// One local minimum found.
 #[derive(Clone, Debug, Serialize)]
 pub struct LocalMinimum {
@@ -312,6 +310,11 @@ pub struct LocalMinimum {
 pub struct MinimumNormReport {
     /// Starts tried (seeded).
     pub starts: usize,
+    /// Starts taken again, first moved by a descent on the constraint set, because none of
+    /// them converged from where it began (see [`minimum_norm_gain`]); 0, and left out of the
+    /// JSON, otherwise.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub descended: usize,
     /// Starts that converged to a local minimum.
     pub converged: usize,
     /// Distinct local minima, best first.
@@ -418,6 +421,84 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<Converged> {
     })
 }
 
+/// Onto the constraint set from `k` by least-norm Gauss–Newton steps, as [`newton_kkt`]'s
+/// restoration, until each residual is below 10⁻¹³ or [`RELATIVE_RESIDUAL`] of the size of its
+/// terms: `None` when 60 steps do not get there.
+fn restore(cons: &Constraints, mut k: DVector<f64>) -> Option<DVector<f64>> {
+    for _ in 0..60 {
+        let g = cons.values(&k);
+        let size = cons.magnitudes(&k);
+        if g.iter()
+            .zip(size.iter())
+            .all(|(x, s)| x.abs() <= (RELATIVE_RESIDUAL * s).max(1e-13))
+        {
+            return Some(k);
+        }
+        let jac = cons.jacobian(&k);
+        let step = jac.transpose() * (&jac * jac.transpose()).try_inverse()? * g;
+        k -= step;
+        if !k.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+    }
+    None
+}
+
+/// A start for [`newton_kkt`] near a local minimum: from `start` brought onto the constraint
+/// set, up to 200 moves, each the KKT step (or, where that does not descend, minus the
+/// projected gradient) scaled by the first of 1, ½, ¼, … after which [`restore`] brings the
+/// point back onto the set with a smaller `J1`. It stops where the projected gradient is below
+/// 10⁻⁹ of the gain's largest entry or no scale helps; `None` when `start` cannot be brought
+/// onto the set. A feasible descent method (a merit function on the set itself): Newton's
+/// own steps, undamped, are what leave the set on larger plants.
+fn descend_on_constraints(cons: &Constraints, start: DVector<f64>) -> Option<DVector<f64>> {
+    let m = cons.variables.len();
+    let r = cons.equations.len();
+    let mut k = restore(cons, start)?;
+    for _ in 0..200 {
+        let jac = cons.jacobian(&k);
+        let inv = (&jac * jac.transpose()).try_inverse()?;
+        let mu = -&inv * (&jac * (&k * 2.0));
+        let grad = &k * 2.0 + jac.transpose() * &mu;
+        if grad.amax() <= 1e-9 * k.amax().max(1.0) {
+            break;
+        }
+        let g = cons.values(&k);
+        let hl = cons.lagrangian_hessian(&k, &mu);
+        let mut kkt = DMatrix::<f64>::zeros(m + r, m + r);
+        kkt.view_mut((0, 0), (m, m)).copy_from(&hl);
+        kkt.view_mut((0, m), (m, r)).copy_from(&jac.transpose());
+        kkt.view_mut((m, 0), (r, m)).copy_from(&jac);
+        let mut rhs = DVector::<f64>::zeros(m + r);
+        rhs.rows_mut(0, m).copy_from(&(-&grad));
+        rhs.rows_mut(m, r).copy_from(&(-g));
+        let mut d = match kkt.lu().solve(&rhs) {
+            Some(d) => d.rows(0, m).into_owned(),
+            None => -grad.clone(),
+        };
+        if d.dot(&grad) >= 0.0 {
+            d = -grad.clone();
+        }
+        let cost = k.norm_squared();
+        let mut alpha = 1.0;
+        let mut moved = false;
+        while alpha > 1e-10 {
+            if let Some(next) = restore(cons, &k + &d * alpha) {
+                if next.norm_squared() < cost {
+                    k = next;
+                    moved = true;
+                    break;
+                }
+            }
+            alpha /= 2.0;
+        }
+        if !moved {
+            break;
+        }
+    }
+    Some(k)
+}
+
 /// Where a start's iteration ended, when it converged.
 enum Converged {
     /// At a local minimum.
@@ -461,52 +542,48 @@ fn second_order_minimum(
 }
 
 /// Minimises `J1 = Σ k_i²` subject to the constraints from `starts` seeded random starts
-/// (entries uniform in [−15, 15]).
+/// (entries uniform in [−15, 15]), each by Newton's method on the KKT system ([`newton_kkt`]).
+///
+/// When none of them converges — nor reaches f64's resolution with an unplaced gain — the same
+/// starts are taken again, each first moved by a descent on the constraint set
+/// ([`descend_on_constraints`]): on larger plants (order 15 and more, entries near 1) Newton's
+/// undamped steps leave the constraint set from every random start. The minima are still those
+/// [`newton_kkt`] accepts, with the same tests.
 pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormReport {
     let m = cons.variables.len();
-    let mut starts = 0;
+    let draw =
+        |uniform: &mut dyn FnMut() -> f64| DVector::from_fn(m, |_, _| 30.0 * uniform() - 15.0);
     let mut uniform = super::search::seeded_uniform(search.seed);
-    let mut minima: Vec<LocalMinimum> = Vec::new();
-    let mut converged = 0;
-    let mut unplaced = None;
+    let mut found = Found::default();
+    let mut starts = 0;
     for _ in 0..search.starts {
         if search.out_of_time() {
             break;
         }
         starts += 1;
-        let start = DVector::from_fn(m, |_, _| 30.0 * uniform() - 15.0);
-        let found = newton_kkt(cons, start);
+        let start = draw(&mut uniform);
+        found.add(cons, newton_kkt(cons, start));
         search.started();
-        let (k, cost, placement_error) = match found {
-            Some(Converged::Minimum {
-                k,
-                cost,
-                placement_error,
-            }) => (k, cost, placement_error),
-            Some(Converged::Unplaced(error)) => {
-                unplaced = Some(unplaced.map_or(error, |e: f64| e.min(error)));
-                continue;
+    }
+    let mut descended = 0;
+    if found.converged == 0 && found.unplaced.is_none() {
+        let mut uniform = super::search::seeded_uniform(search.seed);
+        for _ in 0..starts {
+            if search.out_of_time() {
+                break;
             }
-            None => continue,
-        };
-        converged += 1;
-        let residual = cons.values(&k).amax();
-        match minima.iter_mut().find(|x| {
-            x.gain
-                .iter()
-                .zip(k.iter())
-                .all(|(a, b)| (a - b).abs() < 1e-6 * (1.0 + a.abs()))
-        }) {
-            Some(x) => x.starts += 1,
-            None => minima.push(LocalMinimum {
-                gain: k.iter().copied().collect(),
-                cost,
-                starts: 1,
-                constraint_residual: residual,
-                placement_error,
-            }),
+            descended += 1;
+            let start = draw(&mut uniform);
+            if let Some(start) = descend_on_constraints(cons, start) {
+                found.add(cons, newton_kkt(cons, start));
+            }
         }
     }
+    let Found {
+        mut minima,
+        converged,
+        unplaced,
+    } = found;
     minima.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let best = minima.first().map_or(f64::NAN, |x| x.cost);
     let best_count = minima
@@ -515,10 +592,55 @@ pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormR
         .count();
     MinimumNormReport {
         starts,
+        descended,
         converged,
         minima,
         best_count,
         unplaced,
+    }
+}
+
+/// What the starts have found so far.
+#[derive(Default)]
+struct Found {
+    minima: Vec<LocalMinimum>,
+    converged: usize,
+    unplaced: Option<f64>,
+}
+
+impl Found {
+    /// One start's end: a minimum counted (a new one, or one more start reaching one found
+    /// before), or the closest unplaced point kept.
+    fn add(&mut self, cons: &Constraints, end: Option<Converged>) {
+        let (k, cost, placement_error) = match end {
+            Some(Converged::Minimum {
+                k,
+                cost,
+                placement_error,
+            }) => (k, cost, placement_error),
+            Some(Converged::Unplaced(error)) => {
+                self.unplaced = Some(self.unplaced.map_or(error, |e: f64| e.min(error)));
+                return;
+            }
+            None => return,
+        };
+        self.converged += 1;
+        let residual = cons.values(&k).amax();
+        match self.minima.iter_mut().find(|x| {
+            x.gain
+                .iter()
+                .zip(k.iter())
+                .all(|(a, b)| (a - b).abs() < 1e-6 * (1.0 + a.abs()))
+        }) {
+            Some(x) => x.starts += 1,
+            None => self.minima.push(LocalMinimum {
+                gain: k.iter().copied().collect(),
+                cost,
+                starts: 1,
+                constraint_residual: residual,
+                placement_error,
+            }),
+        }
     }
 }
 
