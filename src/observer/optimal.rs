@@ -377,15 +377,7 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<Converged> {
                 placement_error: None,
             });
         }
-        let mut kkt = DMatrix::<f64>::zeros(m + r, m + r);
-        let hl = cons.lagrangian_hessian(&k, &mu);
-        kkt.view_mut((0, 0), (m, m)).copy_from(&hl);
-        kkt.view_mut((0, m), (m, r)).copy_from(&jac.transpose());
-        kkt.view_mut((m, 0), (r, m)).copy_from(&jac);
-        let mut rhs = DVector::<f64>::zeros(m + r);
-        rhs.rows_mut(0, m).copy_from(&(-grad));
-        rhs.rows_mut(m, r).copy_from(&(-g));
-        let d = kkt.lu().solve(&rhs)?;
+        let d = kkt_step(&cons.lagrangian_hessian(&k, &mu), &jac, &grad, &g)?;
         k += d.rows(0, m);
         mu += d.rows(m, r);
         if !k.iter().all(|x| x.is_finite()) || k.amax() > 1e6 {
@@ -421,6 +413,25 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<Converged> {
     })
 }
 
+/// The Newton step on the KKT system `2k + Jᵀμ = 0, g(k) = 0`: the solution (d_k, d_μ) of
+/// `[H Jᵀ; J 0] d = −[∇L; g]`, H the Lagrangian's Hessian; `None` when that matrix is singular.
+fn kkt_step(
+    hl: &DMatrix<f64>,
+    jac: &DMatrix<f64>,
+    grad: &DVector<f64>,
+    g: &DVector<f64>,
+) -> Option<DVector<f64>> {
+    let (r, m) = jac.shape();
+    let mut kkt = DMatrix::<f64>::zeros(m + r, m + r);
+    kkt.view_mut((0, 0), (m, m)).copy_from(hl);
+    kkt.view_mut((0, m), (m, r)).copy_from(&jac.transpose());
+    kkt.view_mut((m, 0), (r, m)).copy_from(jac);
+    let mut rhs = DVector::<f64>::zeros(m + r);
+    rhs.rows_mut(0, m).copy_from(&(-grad));
+    rhs.rows_mut(m, r).copy_from(&(-g));
+    kkt.lu().solve(&rhs)
+}
+
 /// Onto the constraint set from `k` by least-norm Gauss–Newton steps, as [`newton_kkt`]'s
 /// restoration, until each residual is below 10⁻¹³ or [`RELATIVE_RESIDUAL`] of the size of its
 /// terms: `None` when 60 steps do not get there.
@@ -448,14 +459,20 @@ fn restore(cons: &Constraints, mut k: DVector<f64>) -> Option<DVector<f64>> {
 /// set, up to 200 moves, each the KKT step (or, where that does not descend, minus the
 /// projected gradient) scaled by the first of 1, ½, ¼, … after which [`restore`] brings the
 /// point back onto the set with a smaller `J1`. It stops where the projected gradient is below
-/// 10⁻⁹ of the gain's largest entry or no scale helps; `None` when `start` cannot be brought
-/// onto the set. A feasible descent method (a merit function on the set itself): Newton's
+/// 10⁻⁹ of the gain's largest entry, no scale helps or the search's time is up; `None` when
+/// `start` cannot be brought onto the set. A feasible descent method (a merit function on the set itself): Newton's
 /// own steps, undamped, are what leave the set on larger plants.
-fn descend_on_constraints(cons: &Constraints, start: DVector<f64>) -> Option<DVector<f64>> {
+fn descend_on_constraints(
+    cons: &Constraints,
+    start: DVector<f64>,
+    search: &Multistart,
+) -> Option<DVector<f64>> {
     let m = cons.variables.len();
-    let r = cons.equations.len();
     let mut k = restore(cons, start)?;
     for _ in 0..200 {
+        if search.out_of_time() {
+            break;
+        }
         let jac = cons.jacobian(&k);
         let inv = (&jac * jac.transpose()).try_inverse()?;
         let mu = -&inv * (&jac * (&k * 2.0));
@@ -464,15 +481,7 @@ fn descend_on_constraints(cons: &Constraints, start: DVector<f64>) -> Option<DVe
             break;
         }
         let g = cons.values(&k);
-        let hl = cons.lagrangian_hessian(&k, &mu);
-        let mut kkt = DMatrix::<f64>::zeros(m + r, m + r);
-        kkt.view_mut((0, 0), (m, m)).copy_from(&hl);
-        kkt.view_mut((0, m), (m, r)).copy_from(&jac.transpose());
-        kkt.view_mut((m, 0), (r, m)).copy_from(&jac);
-        let mut rhs = DVector::<f64>::zeros(m + r);
-        rhs.rows_mut(0, m).copy_from(&(-&grad));
-        rhs.rows_mut(m, r).copy_from(&(-g));
-        let mut d = match kkt.lu().solve(&rhs) {
+        let mut d = match kkt_step(&cons.lagrangian_hessian(&k, &mu), &jac, &grad, &g) {
             Some(d) => d.rows(0, m).into_owned(),
             None => -grad.clone(),
         };
@@ -542,13 +551,13 @@ fn second_order_minimum(
 }
 
 /// Minimises `J1 = Σ k_i²` subject to the constraints from `starts` seeded random starts
-/// (entries uniform in [−15, 15]), each by Newton's method on the KKT system ([`newton_kkt`]).
+/// (entries uniform in [−15, 15]), each by Newton's method on the KKT system.
 ///
 /// When none of them converges — nor reaches f64's resolution with an unplaced gain — the same
 /// starts are taken again, each first moved by a descent on the constraint set
-/// ([`descend_on_constraints`]): on larger plants (order 15 and more, entries near 1) Newton's
+/// (`descend_on_constraints`): on larger plants (order 15 and more, entries near 1) Newton's
 /// undamped steps leave the constraint set from every random start. The minima are still those
-/// [`newton_kkt`] accepts, with the same tests.
+/// Newton's method accepts, with the same tests.
 pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormReport {
     let m = cons.variables.len();
     let draw =
@@ -574,7 +583,7 @@ pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormR
             }
             descended += 1;
             let start = draw(&mut uniform);
-            if let Some(start) = descend_on_constraints(cons, start) {
+            if let Some(start) = descend_on_constraints(cons, start, &search) {
                 found.add(cons, newton_kkt(cons, start));
             }
         }
