@@ -601,6 +601,21 @@ fn optimal_converges_on_a_plant_with_large_coefficients_and_says_to_what() {
     }
 }
 
+/// A matrix typed as integers, `[1 -2; 3 4]`, with every entry divided by `by`, as text.
+fn divided(integers: &str, by: u32) -> String {
+    let rows: Vec<String> = integers
+        .trim_matches(['[', ']'])
+        .split(';')
+        .map(|row| {
+            row.split_whitespace()
+                .map(|x| format!("{x}/{by}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .collect();
+    format!("[{}]", rows.join("; "))
+}
+
 /// At order 10 the same kind of plant has terms so large that no f64 gain places the
 /// polynomial to 10⁻⁶: `optimal` reports no gain, and says why and what to do, instead of
 /// suggesting more starts; the plant scaled down by 10 converges.
@@ -611,18 +626,7 @@ fn optimal_says_when_the_plant_is_too_large_for_an_f64_gain() {
     let (code, _, err) = owb(&["optimal", "--a", a, "--c", c, "--repeated", "1"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("too large for an f64 gain"), "{err}");
-    let scaled = format!(
-        "[{}]",
-        a.trim_matches(['[', ']'])
-            .split(';')
-            .map(|row| row
-                .split_whitespace()
-                .map(|x| format!("{x}/10"))
-                .collect::<Vec<_>>()
-                .join(" "))
-            .collect::<Vec<_>>()
-            .join("; ")
-    );
+    let scaled = divided(a, 10);
     let (code, out, err) = owb(&["optimal", "--a", &scaled, "--c", c, "--repeated", "1"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("best J1"), "{out}");
@@ -635,19 +639,7 @@ fn optimal_says_when_the_plant_is_too_large_for_an_f64_gain() {
 #[test]
 fn optimal_descends_on_the_constraint_set_when_newton_alone_does_not_converge() {
     let integers = "[4 -5 7 9 1 5 8 -3 -8 6 9 -2 4 7 0; -4 -7 -6 0 6 7 2 -8 2 -8 7 0 6 -9 5; -3 4 4 -5 -4 7 4 -9 7 -6 -2 3 4 -7 -5; 9 -4 -4 9 -8 -8 3 1 5 -3 -8 -5 -5 -4 1; -3 -8 -3 8 -5 5 -9 -9 -5 -7 1 -5 0 0 2; -8 8 -6 -8 -9 8 -1 0 4 8 -4 0 -6 -3 -6; -3 7 1 3 -6 -5 1 8 -3 -5 5 7 -1 -6 -1; 5 8 -6 -3 -8 -3 9 2 -9 6 3 5 -3 -4 -9; 0 9 9 -2 8 -3 5 -2 0 8 -4 -3 -4 2 3; -4 0 -2 -9 -4 5 4 3 -3 7 3 8 -4 1 -3; -7 2 5 3 7 2 2 4 -7 1 -8 1 2 7 -7; -3 4 9 -4 8 -9 5 -6 -9 5 -2 -4 -2 -7 2; -8 -7 3 6 3 9 -3 4 -8 -8 -2 -2 -5 8 2; 7 -9 8 8 9 8 0 -4 -6 3 4 6 -3 9 2; -4 7 5 2 8 8 -4 -2 0 -8 4 -4 -9 5 4]";
-    let a = format!(
-        "[{}]",
-        integers
-            .trim_matches(['[', ']'])
-            .split(';')
-            .map(|row| row
-                .split_whitespace()
-                .map(|x| format!("{x}/15"))
-                .collect::<Vec<_>>()
-                .join(" "))
-            .collect::<Vec<_>>()
-            .join("; ")
-    );
+    let a = divided(integers, 15);
     let c = format!(
         "[{}; {}]",
         (0..15)
@@ -673,6 +665,10 @@ fn optimal_descends_on_the_constraint_set_when_newton_alone_does_not_converge() 
     let (code, out, err) = owb(&args);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("none converged from where it began"), "{out}");
+    // with no time left to take the starts again, the error says the time limit stopped it
+    let (code, _, err) = owb(&[&args[..], &["--time-limit", "0.001"]].concat());
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("raise --time-limit"), "{err}");
     let (code, json, err) = owb(&[&args[..], &["--json"]].concat());
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();

@@ -814,14 +814,34 @@ mod float_tests {
         p
     }
 
+    /// Up to twelve terms: a coefficient n/d and the exponents of the four names.
+    fn terms() -> impl Strategy<Value = Vec<(i64, i64, [u32; 4])>> {
+        prop::collection::vec(
+            (-50i64..50, 1i64..20, prop::array::uniform4(0u32..4)),
+            0..12,
+        )
+    }
+
+    #[test]
+    fn exact_value_needs_every_symbol_and_finite_coordinates() {
+        let p = poly(&[(3, 2, [1, 0, 2, 0])]);
+        let names: Vec<String> = ["a", "k2"].iter().map(|s| s.to_string()).collect();
+        assert_eq!(
+            p.evaluate_at_floats(&names, &[0.5, -3.0]),
+            Some(Rational::new(27.into(), 4.into()))
+        );
+        assert_eq!(p.evaluate_at_floats(&names[..1], &[0.5]), None);
+        assert_eq!(p.evaluate_at_floats(&names, &[f64::NAN, 1.0]), None);
+        assert_eq!(p.evaluate_at_floats(&names, &[1.0]), None);
+    }
+
     proptest! {
         /// The exact value at f64 coordinates, summed over one denominator, is the value
         /// evaluate gives with every f64 read as its rational, including zeros, negative
         /// numbers, subnormals and large exponents.
         #[test]
         fn exact_value_at_floats_is_the_rational_evaluation(
-            terms in prop::collection::vec(
-                (-50i64..50, 1i64..20, prop::array::uniform4(0u32..4)), 0..12),
+            terms in terms(),
             mantissas in prop::array::uniform4(-1.0f64..1.0),
             exponents in prop::array::uniform4(-1080i32..60),
         ) {
@@ -835,15 +855,12 @@ mod float_tests {
                 .collect();
             prop_assert_eq!(p.evaluate_at_floats(&names, &x), p.evaluate(&exact));
         }
-    }
 
-    proptest! {
         /// The compiled form gives evaluate_f64's bits, for the size of the terms too, with
         /// symbols left out of the coordinates counting as 0.
         #[test]
         fn compiled_evaluation_is_the_same_bits(
-            terms in prop::collection::vec(
-                (-50i64..50, 1i64..20, prop::array::uniform4(0u32..4)), 0..12),
+            terms in terms(),
             x in prop::array::uniform4(-3.0f64..3.0),
             kept in 1usize..=4,
         ) {

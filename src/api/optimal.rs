@@ -276,6 +276,18 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
                 args.seed
             );
         }
+        // none converged, so every start was to be taken again with a descent first: fewer
+        // than asked, or fewer taken again, means the time limit stopped the search
+        if r.starts < args.starts || r.descended < r.starts {
+            bail!(
+                "no start converged to a local minimum ({} of the {} seeded starts ran, seed {}, and {} of them were taken again with a descent on the constraint set first) before the time limit of {} s: no minimum-norm gain is reported; raise --time-limit",
+                r.starts,
+                args.starts,
+                args.seed,
+                r.descended,
+                args.time_limit
+            );
+        }
         bail!(
             "no start converged to a local minimum ({} seeded starts, seed {}): no minimum-norm gain is reported; try more --starts or another --seed",
             r.starts,
