@@ -265,7 +265,10 @@ impl MultiPoly {
                 term *= num_traits::pow(mantissa.clone(), *e as usize);
                 exponent += power * i64::from(*e);
             }
-            scaled.push((term, exponent));
+            // a zero term (a coordinate 0) would only lower the common power of two
+            if !term.is_zero() {
+                scaled.push((term, exponent));
+            }
         }
         let low = scaled.iter().map(|t| t.1).min().unwrap_or(0);
         let sum: BigInt = scaled
