@@ -55,22 +55,22 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice)> {
         return Some((x.map(f64::exp), unscaled(0)));
     }
     let mut powers = Powers::new(x.clone());
-    let eta_1 = powers.d(4).max(powers.d(6));
+    let eta_1 = powers.d(Even::Four).max(powers.d(Even::Six));
     if eta_1 < 1.495_585_217_958_292e-2 && ell(&powers.a, 3) == 0 {
-        return Some((powers.pade(3)?, unscaled(3)));
+        return Some((powers.pade(Low::Three)?, unscaled(3)));
     }
-    let eta_2 = powers.d(4).max(powers.d(6));
+    let eta_2 = powers.d(Even::Four).max(powers.d(Even::Six));
     if eta_2 < 2.539_398_330_063_23e-1 && ell(&powers.a, 5) == 0 {
-        return Some((powers.pade(5)?, unscaled(5)));
+        return Some((powers.pade(Low::Five)?, unscaled(5)));
     }
-    let eta_3 = powers.d(6).max(powers.d(8));
+    let eta_3 = powers.d(Even::Six).max(powers.d(Even::Eight));
     if eta_3 < 9.504_178_996_162_932e-1 && ell(&powers.a, 7) == 0 {
-        return Some((powers.pade(7)?, unscaled(7)));
+        return Some((powers.pade(Low::Seven)?, unscaled(7)));
     }
     if eta_3 < 2.097_847_961_257_068e0 && ell(&powers.a, 9) == 0 {
-        return Some((powers.pade(9)?, unscaled(9)));
+        return Some((powers.pade(Low::Nine)?, unscaled(9)));
     }
-    let eta_4 = powers.d(8).max(powers.d(10));
+    let eta_4 = powers.d(Even::Eight).max(powers.d(Even::Ten));
     let eta_5 = eta_3.min(eta_4);
     let theta_13 = 4.25;
     let mut s = if eta_5 == 0.0 {
@@ -99,6 +99,100 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice)> {
     ))
 }
 
+/// The even powers of X that the degrees use: X² … X¹⁰.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Even {
+    Two,
+    Four,
+    Six,
+    Eight,
+    Ten,
+}
+
+impl Even {
+    /// Where X^k is kept: k/2 − 1.
+    fn slot(self) -> usize {
+        match self {
+            Even::Two => 0,
+            Even::Four => 1,
+            Even::Six => 2,
+            Even::Eight => 3,
+            Even::Ten => 4,
+        }
+    }
+    /// The two factors X^k is the product of, in nalgebra's order (`None` is X itself): X² =
+    /// X·X, X⁴ = X²·X², X⁶ = X⁴·X², X⁸ = X⁶·X², X¹⁰ = X⁶·X⁴.
+    fn factors(self) -> (Option<Even>, Option<Even>) {
+        match self {
+            Even::Two => (None, None),
+            Even::Four => (Some(Even::Two), Some(Even::Two)),
+            Even::Six => (Some(Even::Four), Some(Even::Two)),
+            Even::Eight => (Some(Even::Six), Some(Even::Two)),
+            Even::Ten => (Some(Even::Six), Some(Even::Four)),
+        }
+    }
+    /// 1/k, as nalgebra writes it, for d_k = ‖X^k‖₁^(1/k).
+    fn root(self) -> f64 {
+        match self {
+            Even::Two => 0.5,
+            Even::Four => 0.25,
+            Even::Six => 1.0 / 6.0,
+            Even::Eight => 1.0 / 8.0,
+            Even::Ten => 1.0 / 10.0,
+        }
+    }
+}
+
+/// The degrees below 13, whose approximants are formed unscaled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Low {
+    Three,
+    Five,
+    Seven,
+    Nine,
+}
+
+impl Low {
+    /// The coefficients b₀ … b_m of p_m (q_m has the same with alternating signs).
+    fn coefficients(self) -> &'static [f64] {
+        match self {
+            Low::Three => &[120.0, 60.0, 12.0, 1.0],
+            Low::Five => &[30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0],
+            Low::Seven => &[
+                17_297_280.0,
+                8_648_640.0,
+                1_995_840.0,
+                277_200.0,
+                25_200.0,
+                1_512.0,
+                56.0,
+                1.0,
+            ],
+            Low::Nine => &[
+                17_643_225_600.0,
+                8_821_612_800.0,
+                2_075_673_600.0,
+                302_702_400.0,
+                30_270_240.0,
+                2_162_160.0,
+                110_880.0,
+                3_960.0,
+                90.0,
+                1.0,
+            ],
+        }
+    }
+    /// The even powers it needs, X² up to X^(m − 1).
+    fn evens(self) -> &'static [Even] {
+        match self {
+            Low::Three => &[Even::Two],
+            Low::Five => &[Even::Two, Even::Four],
+            Low::Seven => &[Even::Two, Even::Four, Even::Six],
+            Low::Nine => &[Even::Two, Even::Four, Even::Six, Even::Eight],
+        }
+    }
+}
+
 /// X and its even powers, each formed once, with their exact norms d_k = ‖X^k‖₁^(1/k).
 struct Powers {
     a: DMatrix<f64>,
@@ -114,81 +208,40 @@ impl Powers {
         }
     }
 
-    /// X^k for k ∈ {1, 2, 4, 6, 8, 10}: X² = X·X, X⁴ = X²·X², X⁶ = X⁴·X², X⁸ = X⁶·X²,
-    /// X¹⁰ = X⁶·X⁴ (the factors in nalgebra's order: the products are its bits).
-    fn power(&mut self, k: usize) -> &DMatrix<f64> {
-        if k < 2 {
-            return &self.a;
-        }
-        let slot = k / 2 - 1;
-        if self.even[slot].is_none() {
-            let (left, right) = match k {
-                2 => (1, 1),
-                4 => (2, 2),
-                6 => (4, 2),
-                8 => (6, 2),
-                _ => (6, 4),
-            };
-            self.power(left);
-            self.power(right);
-            let factor = |k: usize| match k {
-                1 => &self.a,
-                k => self.even[k / 2 - 1]
+    /// X^k, formed from its two factors the first time it is asked for.
+    fn power(&mut self, k: Even) -> &DMatrix<f64> {
+        if self.even[k.slot()].is_none() {
+            let (left, right) = k.factors();
+            for factor in [left, right].into_iter().flatten() {
+                self.power(factor);
+            }
+            let factor = |f: Option<Even>| match f {
+                None => &self.a,
+                Some(e) => self.even[e.slot()]
                     .as_ref()
                     .unwrap_or_else(|| unreachable!("formed just above")),
             };
             let (l, r) = (factor(left), factor(right));
             let mut product = DMatrix::<f64>::zeros(self.a.nrows(), self.a.nrows());
             product.gemm(1.0, l, r, 0.0);
-            self.even[slot] = Some(product);
+            self.even[k.slot()] = Some(product);
         }
-        self.even[slot]
+        self.even[k.slot()]
             .as_ref()
             .unwrap_or_else(|| unreachable!("formed just above"))
     }
 
     /// d_k = ‖X^k‖₁^(1/k).
-    fn d(&mut self, k: usize) -> f64 {
-        let exponent = match k {
-            4 => 0.25,
-            6 => 1.0 / 6.0,
-            8 => 1.0 / 8.0,
-            _ => 1.0 / 10.0,
-        };
-        one_norm(self.power(k)).powf(exponent)
+    fn d(&mut self, k: Even) -> f64 {
+        one_norm(self.power(k)).powf(k.root())
     }
 
     /// r_m(X) for m ∈ {3, 5, 7, 9}: U = X·Σ b_(2j+1) X^(2j), V = Σ b_(2j) X^(2j).
-    fn pade(&mut self, m: usize) -> Option<DMatrix<f64>> {
-        let b: &[f64] = match m {
-            3 => &[120.0, 60.0, 12.0, 1.0],
-            5 => &[30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0],
-            7 => &[
-                17_297_280.0,
-                8_648_640.0,
-                1_995_840.0,
-                277_200.0,
-                25_200.0,
-                1_512.0,
-                56.0,
-                1.0,
-            ],
-            _ => &[
-                17_643_225_600.0,
-                8_821_612_800.0,
-                2_075_673_600.0,
-                302_702_400.0,
-                30_270_240.0,
-                2_162_160.0,
-                110_880.0,
-                3_960.0,
-                90.0,
-                1.0,
-            ],
-        };
-        let top = m / 2; // the highest even power is X^(2·top)
-        for k in 1..=top {
-            self.power(2 * k);
+    fn pade(&mut self, degree: Low) -> Option<DMatrix<f64>> {
+        let b = degree.coefficients();
+        let top = degree.evens().len(); // the highest even power is X^(2·top)
+        for &k in degree.evens() {
+            self.power(k);
         }
         let even = |k: usize| {
             self.even[k - 1]
@@ -234,9 +287,9 @@ impl Powers {
         let s = s as f64;
         let size = self.a.nrows();
         let mb = scaled(&self.a, 2.0_f64.powf(-s));
-        let mb2 = scaled(self.power(2), 2.0_f64.powf(-2.0 * s));
-        let mb4 = scaled(self.power(4), 2.0_f64.powf(-4.0 * s));
-        let mb6 = scaled(self.power(6), 2.0_f64.powf(-6.0 * s));
+        let mb2 = scaled(self.power(Even::Two), 2.0_f64.powf(-2.0 * s));
+        let mb4 = scaled(self.power(Even::Four), 2.0_f64.powf(-4.0 * s));
+        let mb6 = scaled(self.power(Even::Six), 2.0_f64.powf(-6.0 * s));
         // X⁶·(b₁₃X⁶ + b₁₁X⁴ + b₉X²) + b₇X⁶ + b₅X⁴ + b₃X² + b₁I, and the even one alike
         let half = |high: [usize; 3], low: [usize; 4]| {
             let mut inner = scaled(&mb6, b[high[0]]);
