@@ -576,12 +576,7 @@ fn optimal_converges_on_a_plant_with_large_coefficients_and_says_to_what() {
     assert!(residual > 1e-13, "{residual}");
     let placed = best["placement_error"].as_f64().unwrap();
     assert!(placed <= 1e-6, "{placed}");
-    let k: Vec<f64> = best["gain"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let k = floats(&best["gain"]);
     // det(sI − (A − GC)) in f64 against (s + 1)⁵, G filled column by column
     let entries: Vec<f64> = a
         .trim_matches(['[', ']'])
@@ -599,6 +594,16 @@ fn optimal_converges_on_a_plant_with_large_coefficients_and_says_to_what() {
         let (got, want) = (p.coeff(power), desired.coeff(power));
         assert!((got - want).abs() < 1e-6, "s^{power}: {got} ≠ {want}");
     }
+}
+
+/// A JSON array of numbers (an `optimal` gain, column by column) as f64s.
+fn floats(array: &serde_json::Value) -> Vec<f64> {
+    array
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
 }
 
 /// A matrix typed as integers, `[1 -2; 3 4]`, with every entry divided by `by`, as text.
@@ -677,12 +682,7 @@ fn optimal_descends_on_the_constraint_set_when_newton_alone_does_not_converge() 
     assert!(report["converged"].as_u64().unwrap() >= 1, "{report}");
     let best = &report["minima"][0];
     assert!(best["placement_error"].as_f64().unwrap() <= 1e-6, "{best}");
-    let k: Vec<f64> = best["gain"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let k = floats(&best["gain"]);
     // det(sI − (A − GC)) computed exactly from the gain as printed (every f64 is a rational):
     // f64 itself cannot check it, the constant term being a sum of terms near 60¹⁵
     use observer_workbench::algebra::Rational;
