@@ -294,21 +294,8 @@ impl MultiPoly {
         }
         out
     }
-    /// The value at a float point (symbols missing from `values` count as 0).
-    pub fn evaluate_f64(&self, values: &BTreeMap<String, f64>) -> f64 {
-        self.terms
-            .iter()
-            .map(|(m, c)| {
-                m.0.iter()
-                    .fold(crate::algebra::rational_to_f64(c), |acc, (v, e)| {
-                        acc * values.get(v).copied().unwrap_or(0.0).powi(*e as i32)
-                    })
-            })
-            .sum()
-    }
     /// The polynomial prepared for evaluation at many f64 points whose coordinates are the
-    /// symbols `variables`, in that order (symbols not among them count as 0, as in
-    /// [`MultiPoly::evaluate_f64`]).
+    /// symbols `variables`, in that order (symbols not among them count as 0).
     pub fn to_float(&self, variables: &[String]) -> FloatPoly {
         let mut float = FloatPoly {
             coeffs: Vec::with_capacity(self.terms.len()),
@@ -684,37 +671,21 @@ impl IntegralDomain for MultiPoly {
     }
 }
 
-/// A finite f64 as the exact rational m·2^e it is: `(m, e)`, m an integer of at most 53 bits.
+/// A finite f64 as the exact rational m·2^e it is, `(m, e)`: num-rational's exact reading of
+/// it ([`Rational::from_f64`](num_traits::FromPrimitive::from_f64)), whose denominator is a
+/// power of two.
 fn dyadic(v: f64) -> Option<(BigInt, i64)> {
-    if !v.is_finite() {
-        return None;
-    }
-    let bits = v.to_bits();
-    let biased = ((bits >> 52) & 0x7ff) as i64;
-    let fraction = bits & ((1u64 << 52) - 1);
-    // subnormals have no implicit leading bit and the smallest exponent
-    let (mantissa, exponent) = if biased == 0 {
-        (fraction, -1074)
-    } else {
-        (fraction | (1u64 << 52), biased - 1075)
-    };
-    let magnitude = BigInt::from(mantissa);
-    Some((
-        if bits >> 63 == 1 {
-            -magnitude
-        } else {
-            magnitude
-        },
-        exponent,
-    ))
+    let r = <Rational as num_traits::FromPrimitive>::from_f64(v)?;
+    let power = r.denom().trailing_zeros().unwrap_or(0);
+    Some((r.numer().clone(), -(power as i64)))
 }
 
 /// A [`MultiPoly`] compiled for evaluation at f64 points ([`MultiPoly::to_float`]): each
-/// coefficient converted to f64 once and each symbol replaced by its coordinate's index, where
-/// [`MultiPoly::evaluate_f64`] converts every coefficient and looks every symbol up by name at
-/// each point. The arithmetic is the same, in the same order, so the values are the same bits;
-/// a Newton iteration over a few thousand derivatives (`optimal`'s Hessians) evaluates them at
-/// every step.
+/// coefficient converted to f64 once and each symbol replaced by its coordinate's index, so that
+/// a Newton iteration over a few thousand derivatives (`optimal`'s Hessians), which evaluates
+/// them at every step, neither converts a coefficient nor looks a symbol up by name there. Each
+/// term is its coefficient times its factors' powers, left to right, and the terms are summed
+/// in the polynomial's order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FloatPoly {
     /// Each term's coefficient, in the polynomial's term order.
@@ -825,13 +796,33 @@ mod float_tests {
         )
     }
 
+    /// Σ f(c) Π f(x_v)^e with every coefficient converted and every symbol looked up by name
+    /// at the point (missing ones 0), term after term: the value (f the identity) or the size
+    /// of the terms (f the absolute value).
+    fn looked_up(p: &MultiPoly, values: &BTreeMap<String, f64>, f: fn(f64) -> f64) -> f64 {
+        p.terms()
+            .map(|(m, c)| {
+                m.factors()
+                    .iter()
+                    .fold(f(crate::algebra::rational_to_f64(c)), |acc, (v, e)| {
+                        acc * f(values.get(v).copied().unwrap_or(0.0)).powi(*e as i32)
+                    })
+            })
+            .sum()
+    }
+
     #[test]
     fn exact_value_needs_every_symbol_and_finite_coordinates() {
         let p = poly(&[(3, 2, [1, 0, 2, 0])]);
         let names: Vec<String> = ["a", "k2"].iter().map(|s| s.to_string()).collect();
+        let exact: BTreeMap<String, Rational> = names
+            .iter()
+            .cloned()
+            .zip([Rational::new(1.into(), 2.into()), Rational::from_i64(-3)])
+            .collect();
         assert_eq!(
             p.evaluate_at_floats(&names, &[0.5, -3.0]),
-            Some(Rational::new(27.into(), 4.into()))
+            p.evaluate(&exact)
         );
         assert_eq!(p.evaluate_at_floats(&names[..1], &[0.5]), None);
         assert_eq!(p.evaluate_at_floats(&names, &[f64::NAN, 1.0]), None);
@@ -859,8 +850,9 @@ mod float_tests {
             prop_assert_eq!(p.evaluate_at_floats(&names, &x), p.evaluate(&exact));
         }
 
-        /// The compiled form gives evaluate_f64's bits, for the size of the terms too, with
-        /// symbols left out of the coordinates counting as 0.
+        /// The compiled form gives the bits of the evaluation that converts each coefficient
+        /// and looks each symbol up by name at the point (what `optimal` did before), for the
+        /// size of the terms too, with symbols left out of the coordinates counting as 0.
         #[test]
         fn compiled_evaluation_is_the_same_bits(
             terms in terms(),
@@ -872,16 +864,8 @@ mod float_tests {
             let by_name: BTreeMap<String, f64> =
                 coordinates.iter().cloned().zip(x.iter().copied()).collect();
             let compiled = p.to_float(&coordinates);
-            prop_assert_eq!(compiled.evaluate(&x[..kept]).to_bits(), p.evaluate_f64(&by_name).to_bits());
-            let size: f64 = p
-                .terms()
-                .map(|(m, c)| {
-                    m.factors().iter().fold(crate::algebra::rational_to_f64(c).abs(), |acc, (v, e)| {
-                        acc * by_name.get(v).copied().unwrap_or(0.0).abs().powi(*e as i32)
-                    })
-                })
-                .sum();
-            prop_assert_eq!(compiled.evaluate_abs(&x[..kept]).to_bits(), size.to_bits());
+            prop_assert_eq!(compiled.evaluate(&x[..kept]).to_bits(), looked_up(&p, &by_name, f64::from).to_bits());
+            prop_assert_eq!(compiled.evaluate_abs(&x[..kept]).to_bits(), looked_up(&p, &by_name, f64::abs).to_bits());
         }
     }
 }

@@ -84,14 +84,15 @@ fn write_object<'a>(
 }
 
 /// `value` as [`write_pretty`] writes it after each of `keys` was set (in the map's own order
-/// of keys), the entry of such a key written by `fill(out, key, level)` instead of being made
-/// a value first: what a report writes straight into its text (its steps, its float
-/// matrices). A value that is not an object is written alone.
+/// of keys), the entry of such a key written by `fill(out, index, level)` instead of being made
+/// a value first, `index` the key's last place in `keys` (a repeated key keeps its last value,
+/// as setting them one after another leaves it): what a report writes straight into its text
+/// (its steps, its float matrices). A value that is not an object is written alone.
 fn write_pretty_filled(
     out: &mut String,
     mut value: Value,
     keys: &[&str],
-    mut fill: impl FnMut(&mut String, &str, usize),
+    mut fill: impl FnMut(&mut String, usize, usize),
 ) {
     let Some(map) = value.as_object_mut() else {
         write_value(out, &value, 0);
@@ -102,10 +103,9 @@ fn write_pretty_filled(
         map.insert((*key).into(), Value::Null);
     }
     write_object(out, map.iter(), 0, |out, key, item, level| {
-        if keys.contains(&key) {
-            fill(out, key, level);
-        } else {
-            write_value(out, item, level);
+        match keys.iter().rposition(|k| *k == key) {
+            Some(index) => fill(out, index, level),
+            None => write_value(out, item, level),
         }
     });
 }
@@ -146,11 +146,8 @@ pub fn write_pretty_with_exp_matrices(
     matrices: &[(&str, super::args::ExpMatrix<'_>)],
 ) {
     let keys: Vec<&str> = matrices.iter().map(|(key, _)| *key).collect();
-    write_pretty_filled(out, value, &keys, |out, key, level| {
-        // a repeated key's last matrix, as inserting them one after another leaves it
-        let Some((_, m)) = matrices.iter().rev().find(|(k, _)| *k == key) else {
-            return;
-        };
+    write_pretty_filled(out, value, &keys, |out, index, level| {
+        let m = &matrices[index].1;
         let (rows, cols) = m.shape();
         write_array(out, 0..rows, level, |out, i, level| {
             write_array(out, 0..cols, level, |out, j, _| {

@@ -276,9 +276,7 @@ fn j1(args: &Args, req: &Request, text: &mut String) -> Result<serde_json::Value
                 args.seed
             );
         }
-        // none converged, so every start was to be taken again with a descent first: fewer
-        // than asked, or fewer taken again, means the time limit stopped the search
-        if r.starts < args.starts || r.descended < r.starts {
+        if r.out_of_time {
             bail!(
                 "no start converged to a local minimum ({} of the {} seeded starts ran, seed {}, and {} of them were taken again with a descent on the constraint set first) before the time limit of {} s: no minimum-norm gain is reported; raise --time-limit",
                 r.starts,

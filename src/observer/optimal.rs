@@ -317,6 +317,10 @@ pub struct MinimumNormReport {
     pub descended: usize,
     /// Starts that converged to a local minimum.
     pub converged: usize,
+    /// Whether the search's time limit stopped it before every start had run (in both passes
+    /// when the starts were taken again).
+    #[serde(skip)]
+    pub out_of_time: bool,
     /// Distinct local minima, best first.
     pub minima: Vec<LocalMinimum>,
     /// Minima whose cost equals the best within 1e-9 (relative): more than one means the
@@ -354,18 +358,10 @@ fn newton_kkt(cons: &Constraints, start: DVector<f64>) -> Option<Converged> {
     let m = cons.variables.len();
     let r = cons.equations.len();
     let mut k = start;
-    // restoration: least-norm Gauss–Newton steps onto g = 0
-    for _ in 0..60 {
-        let g = cons.values(&k);
-        if g.amax() < 1e-13 {
-            break;
-        }
-        let jac = cons.jacobian(&k);
-        let step = jac.transpose() * (&jac * jac.transpose()).try_inverse()? * g;
-        k -= step;
-    }
+    // restoration onto g = 0, absolute; on without it when 60 steps do not get there
+    gauss_newton(cons, &mut k, |g, _| g.amax() < 1e-13)?;
     let jac = cons.jacobian(&k);
-    let mut mu = -(&jac * jac.transpose()).try_inverse()? * (&jac * (&k * 2.0));
+    let mut mu = multipliers(&jac, &k)?;
     for _ in 0..80 {
         let jac = cons.jacobian(&k);
         let g = cons.values(&k);
@@ -432,27 +428,45 @@ fn kkt_step(
     kkt.lu().solve(&rhs)
 }
 
-/// Onto the constraint set from `k` by least-norm Gauss–Newton steps, as [`newton_kkt`]'s
-/// restoration, until each residual is below 10⁻¹³ or [`RELATIVE_RESIDUAL`] of the size of its
-/// terms: `None` when 60 steps do not get there.
-fn restore(cons: &Constraints, mut k: DVector<f64>) -> Option<DVector<f64>> {
+/// Least-norm Gauss–Newton steps onto g = 0 from `k`, at most 60, until `reached(g, k)`:
+/// `Some(true)` when it is, `Some(false)` when 60 steps do not get there, `None` when J Jᵀ is
+/// singular or `k` leaves the finite numbers (from where no start converges).
+fn gauss_newton(
+    cons: &Constraints,
+    k: &mut DVector<f64>,
+    reached: impl Fn(&DVector<f64>, &DVector<f64>) -> bool,
+) -> Option<bool> {
     for _ in 0..60 {
-        let g = cons.values(&k);
-        let size = cons.magnitudes(&k);
-        if g.iter()
-            .zip(size.iter())
-            .all(|(x, s)| x.abs() <= (RELATIVE_RESIDUAL * s).max(1e-13))
-        {
-            return Some(k);
+        let g = cons.values(k);
+        if reached(&g, k) {
+            return Some(true);
         }
-        let jac = cons.jacobian(&k);
+        let jac = cons.jacobian(k);
         let step = jac.transpose() * (&jac * jac.transpose()).try_inverse()? * g;
-        k -= step;
+        *k -= step;
         if !k.iter().all(|x| x.is_finite()) {
             return None;
         }
     }
-    None
+    Some(false)
+}
+
+/// The least-squares multipliers at `k`, μ = −(J Jᵀ)⁻¹ J (2k): those that make the
+/// Lagrangian's gradient 2k + Jᵀμ smallest (at a feasible point, the projected gradient).
+fn multipliers(jac: &DMatrix<f64>, k: &DVector<f64>) -> Option<DVector<f64>> {
+    Some(-(jac * jac.transpose()).try_inverse()? * (jac * (k * 2.0)))
+}
+
+/// Onto the constraint set from `k` (see [`gauss_newton`]), until each residual is below
+/// 10⁻¹³ or [`RELATIVE_RESIDUAL`] of the size of its terms: `None` when it does not get there.
+fn restore(cons: &Constraints, mut k: DVector<f64>) -> Option<DVector<f64>> {
+    let reached = gauss_newton(cons, &mut k, |g, k| {
+        let size = cons.magnitudes(k);
+        g.iter()
+            .zip(size.iter())
+            .all(|(x, s)| x.abs() <= (RELATIVE_RESIDUAL * s).max(1e-13))
+    })?;
+    reached.then_some(k)
 }
 
 /// A start for [`newton_kkt`] near a local minimum: from `start` brought onto the constraint
@@ -474,8 +488,7 @@ fn descend_on_constraints(
             break;
         }
         let jac = cons.jacobian(&k);
-        let inv = (&jac * jac.transpose()).try_inverse()?;
-        let mu = -&inv * (&jac * (&k * 2.0));
+        let mu = multipliers(&jac, &k)?;
         let grad = &k * 2.0 + jac.transpose() * &mu;
         if grad.amax() <= 1e-9 * k.amax().max(1.0) {
             break;
@@ -565,8 +578,10 @@ pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormR
     let mut uniform = super::search::seeded_uniform(search.seed);
     let mut found = Found::default();
     let mut starts = 0;
+    let mut out_of_time = false;
     for _ in 0..search.starts {
         if search.out_of_time() {
+            out_of_time = true;
             break;
         }
         starts += 1;
@@ -579,6 +594,7 @@ pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormR
         let mut uniform = super::search::seeded_uniform(search.seed);
         for _ in 0..starts {
             if search.out_of_time() {
+                out_of_time = true;
                 break;
             }
             descended += 1;
@@ -603,6 +619,7 @@ pub fn minimum_norm_gain(cons: &Constraints, search: Multistart) -> MinimumNormR
         starts,
         descended,
         converged,
+        out_of_time,
         minima,
         best_count,
         unplaced,
