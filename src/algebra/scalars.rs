@@ -74,9 +74,19 @@ pub(crate) fn latex_of_parts(numer: &str, denom: &str) -> String {
         return numer.to_string();
     }
     match numer.strip_prefix('-') {
-        Some(digits) => format!("-\\frac{{{digits}}}{{{denom}}}"),
-        None => format!("\\frac{{{numer}}}{{{denom}}}"),
+        Some(digits) => concat(&["-\\frac{", digits, "}{", denom, "}"]),
+        None => concat(&["\\frac{", numer, "}{", denom, "}"]),
     }
+}
+
+/// The parts one after another in a string of exactly their length (`format!` grows its
+/// buffer as it goes: a copy of every long entry of a matrix, each 2 700 digits at order 60).
+pub(crate) fn concat(parts: &[&str]) -> String {
+    let mut out = String::with_capacity(parts.iter().map(|p| p.len()).sum());
+    for part in parts {
+        out.push_str(part);
+    }
+    out
 }
 
 impl IntegralDomain for BigRational {

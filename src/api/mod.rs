@@ -176,7 +176,7 @@ impl Report {
     ) -> serde_json::Result<()> {
         if self.keep == Keep::Text {
             // the steps written into the text one at a time, never all copied into the value
-            json_text::write_pretty_with_steps(&mut self.text, v, &steps)?;
+            json_text::write_pretty_with_steps(&mut self.text, v, &steps);
             self.text.push('\n');
             return Ok(());
         }

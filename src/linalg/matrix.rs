@@ -347,14 +347,35 @@ impl<T: Ring> Matrix<T> {
         if let Some(q) = super::as_rational(self) {
             let mut text = Vec::with_capacity(self.data.len());
             let mut latex = Vec::with_capacity(self.data.len());
+            // each distinct long denominator converted once: a matrix computed over one
+            // denominator (a gain, A − KC) holds a handful of them, as long as its numerators
+            // and interleaved (half the digits of a reduced observer's F at order 60); a
+            // denominator within a word is converted where it stands, as quickly as it is found
+            let mut seen: Vec<(&num_bigint::BigInt, String)> = Vec::new();
             for x in q.entries() {
                 let numer = crate::algebra::decimal::decimal(x.numer());
-                let denom = crate::algebra::decimal::decimal(x.denom());
-                latex.push(crate::algebra::latex_of_parts(&numer, &denom));
+                let word;
+                let denom = if x.denom().bits() < 64 {
+                    word = crate::algebra::decimal::decimal(x.denom());
+                    word.as_str()
+                } else {
+                    let at = match seen.iter().position(|(d, _)| *d == x.denom()) {
+                        Some(at) => at,
+                        None => {
+                            if seen.len() == DENOMINATORS_KEPT {
+                                seen.remove(0);
+                            }
+                            seen.push((x.denom(), crate::algebra::decimal::decimal(x.denom())));
+                            seen.len() - 1
+                        }
+                    };
+                    seen[at].1.as_str()
+                };
+                latex.push(crate::algebra::latex_of_parts(&numer, denom));
                 text.push(if x.is_integer() {
                     numer
                 } else {
-                    format!("{numer}/{denom}")
+                    crate::algebra::concat(&[&numer, "/", denom])
                 });
             }
             return (
@@ -372,6 +393,10 @@ impl<T: Ring> Matrix<T> {
         (self.render(), self.to_latex(), self.to_input(), None)
     }
 }
+
+/// How many distinct denominators [`Matrix::renderings_with_cells`] keeps in decimal (the
+/// most recent; a reduced observer's F at order 60 has seven).
+const DENOMINATORS_KEPT: usize = 16;
 
 /// Row-major cells aligned in columns, one row per line: `[ ` and the row's cells, each padded on
 /// the left to its column's width and separated by two spaces, then ` ]`. Written into one
@@ -405,22 +430,46 @@ fn layout_text(rows: usize, cols: usize, cells: &[String]) -> String {
     out
 }
 
-/// Row-major cells joined with `col_sep` and `row_sep`.
-fn join_cells(rows: usize, cols: usize, cells: &[String], col_sep: &str, row_sep: &str) -> String {
-    (0..rows)
-        .map(|i| cells[i * cols..(i + 1) * cols].join(col_sep))
-        .collect::<Vec<_>>()
-        .join(row_sep)
+/// Row-major cells joined with `col_sep` and `row_sep` between `open` and `close`, written
+/// into one string of exactly its length (each cell copied once).
+fn join_cells(
+    rows: usize,
+    cols: usize,
+    cells: &[String],
+    [open, col_sep, row_sep, close]: [&str; 4],
+) -> String {
+    let bytes: usize = cells.iter().map(String::len).sum::<usize>()
+        + open.len()
+        + close.len()
+        + rows * cols.saturating_sub(1) * col_sep.len()
+        + rows.saturating_sub(1) * row_sep.len();
+    let mut out = String::with_capacity(bytes);
+    out.push_str(open);
+    for i in 0..rows {
+        if i > 0 {
+            out.push_str(row_sep);
+        }
+        for (j, cell) in cells[i * cols..(i + 1) * cols].iter().enumerate() {
+            if j > 0 {
+                out.push_str(col_sep);
+            }
+            out.push_str(cell);
+        }
+    }
+    out.push_str(close);
+    out
 }
 
 fn layout_input(rows: usize, cols: usize, cells: &[String]) -> String {
-    format!("[{}]", join_cells(rows, cols, cells, ", ", "; "))
+    join_cells(rows, cols, cells, ["[", ", ", "; ", "]"])
 }
 
 fn layout_latex(rows: usize, cols: usize, cells: &[String]) -> String {
-    format!(
-        "\\begin{{bmatrix}} {} \\end{{bmatrix}}",
-        join_cells(rows, cols, cells, " & ", " \\\\ ")
+    join_cells(
+        rows,
+        cols,
+        cells,
+        ["\\begin{bmatrix} ", " & ", " \\\\ ", " \\end{bmatrix}"],
     )
 }
 
