@@ -264,18 +264,19 @@ fn signed_term(out: &mut String, coeff: &Rational, body: &str, first: bool, unic
     }
     let m = coeff.abs();
     if body.is_empty() {
-        out.push_str(&m.to_string());
+        out.push_str(&m.to_input());
     } else {
         let (n, den) = (m.numer(), m.denom());
         if !n.is_one() {
-            out.push_str(&n.to_string());
+            out.push_str(&super::decimal::decimal(n));
             if !unicode {
                 out.push('*');
             }
         }
         out.push_str(body);
         if !den.is_one() {
-            out.push_str(&format!("/{den}"));
+            out.push('/');
+            out.push_str(&super::decimal::decimal(den));
         }
     }
 }
@@ -283,7 +284,8 @@ fn signed_term(out: &mut String, coeff: &Rational, body: &str, first: bool, unic
 impl Quadratic {
     fn render(&self, unicode: bool) -> String {
         if self.b.is_zero() {
-            return self.a.to_string();
+            // as Display writes a rational (`n` or `n/d`), the digits by the crate's conversion
+            return self.a.to_input();
         }
         let body = match (self.d, unicode) {
             (-1, _) => "i".to_string(),

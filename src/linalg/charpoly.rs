@@ -251,6 +251,37 @@ pub(crate) fn rank_one_update<F: Field>(
     Ok(Poly::new(coeffs, open_loop.var()))
 }
 
+/// [`rank_one_update`] for `O_n` given on integers, row `j` being `o[j] / delta_o` (a single
+/// row of C over its denominator, [`crate::observability::integer_observability_rows`]): with
+/// `K = K̃/d_K`, `O_n K = (R K̃)/(δ_o d_K)` — no entry of `O_n` reduced, nor scaled back to
+/// integers for the product. The same polynomial as [`rank_one_update`] on the reduced `O_n`.
+/// `None` when `k` is not a column of `o`'s width.
+pub(crate) fn rank_one_update_on_integers(
+    o: &[Vec<crate::algebra::BigInt>],
+    delta_o: &crate::algebra::BigInt,
+    open_loop: &Poly<crate::algebra::Rational>,
+    k: &Matrix<crate::algebra::Rational>,
+) -> Option<Poly<crate::algebra::Rational>> {
+    use crate::algebra::Zero;
+    if k.cols() != 1 || o.iter().any(|row| row.len() != k.rows()) {
+        return None;
+    }
+    let (k_int, d_k) = crate::algebra::gcd::integer_numerators(k.entries());
+    let mm: Vec<crate::algebra::BigInt> = o
+        .iter()
+        .map(|row| {
+            let mut acc = crate::algebra::BigInt::zero();
+            for (x, y) in row.iter().zip(&k_int) {
+                if !x.is_zero() && !y.is_zero() {
+                    acc += x * y;
+                }
+            }
+            acc
+        })
+        .collect();
+    Some(rank_one_update_integers(&mm, &(delta_o * d_k), open_loop))
+}
+
 /// [`rank_one_update`]'s sums over the rationals on integers: with `m = O_n K = M/δ` and the
 /// open-loop coefficients `a = α/d`, coefficient `e` is `(δ α_e + Σ_j M_j α_(j+e+1)) / (d δ)`,
 /// reduced once — n reductions instead of one per term.

@@ -431,9 +431,32 @@ impl<F: Field + 'static> Poly<F> {
     }
 }
 
+/// The coefficient-wise sum (or difference) of two rational coefficient lists, each reduced by
+/// Lehmer's gcd ([`crate::algebra::gcd::add`]): num-rational's `+` reduces by num-bigint's
+/// binary gcd, a pass per bit — the loop updates of an order-60 `control` spent an eighth of
+/// their time there. The same numbers.
+fn add_rationals(a: &[Rational], b: &[Rational], negate: bool) -> Vec<Rational> {
+    let zero = <Rational as num_traits::Zero>::zero();
+    (0..a.len().max(b.len()))
+        .map(|k| {
+            let x = a.get(k).unwrap_or(&zero);
+            let y = b.get(k).unwrap_or(&zero);
+            if negate {
+                crate::algebra::gcd::add(x, &-y)
+            } else {
+                crate::algebra::gcd::add(x, y)
+            }
+        })
+        .collect()
+}
+
 impl<R: Ring> Add for Poly<R> {
     type Output = Poly<R>;
     fn add(self, rhs: Self) -> Self {
+        if let Some(Some(p)) = self.through_rationals(&rhs, |a, b| Some(add_rationals(a, b, false)))
+        {
+            return p;
+        }
         let n = self.coeffs.len().max(rhs.coeffs.len());
         let c = (0..n).map(|k| self.coeff(k) + rhs.coeff(k)).collect();
         Poly::new(c, &self.var)
@@ -443,6 +466,10 @@ impl<R: Ring> Add for Poly<R> {
 impl<R: Ring> Sub for Poly<R> {
     type Output = Poly<R>;
     fn sub(self, rhs: Self) -> Self {
+        if let Some(Some(p)) = self.through_rationals(&rhs, |a, b| Some(add_rationals(a, b, true)))
+        {
+            return p;
+        }
         let n = self.coeffs.len().max(rhs.coeffs.len());
         let c = (0..n).map(|k| self.coeff(k) - rhs.coeff(k)).collect();
         Poly::new(c, &self.var)
