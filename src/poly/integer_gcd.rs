@@ -84,15 +84,7 @@ pub(crate) fn mul_rational(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
         return Vec::new();
     }
     let ((ia, da), (ib, db)) = (integer_numerators(a), integer_numerators(b));
-    let mut out = vec![BigInt::zero(); a.len() + b.len() - 1];
-    for (i, x) in ia.iter().enumerate() {
-        if x.is_zero() {
-            continue;
-        }
-        for (j, y) in ib.iter().enumerate() {
-            out[i + j] += x * y;
-        }
-    }
+    let out = super::kronecker::mul_integers(&ia, &ib);
     let d = da * db;
     out.into_iter().map(|n| fraction(n, d.clone())).collect()
 }

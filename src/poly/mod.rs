@@ -10,6 +10,7 @@ mod factor;
 mod fraction_gcd;
 mod integer_gcd;
 pub(crate) use integer_gcd::divide_exact_integers;
+mod kronecker;
 mod quadratic_gcd;
 mod rational_function;
 mod stability;

@@ -482,6 +482,20 @@ impl<R: Ring> Mul for Poly<R> {
         if self.is_zero() || rhs.is_zero() {
             return Poly::zero(&self.var);
         }
+        // integer coefficients: one product of big integers (Kronecker substitution)
+        {
+            use std::any::Any;
+            let (x, y) = (&self as &dyn Any, &rhs as &dyn Any);
+            if let (Some(x), Some(y)) = (
+                x.downcast_ref::<Poly<num_bigint::BigInt>>(),
+                y.downcast_ref::<Poly<num_bigint::BigInt>>(),
+            ) {
+                let c = super::kronecker::mul_integers(&x.coeffs, &y.coeffs);
+                if let Some(p) = crate::algebra::from_concrete(Poly::new(c, &self.var)) {
+                    return p;
+                }
+            }
+        }
         // rational coefficients: fraction-free, one reduction per result coefficient
         if let Some(Some(p)) =
             self.through_rationals(&rhs, |a, b| Some(super::integer_gcd::mul_rational(a, b)))
