@@ -49,6 +49,10 @@ impl<T: Ring> Show for Poly<T> {
     fn input(&self) -> String {
         self.to_input()
     }
+    fn all(&self) -> (String, String, String, Option<Vec<String>>) {
+        let [text, latex, input] = self.renderings();
+        (text, latex, input, None)
+    }
 }
 
 impl<F: Field> Show for RationalFunction<F> {
@@ -60,6 +64,10 @@ impl<F: Field> Show for RationalFunction<F> {
     }
     fn input(&self) -> String {
         self.to_input()
+    }
+    fn all(&self) -> (String, String, String, Option<Vec<String>>) {
+        let [text, latex, input] = self.renderings();
+        (text, latex, input, None)
     }
 }
 

@@ -74,6 +74,12 @@ pub trait Ring:
     /// `self` in the workbench's input syntax (`-7/3`, `2*sqrt(2) - 4`), so that parsing it
     /// gives `self` back.
     fn to_input(&self) -> String;
+    /// `[Display, LaTeX, input]` at once: a type whose three share their work (a rational's
+    /// decimal digits) draws it once — a polynomial's coefficients are shown in all three in
+    /// every step.
+    fn renderings(&self) -> [String; 3] {
+        [self.to_string(), self.to_latex(), self.to_input()]
+    }
 }
 
 /// A ring without zero divisors, in which a division known to be exact can be carried out.

@@ -26,6 +26,11 @@ impl Ring for BigInt {
     fn to_input(&self) -> String {
         super::decimal::decimal(self)
     }
+    /// Display, LaTeX and input are the same digits.
+    fn renderings(&self) -> [String; 3] {
+        let digits = super::decimal::decimal(self);
+        [digits.clone(), digits.clone(), digits]
+    }
 }
 
 impl IntegralDomain for BigInt {
@@ -64,6 +69,19 @@ impl Ring for BigRational {
         } else {
             format!("{numer}/{}", super::decimal::decimal(self.denom()))
         }
+    }
+    /// The numerator's and denominator's digits drawn once: Display writes what the input
+    /// syntax does (`n` or `n/d`).
+    fn renderings(&self) -> [String; 3] {
+        let numer = super::decimal::decimal(self.numer());
+        let denom = super::decimal::decimal(self.denom());
+        let latex = latex_of_parts(&numer, &denom);
+        let input = if self.denom().is_one() {
+            numer
+        } else {
+            concat(&[&numer, "/", &denom])
+        };
+        [input.clone(), latex, input]
     }
 }
 

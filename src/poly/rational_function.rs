@@ -109,24 +109,37 @@ impl<F: Field> RationalFunction<F> {
         if self.den.degree() == Some(0) {
             return self.num.render();
         }
-        let num = self.num.render();
-        let wrap = |t: String| {
-            if t.contains(' ') {
-                format!("({t})")
-            } else {
-                t
-            }
-        };
-        // A constant numerator keeps its sign in front: -108/(s + 5).
-        let (neg, body) = split_sign(&num);
-        let body = body.to_string();
-        format!(
-            "{}{}/{}",
-            if neg { "-" } else { "" },
-            wrap(body),
-            wrap(self.den.render())
-        )
+        human(self.num.render(), self.den.render())
     }
+    /// `[Display, LaTeX, input]`, the numerator's and denominator's digits drawn once
+    /// ([`Poly::renderings`]).
+    pub fn renderings(&self) -> [String; 3] {
+        let [num_text, num_latex, num_input] = self.num.renderings();
+        if self.den.degree() == Some(0) {
+            return [num_text, num_latex, num_input];
+        }
+        let [den_text, den_latex, den_input] = self.den.renderings();
+        [
+            human(num_text, den_text),
+            format!("\\frac{{{num_latex}}}{{{den_latex}}}"),
+            format!("({num_input})/({den_input})"),
+        ]
+    }
+}
+
+/// `num/den` as text from the two polynomials' texts, each parenthesised when it is a sum.
+fn human(num: String, den: String) -> String {
+    let wrap = |t: String| {
+        if t.contains(' ') {
+            format!("({t})")
+        } else {
+            t
+        }
+    };
+    // A constant numerator keeps its sign in front: -108/(s + 5).
+    let (neg, body) = split_sign(&num);
+    let body = body.to_string();
+    format!("{}{}/{}", if neg { "-" } else { "" }, wrap(body), wrap(den))
 }
 
 impl<F: Field> Add for RationalFunction<F> {

@@ -234,6 +234,35 @@ impl<R: Ring> Poly<R> {
     }
 
     fn render_with(&self, how: Render) -> String {
+        let texts: Vec<Option<String>> = self
+            .coeffs
+            .iter()
+            .map(|c| {
+                (!c.is_zero()).then(|| match how {
+                    Render::Human => c.to_string(),
+                    Render::Input => c.to_input(),
+                    Render::Latex => c.to_latex(),
+                })
+            })
+            .collect();
+        self.assemble(|k| texts[k].as_deref(), how)
+    }
+
+    /// `[Display, LaTeX, input]`, each coefficient's three texts drawn together
+    /// ([`Ring::renderings`]: a rational's digits converted once, not three times).
+    pub fn renderings(&self) -> [String; 3] {
+        let texts: Vec<Option<[String; 3]>> = self
+            .coeffs
+            .iter()
+            .map(|c| (!c.is_zero()).then(|| c.renderings()))
+            .collect();
+        [(0, Render::Human), (1, Render::Latex), (2, Render::Input)]
+            .map(|(at, how)| self.assemble(|k| texts[k].as_ref().map(|t| t[at].as_str()), how))
+    }
+
+    /// The polynomial in the style `how` from its nonzero coefficients' texts (`None` for a
+    /// zero coefficient), highest power first.
+    fn assemble<'a>(&self, text: impl Fn(usize) -> Option<&'a str>, how: Render) -> String {
         if self.coeffs.is_empty() {
             return "0".into();
         }
@@ -242,16 +271,11 @@ impl<R: Ring> Poly<R> {
             _ => self.var.clone(),
         };
         let mut out = String::with_capacity(8 * self.coeffs.len());
-        for (k, c) in self.coeffs.iter().enumerate().rev() {
-            if c.is_zero() {
+        for k in (0..self.coeffs.len()).rev() {
+            let Some(text) = text(k) else {
                 continue;
-            }
-            let text = match how {
-                Render::Human => c.to_string(),
-                Render::Input => c.to_input(),
-                Render::Latex => c.to_latex(),
             };
-            let (neg, body) = split_sign(&text);
+            let (neg, body) = split_sign(text);
             let first = out.is_empty();
             if first {
                 if neg {
