@@ -21,11 +21,13 @@
 //! **Cost.** `w²/2` two-by-one steps for `w` limbs up to the limit (quadratic, as num-bigint's
 //! loop below its own divide-and-conquer threshold, but several times cheaper a step); above it
 //! one division of `w` by `w/2` limbs and the two halves, a quarter of the quadratic work each.
-//! Measured against num-bigint's `to_string` (release build, 200 numbers each): 4.0 against
-//! 7.3 µs at 40 limbs, 7.9 against 13.5 µs at 64, 27 against 36 µs at 140 (the 2 700-digit
-//! entries of an order-60 reduced observer's F), 225 against 252 µs at 560 — num-bigint's own
-//! divide and conquer bottoms out in a hardware division per limb. A property test compares
-//! every result with num-bigint's, up to 350 limbs (two levels of splitting).
+//! Measured against num-bigint's `to_string` (release build, the least of five passes over 300
+//! numbers each): 3.7 against 7.3 µs at 40 limbs, 7.4 against 13.5 µs at 64, 24 against 36 µs
+//! at 140 (the 2 700-digit entries of an order-60 reduced observer's F), 70 against 92 µs at
+//! 280 — num-bigint's own divide and conquer bottoms out in a hardware division per limb. The
+//! limit of 32 limbs measured 10 % faster than 64 at 140 and 280 limbs, the same below, and 16
+//! no better. A property test compares every result with num-bigint's, up to 350 limbs (three
+//! levels of splitting).
 
 use num_bigint::{BigInt, BigUint, Sign};
 use num_integer::Integer;
@@ -34,8 +36,8 @@ use num_traits::Zero;
 /// `10¹⁹`, the largest power of ten in a word.
 const D: u64 = 10_000_000_000_000_000_000;
 
-/// Above this many limbs num-bigint's divide and conquer is left to do the work.
-const QUADRATIC_LIMIT: usize = 64;
+/// Up to this many limbs the quadratic loop; above, a split first ([`chunks_into`]).
+const QUADRATIC_LIMIT: usize = 32;
 
 /// `⌊(2¹²⁸ − 1)/D⌋ − 2⁶⁴`, the reciprocal of `D` (fits a word because `D ≥ 2⁶³`).
 const RECIPROCAL: u64 = (u128::MAX / D as u128 - (1u128 << 64)) as u64;
@@ -200,11 +202,11 @@ mod tests {
     fn edges_of_a_chunk_and_of_the_limit() {
         let ten = BigInt::from(10);
         let mut cases = vec![BigInt::zero(), BigInt::one(), -BigInt::one()];
-        // the limit, and the divide-and-conquer splits at D^32, D^64, D^128 (608, 1216, 2432
-        // digits): runs of zero chunks in the remainder, padded to the split
+        // the divide-and-conquer splits at D^16 … D^128 (304 … 2432 digits): runs of zero
+        // chunks in the remainder, padded to the split
         for k in [
-            18u32, 19, 20, 37, 38, 39, 57, 607, 608, 609, 1216, 1233, 1234, 1300, 2431, 2432, 2433,
-            4864, 5000,
+            18u32, 19, 20, 37, 38, 39, 57, 303, 304, 305, 607, 608, 609, 1216, 1233, 1234, 1300,
+            2431, 2432, 2433, 4864, 5000,
         ] {
             let p = ten.pow(k);
             cases.extend([p.clone() - 1, p.clone(), p.clone() + 1, -p.clone()]);

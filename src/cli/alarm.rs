@@ -11,9 +11,9 @@
 //! Cost: two system calls to arm, one to disarm. Identity: the bytes and the status are those
 //! the finished command's error path gives for [`super::Stopped::TimeBudget`].
 //!
-//! The project's one module with `unsafe` (the crate denies it everywhere else): four calls
-//! into the C library and the read of the leaked ending, each with the reason it is sound
-//! beside it.
+//! One of the project's two modules with `unsafe` (with the allocator, `large_pages`; the
+//! crate denies it everywhere else): four calls into the C library and the read of the leaked
+//! ending, each with the reason it is sound beside it.
 #![allow(unsafe_code)]
 
 use std::sync::atomic::{AtomicPtr, Ordering};

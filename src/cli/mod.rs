@@ -8,6 +8,10 @@
 mod output;
 #[cfg(unix)]
 mod alarm;
+#[cfg(target_os = "linux")]
+mod large_pages;
+#[cfg(target_os = "linux")]
+pub use large_pages::LargePages;
 
 use crate::api::{self, Command, Outcome};
 use clap::Parser;
