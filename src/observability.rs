@@ -121,56 +121,117 @@ pub(crate) fn integer_observability_rows(
         .map(|x| x.is_integer().then(|| x.to_integer().to_i64()).flatten())
         .collect::<Option<_>>()?;
     // each row of C over its own denominator: (c/δ)·A^k = (c·A^k)/δ
-    let (mut block, denominators): (Vec<Vec<BigInt>>, Vec<BigInt>) = (0..c.rows())
+    let (block, denominators): (Vec<Vec<BigInt>>, Vec<BigInt>) = (0..c.rows())
         .map(|i| crate::algebra::gcd::integer_numerators(c.row(i)))
         .unzip();
-    let mut rows: Vec<Vec<BigInt>> = Vec::with_capacity(n * block.len());
+    // the block C·A^k in 128-bit words while its entries fit (the first blocks of a plant with
+    // small entries), on big integers from the first product that would overflow
+    let words = |block: &[Vec<BigInt>]| -> Option<Vec<Vec<i128>>> {
+        block
+            .iter()
+            .map(|r| r.iter().map(ToPrimitive::to_i128).collect())
+            .collect()
+    };
+    let mut block = match words(&block) {
+        Some(w) => Block::Words(w),
+        None => Block::Big(block),
+    };
+    let mut rows: Vec<Vec<BigInt>> = Vec::with_capacity(n * denominators.len());
     for k in 0..n {
-        // the next block: row · A, column by column — in 128-bit words while the row's
-        // entries fit (the first rows of a plant with small entries), on big integers after
-        let next = (k + 1 < n).then(|| {
-            block
-                .iter()
-                .map(|r| {
-                    let words: Option<Vec<i128>> = r.iter().map(ToPrimitive::to_i128).collect();
-                    let next_words = words.and_then(|words| {
-                        (0..n)
-                            .map(|j| {
-                                let mut acc: i128 = 0;
-                                for (i, &x) in words.iter().enumerate() {
-                                    let w = small[i * n + j];
-                                    if w != 0 && x != 0 {
-                                        acc = acc.checked_add(x.checked_mul(i128::from(w))?)?;
-                                    }
-                                }
-                                Some(acc)
-                            })
-                            .collect::<Option<Vec<i128>>>()
-                    });
-                    match next_words {
-                        Some(words) => words.into_iter().map(BigInt::from).collect(),
-                        None => (0..n)
-                            .map(|j| {
-                                let mut acc = BigInt::from(0);
-                                for (i, x) in r.iter().enumerate() {
-                                    let w = small[i * n + j];
-                                    if w != 0 && !num_traits::Zero::is_zero(x) {
-                                        acc += x * w;
-                                    }
-                                }
-                                acc
-                            })
-                            .collect(),
-                    }
-                })
-                .collect()
-        });
-        match next {
-            Some(next) => rows.extend(std::mem::replace(&mut block, next)),
-            None => rows.append(&mut block),
-        }
+        let last = k + 1 == n;
+        block = match block {
+            Block::Words(w) => {
+                let b = big_of(&w);
+                if last {
+                    rows.extend(b);
+                    break;
+                }
+                let next = match words_times_a(&w, &small, n) {
+                    Some(next) => Block::Words(next),
+                    None => Block::Big(times_a(&b, &small, n)),
+                };
+                rows.extend(b);
+                next
+            }
+            Block::Big(b) => {
+                if last {
+                    rows.extend(b);
+                    break;
+                }
+                let next = times_a(&b, &small, n);
+                rows.extend(b);
+                Block::Big(next)
+            }
+        };
     }
     Some((rows, denominators))
+}
+
+/// A block of rows of `O_n` on integers: machine words while they fit, big integers after.
+enum Block {
+    Words(Vec<Vec<i128>>),
+    Big(Vec<Vec<BigInt>>),
+}
+
+/// The rows in big integers (through `i64` where a word holds the entry: num-bigint keeps a
+/// one-limb number inline, where its conversion from `i128` allocates).
+fn big_of(block: &[Vec<i128>]) -> Vec<Vec<BigInt>> {
+    block
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|&x| i64::try_from(x).map_or_else(|_| BigInt::from(x), BigInt::from))
+                .collect()
+        })
+        .collect()
+}
+
+/// `row · A` for each row in 128-bit words; `None` when a product or sum would overflow.
+fn words_times_a(block: &[Vec<i128>], a: &[i64], n: usize) -> Option<Vec<Vec<i128>>> {
+    block
+        .iter()
+        .map(|r| {
+            (0..n)
+                .map(|j| {
+                    let mut acc: i128 = 0;
+                    for (i, &x) in r.iter().enumerate() {
+                        let w = a[i * n + j];
+                        if w != 0 && x != 0 {
+                            // two words multiply without overflow (one widening product); a
+                            // wider entry takes the checked 128-bit product (a library call)
+                            let product = match i64::try_from(x) {
+                                Ok(x) => i128::from(x) * i128::from(w),
+                                Err(_) => x.checked_mul(i128::from(w))?,
+                            };
+                            acc = acc.checked_add(product)?;
+                        }
+                    }
+                    Some(acc)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `row · A` for each row, on big integers, `A` (n × n, row-major) in machine words.
+fn times_a(block: &[Vec<BigInt>], a: &[i64], n: usize) -> Vec<Vec<BigInt>> {
+    block
+        .iter()
+        .map(|r| {
+            (0..n)
+                .map(|j| {
+                    let mut acc = BigInt::from(0);
+                    for (i, x) in r.iter().enumerate() {
+                        let w = a[i * n + j];
+                        if w != 0 && !num_traits::Zero::is_zero(x) {
+                            acc += x * w;
+                        }
+                    }
+                    acc
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// `C_n = [B, AB, …, A^(n−1)B]`.
@@ -406,4 +467,59 @@ pub fn require_observable<F: Field>(
         });
     }
     Ok(o)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// `[C; CA; …; CA^(n−1)]` by products of rational matrices, block by block.
+    fn by_products(a: &Matrix<Rational>, c: &Matrix<Rational>) -> Matrix<Rational> {
+        let mut block = c.clone();
+        let mut rows: Vec<Vec<Rational>> = (0..c.rows()).map(|i| c.row(i).to_vec()).collect();
+        for _ in 1..a.rows() {
+            block = block.mul(a).unwrap();
+            rows.extend((0..block.rows()).map(|i| block.row(i).to_vec()));
+        }
+        Matrix::from_rows(rows).unwrap()
+    }
+
+    proptest! {
+        /// The integer path — 128-bit words, then big integers once a product would overflow
+        /// (entries up to 2⁴⁰ overflow within a few powers), each row of C over its own
+        /// denominator — gives O_n as the rational products do, and the rank-one update from
+        /// its integer rows the polynomial the reduced O_n gives.
+        #[test]
+        fn integer_rows_are_the_rational_products(
+            n in 1usize..6,
+            entries in proptest::collection::vec((-(1i64 << 40)..(1i64 << 40), 0u32..41), 36),
+            c_entries in proptest::collection::vec((-50i64..50, 1i64..30), 12),
+            outputs in 1usize..3,
+            k_entries in proptest::collection::vec((-1000i64..1000, 1i64..99), 6),
+        ) {
+            let a = Matrix::from_fn(n, n, |i, j| {
+                let (v, shift) = entries[i * 6 + j];
+                Rational::from_integer(BigInt::from(v >> shift))
+            });
+            let c = Matrix::from_fn(outputs, n, |i, j| {
+                let (num, den) = c_entries[i * 6 + j];
+                Rational::new(num.into(), den.into())
+            });
+            let expected = by_products(&a, &c);
+            prop_assert_eq!(integer_observability(&a, &c), Some(expected.clone()));
+            if outputs == 1 {
+                let (rows, denominators) = integer_observability_rows(&a, &c).unwrap();
+                let open = linalg::characteristic_polynomial(&a, "s").unwrap();
+                let k = Matrix::from_fn(n, 1, |i, _| {
+                    let (num, den) = k_entries[i];
+                    Rational::new(num.into(), den.into())
+                });
+                prop_assert_eq!(
+                    linalg::rank_one_update_on_integers(&rows, &denominators[0], &open, &k),
+                    Some(linalg::rank_one_update(&expected, &open, &k).unwrap())
+                );
+            }
+        }
+    }
 }

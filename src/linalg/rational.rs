@@ -172,7 +172,8 @@ pub(crate) fn polynomial_times_integers(
     let mut dpow = BigInt::one();
     let mut scaled = vec![Rational::zero(); deg + 1];
     for j in (0..=deg).rev() {
-        scaled[j] = p.coeff(j) * Rational::from_integer(dpow.clone());
+        // (Lehmer's cross-cancellation; a product of integers, the usual case, multiplies only)
+        scaled[j] = crate::algebra::gcd::mul(&p.coeff(j), &Rational::from_integer(dpow.clone()));
         dpow *= &d;
     }
     let (q, f) = scale(&scaled);

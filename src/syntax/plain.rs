@@ -24,7 +24,10 @@ pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
     };
     s.blanks();
     s.eat(b'[')?;
-    let mut rows: Vec<Vec<Rational>> = Vec::new();
+    // one row per `;` and one more, allocated once
+    let separators = input.bytes().filter(|&b| b == b';').count();
+    let mut rows: Vec<Vec<Rational>> =
+        Vec::with_capacity((separators + 1).min(MAX_EXACT_ORDER + 1));
     loop {
         // the rows after the first are as long (or the text is refused)
         let row = s.row(rows.first().map_or(0, Vec::len))?;
