@@ -498,8 +498,23 @@ def time_a_copy():
     OWB = copy
 
 
+def orders_of(words):
+    """The orders asked for, each a whole number from 1 to 200; otherwise the usage, status 1."""
+    try:
+        orders = [int(x) for x in words]
+    except ValueError:
+        orders = [0]
+    if any(not 1 <= n <= 200 for n in orders):
+        sys.exit("usage: flint_compare.py [--same-work | --float] [--only cmd,…] [n …] "
+                 "(orders 1–200; see the header of this file)")
+    return orders
+
+
 def main():
     # --same-work | --float [--only gain,observe,…] [n …]
+    if any(a in ("-h", "--help") for a in sys.argv[1:]):
+        print(__doc__)
+        return
     time_a_copy()
     tables = {"--same-work": (same_work, [10, 20, 30, 40, 60, 80]),
               "--float": (float_table, [10, 20, 50, 100])}
@@ -507,10 +522,12 @@ def main():
         table, default = tables[sys.argv[1]]
         rest, only = sys.argv[2:], ()
         if rest[:1] == ["--only"]:
+            if len(rest) < 2:
+                orders_of(["--only"])
             only, rest = tuple(rest[1].split(",")), rest[2:]
-        table([int(x) for x in rest] or default, only)
+        table(orders_of(rest) or default, only)
         return
-    orders = [int(x) for x in sys.argv[1:]] or [20, 30, 60, 80]
+    orders = orders_of(sys.argv[1:]) or [20, 30, 60, 80]
     print("| n | owb gain --json (whole process) | with --summary | python-flint bare gain "
           "| python-flint charpoly | gains equal |")
     print("|---|---|---|---|---|---|")
