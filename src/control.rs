@@ -254,7 +254,7 @@ impl<F: Field> LoopUpdates<F> {
     /// [`LoopUpdates::new`] for a rational plant with an integer `A`, single input and output:
     /// `F·A^k` and `C·A^k` kept on integers over their rows' denominators
     /// ([`crate::observability::integer_observability_rows`],
-    /// [`linalg::rank_one_update_on_integers`]), where reducing every entry of `F·A^k` and
+    /// [`linalg::adjugate_product_on_integers`]), where reducing every entry of `F·A^k` and
     /// scaling it back for each product cost a fifth of `control` at order 60. `None` for any
     /// other loop (the general path then runs).
     fn on_integers(
@@ -282,8 +282,7 @@ impl<F: Field> LoopUpdates<F> {
                  d: &crate::algebra::BigInt,
                  y: &Matrix<Rational>|
          -> Option<Poly<F>> {
-            let p = linalg::rank_one_update_on_integers(o, d, open_q, y)? - open_q.clone();
-            crate::algebra::from_concrete(p)
+            crate::algebra::from_concrete(linalg::adjugate_product_on_integers(o, d, open_q, y)?)
         };
         Some(LoopUpdates {
             fb: m(&o_f, &d_f[0], b)?,

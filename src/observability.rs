@@ -126,43 +126,15 @@ pub(crate) fn integer_observability_rows(
         .unzip();
     // the block C·A^k in 128-bit words while its entries fit (the first blocks of a plant with
     // small entries), on big integers from the first product that would overflow
-    let words = |block: &[Vec<BigInt>]| -> Option<Vec<Vec<i128>>> {
-        block
-            .iter()
-            .map(|r| r.iter().map(ToPrimitive::to_i128).collect())
-            .collect()
-    };
-    let mut block = match words(&block) {
-        Some(w) => Block::Words(w),
-        None => Block::Big(block),
-    };
+    let mut block = Block::of(block);
     let mut rows: Vec<Vec<BigInt>> = Vec::with_capacity(n * denominators.len());
-    for k in 0..n {
-        let last = k + 1 == n;
-        block = match block {
-            Block::Words(w) => {
-                let b = big_of(&w);
-                if last {
-                    rows.extend(b);
-                    break;
-                }
-                let next = match words_times_a(&w, &small, n) {
-                    Some(next) => Block::Words(next),
-                    None => Block::Big(times_a(&b, &small, n)),
-                };
-                rows.extend(b);
-                next
-            }
-            Block::Big(b) => {
-                if last {
-                    rows.extend(b);
-                    break;
-                }
-                let next = times_a(&b, &small, n);
-                rows.extend(b);
-                Block::Big(next)
-            }
-        };
+    for _ in 1..n {
+        let next = block.times(&small, n);
+        rows.extend(block.into_big());
+        block = next;
+    }
+    if n > 0 {
+        rows.extend(block.into_big());
     }
     Some((rows, denominators))
 }
@@ -171,6 +143,31 @@ pub(crate) fn integer_observability_rows(
 enum Block {
     Words(Vec<Vec<i128>>),
     Big(Vec<Vec<BigInt>>),
+}
+
+impl Block {
+    /// The rows in words when every entry fits one.
+    fn of(rows: Vec<Vec<BigInt>>) -> Block {
+        let words: Option<Vec<Vec<i128>>> = rows
+            .iter()
+            .map(|r| r.iter().map(num_traits::ToPrimitive::to_i128).collect())
+            .collect();
+        words.map_or(Block::Big(rows), Block::Words)
+    }
+    /// `row · A` for each row: in words unless a product or sum would overflow.
+    fn times(&self, a: &[i64], n: usize) -> Block {
+        match self {
+            Block::Words(w) => words_times_a(w, a, n)
+                .map_or_else(|| Block::Big(times_a(&big_of(w), a, n)), Block::Words),
+            Block::Big(b) => Block::Big(times_a(b, a, n)),
+        }
+    }
+    fn into_big(self) -> Vec<Vec<BigInt>> {
+        match self {
+            Block::Words(w) => big_of(&w),
+            Block::Big(b) => b,
+        }
+    }
 }
 
 /// The rows in big integers (through `i64` where a word holds the entry: num-bigint keeps a
@@ -488,8 +485,8 @@ mod tests {
     proptest! {
         /// The integer path — 128-bit words, then big integers once a product would overflow
         /// (entries up to 2⁴⁰ overflow within a few powers), each row of C over its own
-        /// denominator — gives O_n as the rational products do, and the rank-one update from
-        /// its integer rows the polynomial the reduced O_n gives.
+        /// denominator — gives O_n as the rational products do, and `C adj(sI − A) K` from its
+        /// integer rows the rank-one update of the reduced O_n less det(sI − A).
         #[test]
         fn integer_rows_are_the_rational_products(
             n in 1usize..6,
@@ -516,8 +513,8 @@ mod tests {
                     Rational::new(num.into(), den.into())
                 });
                 prop_assert_eq!(
-                    linalg::rank_one_update_on_integers(&rows, &denominators[0], &open, &k),
-                    Some(linalg::rank_one_update(&expected, &open, &k).unwrap())
+                    linalg::adjugate_product_on_integers(&rows, &denominators[0], &open, &k),
+                    Some(linalg::rank_one_update(&expected, &open, &k).unwrap() - open.clone())
                 );
             }
         }

@@ -63,12 +63,10 @@ impl Ring for BigRational {
     /// As `Display` writes it (`n` or `n/d`), the digits converted by division with a
     /// precomputed reciprocal of 10¹⁹.
     fn to_input(&self) -> String {
-        let numer = super::decimal::decimal(self.numer());
-        if self.denom().is_one() {
-            numer
-        } else {
-            format!("{numer}/{}", super::decimal::decimal(self.denom()))
-        }
+        input_of_parts(
+            super::decimal::decimal(self.numer()),
+            &super::decimal::decimal(self.denom()),
+        )
     }
     /// The numerator's and denominator's digits drawn once: Display writes what the input
     /// syntax does (`n` or `n/d`).
@@ -76,11 +74,7 @@ impl Ring for BigRational {
         let numer = super::decimal::decimal(self.numer());
         let denom = super::decimal::decimal(self.denom());
         let latex = latex_of_parts(&numer, &denom);
-        let input = if self.denom().is_one() {
-            numer
-        } else {
-            concat(&[&numer, "/", &denom])
-        };
+        let input = input_of_parts(numer, &denom);
         [input.clone(), latex, input]
     }
 }
@@ -97,9 +91,19 @@ pub(crate) fn latex_of_parts(numer: &str, denom: &str) -> String {
     }
 }
 
+/// Input syntax (and `Display`) of the rational `numer/denom` from the decimal digits of its
+/// reduced parts: `numer` alone for a denominator of one.
+pub(crate) fn input_of_parts(numer: String, denom: &str) -> String {
+    if denom == "1" {
+        numer
+    } else {
+        concat(&[&numer, "/", denom])
+    }
+}
+
 /// The parts one after another in a string of exactly their length (`format!` grows its
 /// buffer as it goes: a copy of every long entry of a matrix, each 2 700 digits at order 60).
-pub(crate) fn concat(parts: &[&str]) -> String {
+fn concat(parts: &[&str]) -> String {
     let mut out = String::with_capacity(parts.iter().map(|p| p.len()).sum());
     for part in parts {
         out.push_str(part);

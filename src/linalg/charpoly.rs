@@ -229,7 +229,7 @@ pub(crate) fn rank_one_update<F: Field>(
             return Err(o.mismatch(k, "product"));
         }
         let (mm, delta) = super::mul_over_one_denominator(o, k);
-        let p = rank_one_update_integers(&mm, &delta, open_loop);
+        let p = rank_one_update_integers(&mm, &delta, open_loop, true);
         if let Some(p) = crate::algebra::from_concrete(p) {
             return Ok(p);
         }
@@ -251,12 +251,13 @@ pub(crate) fn rank_one_update<F: Field>(
     Ok(Poly::new(coeffs, open_loop.var()))
 }
 
-/// [`rank_one_update`] for `O_n` given on integers, row `j` being `o[j] / delta_o` (a single
-/// row of C over its denominator, [`crate::observability::integer_observability_rows`]): with
-/// `K = K̃/d_K`, `O_n K = (R K̃)/(δ_o d_K)` — no entry of `O_n` reduced, nor scaled back to
-/// integers for the product. The same polynomial as [`rank_one_update`] on the reduced `O_n`.
-/// `None` when `k` is not a column of `o`'s width.
-pub(crate) fn rank_one_update_on_integers(
+/// `C adj(sI − A) K` — [`rank_one_update`]'s polynomial less `det(sI − A)` — for `O_n` given on
+/// integers, row `j` being `o[j] / delta_o` (a single row of C over its denominator,
+/// [`crate::observability::integer_observability_rows`]): with `K = K̃/d_K`,
+/// `O_n K = (R K̃)/(δ_o d_K)` — no entry of `O_n` reduced, nor scaled back to integers for the
+/// product, and no `det(sI − A)` added only to be taken away again. `None` when `k` is not a
+/// column of `o`'s width.
+pub(crate) fn adjugate_product_on_integers(
     o: &[Vec<crate::algebra::BigInt>],
     delta_o: &crate::algebra::BigInt,
     open_loop: &Poly<crate::algebra::Rational>,
@@ -279,16 +280,23 @@ pub(crate) fn rank_one_update_on_integers(
             acc
         })
         .collect();
-    Some(rank_one_update_integers(&mm, &(delta_o * d_k), open_loop))
+    Some(rank_one_update_integers(
+        &mm,
+        &(delta_o * d_k),
+        open_loop,
+        false,
+    ))
 }
 
 /// [`rank_one_update`]'s sums over the rationals on integers: with `m = O_n K = M/δ` and the
 /// open-loop coefficients `a = α/d`, coefficient `e` is `(δ α_e + Σ_j M_j α_(j+e+1)) / (d δ)`,
-/// reduced once — n reductions instead of one per term.
+/// reduced once — n reductions instead of one per term. Without `with_open_loop` the term
+/// `δ α_e` is left out: the polynomial `C adj(sI − A) K` alone.
 fn rank_one_update_integers(
     mm: &[crate::algebra::BigInt],
     delta: &crate::algebra::BigInt,
     open_loop: &Poly<crate::algebra::Rational>,
+    with_open_loop: bool,
 ) -> Poly<crate::algebra::Rational> {
     let (alpha, d) = crate::algebra::gcd::integer_numerators(open_loop.coeffs());
     let n = alpha.len().saturating_sub(1);
@@ -296,7 +304,11 @@ fn rank_one_update_integers(
     let denominator = &d * delta;
     let coeffs = (0..alpha.len())
         .map(|e| {
-            let mut numerator = &alpha[e] * delta;
+            let mut numerator = if with_open_loop {
+                &alpha[e] * delta
+            } else {
+                <crate::algebra::BigInt as crate::algebra::Zero>::zero()
+            };
             for (j, mj) in mm.iter().enumerate().take(terms) {
                 if let Some(a) = alpha.get(j + e + 1) {
                     if !crate::algebra::Zero::is_zero(mj) && !crate::algebra::Zero::is_zero(a) {

@@ -372,11 +372,7 @@ impl<T: Ring> Matrix<T> {
                     seen[at].1.as_str()
                 };
                 latex.push(crate::algebra::latex_of_parts(&numer, denom));
-                text.push(if x.is_integer() {
-                    numer
-                } else {
-                    crate::algebra::concat(&[&numer, "/", denom])
-                });
+                text.push(crate::algebra::input_of_parts(numer, denom));
             }
             return (
                 layout_text(self.rows, self.cols, &text),

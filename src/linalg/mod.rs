@@ -24,11 +24,11 @@ mod matrix;
 pub mod modular;
 mod rational;
 
+pub(crate) use charpoly::{adjugate_product_on_integers, rank_one_update};
 pub use charpoly::{
     berkowitz, characteristic_polynomial, matrix_polynomial, polynomial_times_solution,
     polynomial_times_vector,
 };
-pub(crate) use charpoly::{rank_one_update, rank_one_update_on_integers};
 pub use elimination::{determinant, inverse, null_space, rank, rref, solve, Rref};
 pub use kronecker::{kronecker, vectorize};
 pub use matrix::Matrix;

@@ -17,7 +17,9 @@
 //! (an order-60 `control`'s rank-two update), Toom-3's `N^1.46` on the whole against 3 600
 //! separate products.
 
-use num_bigint::{BigInt, BigUint, Sign};
+use crate::algebra::gcd::natural_from_limbs;
+use crate::algebra::words::negate_limbs;
+use num_bigint::{BigInt, Sign};
 use num_traits::Zero;
 
 /// Below this many coefficient products (`len_a · len_b`), or when the coefficients are
@@ -72,16 +74,8 @@ fn pack(p: &[BigInt], w_limbs: usize) -> BigInt {
             target[i * w_limbs + k] = limb;
         }
     }
-    BigInt::from_biguint(Sign::Plus, BigUint::from_slice(&to_u32(&positive)))
-        - BigInt::from_biguint(Sign::Plus, BigUint::from_slice(&to_u32(&negative)))
-}
-
-/// Limbs of 64 bits as num-bigint's portable 32-bit digits (little-endian).
-fn to_u32(limbs: &[u64]) -> Vec<u32> {
-    limbs
-        .iter()
-        .flat_map(|&l| [l as u32, (l >> 32) as u32])
-        .collect()
+    BigInt::from_biguint(Sign::Plus, natural_from_limbs(&positive))
+        - BigInt::from_biguint(Sign::Plus, natural_from_limbs(&negative))
 }
 
 /// The `count` balanced base-`2^(64·w_limbs)` digits of `z`, least significant first.
@@ -92,12 +86,7 @@ fn unpack(z: &BigInt, w_limbs: usize, count: usize) -> Vec<BigInt> {
     limbs.resize(total.max(limbs.len()), 0);
     limbs.truncate(total);
     if z.sign() == Sign::Minus {
-        let mut carry = true;
-        for limb in &mut limbs {
-            let (sum, overflow) = (!*limb).overflowing_add(u64::from(carry));
-            *limb = sum;
-            carry = overflow;
-        }
+        negate_limbs(&mut limbs);
     }
     let mut carry = false;
     let mut out = Vec::with_capacity(count);
@@ -116,7 +105,7 @@ fn unpack(z: &BigInt, w_limbs: usize, count: usize) -> Vec<BigInt> {
         // the top bit set (or the slot wrapped to zero with a carry): a negative digit,
         // digit − 2^w, and a carry of one into the next slot
         let negative = up || digit.last().is_some_and(|&top| top >> 63 == 1);
-        let value = BigInt::from_biguint(Sign::Plus, BigUint::from_slice(&to_u32(&digit)));
+        let value = BigInt::from_biguint(Sign::Plus, natural_from_limbs(&digit));
         out.push(if negative && !up {
             value - (BigInt::from(1) << (64 * w_limbs))
         } else {
@@ -133,7 +122,7 @@ mod tests {
     use proptest::prelude::*;
 
     fn big(limbs: &[u32], negative: bool, shift: u32) -> BigInt {
-        let m = BigInt::from_biguint(Sign::Plus, BigUint::from_slice(limbs)) << shift;
+        let m = BigInt::from_biguint(Sign::Plus, num_bigint::BigUint::from_slice(limbs)) << shift;
         if negative {
             -m
         } else {

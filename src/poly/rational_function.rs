@@ -89,30 +89,30 @@ impl<F: Field> RationalFunction<F> {
     }
     /// LaTeX, `\frac{num}{den}`.
     pub fn to_latex(&self) -> String {
-        if self.den.degree() == Some(0) {
-            return self.num.to_latex();
-        }
-        format!(
-            "\\frac{{{}}}{{{}}}",
-            self.num.to_latex(),
-            self.den.to_latex()
-        )
+        self.shown(Poly::to_latex, latex)
     }
     /// Input syntax, `(num)/(den)`.
     pub fn to_input(&self) -> String {
-        if self.den.degree() == Some(0) {
-            return self.num.to_input();
-        }
-        format!("({})/({})", self.num.to_input(), self.den.to_input())
+        self.shown(Poly::to_input, input)
     }
     fn render(&self) -> String {
+        self.shown(Poly::render, human)
+    }
+    /// The function in one format: over a constant denominator the numerator's text alone,
+    /// otherwise the two texts joined by `join`.
+    fn shown(
+        &self,
+        text: impl Fn(&Poly<F>) -> String,
+        join: fn(String, String) -> String,
+    ) -> String {
+        let num = text(&self.num);
         if self.den.degree() == Some(0) {
-            return self.num.render();
+            return num;
         }
-        human(self.num.render(), self.den.render())
+        join(num, text(&self.den))
     }
     /// `[Display, LaTeX, input]`, the numerator's and denominator's digits drawn once
-    /// ([`Poly::renderings`]).
+    /// ([`Poly::renderings`]), joined as [`RationalFunction::to_latex`] and the others join them.
     pub fn renderings(&self) -> [String; 3] {
         let [num_text, num_latex, num_input] = self.num.renderings();
         if self.den.degree() == Some(0) {
@@ -121,10 +121,20 @@ impl<F: Field> RationalFunction<F> {
         let [den_text, den_latex, den_input] = self.den.renderings();
         [
             human(num_text, den_text),
-            format!("\\frac{{{num_latex}}}{{{den_latex}}}"),
-            format!("({num_input})/({den_input})"),
+            latex(num_latex, den_latex),
+            input(num_input, den_input),
         ]
     }
+}
+
+/// `\frac{num}{den}` from the two polynomials' LaTeX.
+fn latex(num: String, den: String) -> String {
+    format!("\\frac{{{num}}}{{{den}}}")
+}
+
+/// `(num)/(den)` from the two polynomials' input syntax.
+fn input(num: String, den: String) -> String {
+    format!("({num})/({den})")
 }
 
 /// `num/den` as text from the two polynomials' texts, each parenthesised when it is a sum.
