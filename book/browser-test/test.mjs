@@ -502,15 +502,16 @@ await test("fast: a gain in the page within 3× the native command at n = 30 and
   for (const n of [30, 60]) {
     const { a, c, poles } = randomPlant(n, 7);
     const args = ["gain", "--a", a, "--c", c, "--poles", poles, "--summary"];
+    // best of 5 on each side, the two sides taking turns: a burst of load on the 2-core CI
+    // machine (the browser's own processes, the build before) then slows both sides' runs
+    // alike instead of only the side measured while it lasted (best of 3, one side after the
+    // other, read the page anywhere from 17 to 29 ms at n = 30 between runs of the same code)
     const native = [];
-    for (let i = 0; i < 3; i++) {
+    const inPageRuns = [];
+    for (let i = 0; i < 5; i++) {
       const t = performance.now();
       owb(args);
       native.push(performance.now() - t);
-    }
-    // best of 3 on each side, as the native side is measured (a loaded CI machine slows either)
-    const inPageRuns = [];
-    for (let i = 0; i < 3; i++) {
       const ran = await runAny(page, `a = ${a}\nc = ${c}\npoles = ${poles}\nsummary = true`);
       await page.waitForFunction((r) => document.querySelector(".owb-playground").getAttribute("data-any-ran") !== r, ran, { timeout: 120000 });
       assert.equal(await page.locator(".owb-any-output").textContent(), owb(args));
@@ -518,8 +519,8 @@ await test("fast: a gain in the page within 3× the native command at n = 30 and
     }
     const inPage = Math.min(...inPageRuns);
     const best = Math.min(...native);
-    (timings[`${n}-state gain in the page (warm module, best of 3), ms`] ||= []).push(Number(inPage.toFixed(1)));
-    (timings[`${n}-state gain, the owb process (best of 3), ms`] ||= []).push(Number(best.toFixed(1)));
+    (timings[`${n}-state gain in the page (warm module, best of 5), ms`] ||= []).push(Number(inPage.toFixed(1)));
+    (timings[`${n}-state gain, the owb process (best of 5), ms`] ||= []).push(Number(best.toFixed(1)));
     (timings[`${n}-state gain, in the page ÷ native`] ||= []).push(Number((inPage / best).toFixed(2)));
     assert.ok(inPage <= 3 * best, `n = ${n}: ${inPage} ms in the page, ${best.toFixed(1)} ms native`);
   }

@@ -82,6 +82,28 @@ impl<T: Ring> Matrix<T> {
             data,
         })
     }
+    /// The `rows × cols` matrix whose entries, row after row, are `data`.
+    ///
+    /// # Errors
+    /// [`LinalgError::TooLarge`] beyond [`MAX_EXACT_ORDER`], [`LinalgError::RaggedRows`] when
+    /// `data` does not hold `rows × cols` entries (the last row counted short or long).
+    pub fn from_row_major(rows: usize, cols: usize, data: Vec<T>) -> Result<Self, LinalgError> {
+        if rows > MAX_EXACT_ORDER || cols > MAX_EXACT_ORDER {
+            return Err(LinalgError::TooLarge {
+                rows,
+                cols,
+                limit: MAX_EXACT_ORDER,
+            });
+        }
+        if data.len() != rows * cols {
+            return Err(LinalgError::RaggedRows {
+                row: rows,
+                found: (data.len() + cols).saturating_sub(rows * cols),
+                expected: cols,
+            });
+        }
+        Ok(Matrix { rows, cols, data })
+    }
     /// A column vector.
     pub fn column(v: Vec<T>) -> Self {
         Matrix {

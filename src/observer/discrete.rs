@@ -490,7 +490,7 @@ fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
         for (i, power) in powers.iter().enumerate() {
             // in place: no matrix allocated per term
             let c = inverse_factorial[4 * j + i];
-            for (s, p) in sum.iter_mut().zip(power.iter()) {
+            for (s, p) in sum.as_mut_slice().iter_mut().zip(power.as_slice()) {
                 *s += p * c;
             }
         }

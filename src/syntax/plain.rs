@@ -24,26 +24,29 @@ pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
     };
     s.blanks();
     s.eat(b'[')?;
-    // one row per `;` and one more, allocated once
-    let separators = input.bytes().filter(|&b| b == b';').count();
-    let mut rows: Vec<Vec<Rational>> =
-        Vec::with_capacity((separators + 1).min(MAX_EXACT_ORDER + 1));
-    loop {
-        // the rows after the first are as long (or the text is refused)
-        let row = s.row(rows.first().map_or(0, Vec::len))?;
-        if let Some(first) = rows.first() {
-            if first.len() != row.len() {
+    // one row per `;` and one more; the entries row after row in one buffer, made as large as
+    // the matrix once the first row gives its width (no copy into the matrix afterwards)
+    let rows = input.bytes().filter(|&b| b == b';').count() + 1;
+    if rows > MAX_EXACT_ORDER {
+        return None;
+    }
+    let mut data: Vec<Rational> = Vec::new();
+    let mut width = 0;
+    for row in 0..rows {
+        s.row(&mut data)?;
+        if row == 0 {
+            width = data.len();
+            if width > MAX_EXACT_ORDER {
                 return None;
             }
-        }
-        rows.push(row);
-        if rows.len() > MAX_EXACT_ORDER {
+            data.reserve_exact(width * (rows - 1));
+        } else if data.len() != width * (row + 1) {
+            // the rows after the first are as long (or the text is refused)
             return None;
         }
         s.blanks();
-        match s.next()? {
-            b';' => continue,
-            b']' => break,
+        match (s.next()?, row + 1 == rows) {
+            (b';', false) | (b']', true) => {}
             _ => return None,
         }
     }
@@ -51,7 +54,7 @@ pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
     if s.pos != s.bytes.len() {
         return None;
     }
-    Matrix::from_rows(rows).ok()
+    Matrix::from_row_major(rows, width, data).ok()
 }
 
 struct Scanner<'a> {
@@ -115,15 +118,14 @@ impl Scanner<'_> {
         let numerator = if negative { -numerator } else { numerator };
         Some(small_ratio(numerator, denominator))
     }
-    /// Entries up to (not including) `;` or `]`; at least one (room made for `expected`).
-    fn row(&mut self, expected: usize) -> Option<Vec<Rational>> {
-        let mut out = Vec::with_capacity(expected);
+    /// Entries up to (not including) `;` or `]`, appended to `out`; at least one.
+    fn row(&mut self, out: &mut Vec<Rational>) -> Option<()> {
         self.blanks();
         loop {
             out.push(self.entry()?);
             let spaced = self.blanks();
             match self.peek()? {
-                b';' | b']' => return Some(out),
+                b';' | b']' => return Some(()),
                 b',' => {
                     self.pos += 1;
                     self.blanks();
