@@ -9,7 +9,7 @@ use crate::algebra::{Fraction, Quadratic, Rational};
 use crate::linalg::Matrix;
 use crate::observer::discrete::{
     deadbeat_polynomial, discrete_observer, from_continuous_poles, map_pole, speak_of_z,
-    zero_order_hold, Estimator, Sampled,
+    zero_order_hold, zero_order_hold_words, Estimator, Sampled,
 };
 use crate::observer::discrete_kalman::READ_BACK_BITS;
 use crate::observer::float_check::float_check;
@@ -585,14 +585,27 @@ pub struct ZohArgs {
 /// What the request gets wrong (named by its flag) or what the computation refuses.
 pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
     let values = super::args::parameter_values(args.at.as_deref())?;
-    let a = super::args::matrix_at("--a", &args.a, &values)?;
-    let b = super::args::matrix_at("--b", &args.b, &values)?;
-    super::args::float_range("--a", &a)?;
-    super::args::float_range("--b", &b)?;
-    let t = super::args::rational_at("--period", &args.period, &values)?;
-    let s = zero_order_hold(&a, &b, &t).map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
-    // the plant's fractions freed before the answer's strings are made, which take their room
-    drop((a, b));
+    let (s, t) = match (
+        crate::syntax::word_fractions(&args.a),
+        crate::syntax::word_fractions(&args.b),
+    ) {
+        // numbers the plain scanner reads: within f64's range, as the checks below find
+        (Some(a), Some(b)) => {
+            let t = super::args::rational_at("--period", &args.period, &values)?;
+            (zero_order_hold_words(&a, &b, &t), t)
+        }
+        _ => {
+            let a = super::args::matrix_at("--a", &args.a, &values)?;
+            let b = super::args::matrix_at("--b", &args.b, &values)?;
+            super::args::float_range("--a", &a)?;
+            super::args::float_range("--b", &b)?;
+            let t = super::args::rational_at("--period", &args.period, &values)?;
+            // the plant's fractions freed before the answer's strings are made, which take
+            // their room
+            (zero_order_hold(&a, &b, &t), t)
+        }
+    };
+    let s = s.map_err(|e| anyhow!("in --a/--b/--period: {e}"))?;
     match (&s, args.json) {
         (Sampled::Exact { phi, gamma, index }, true) => rep.json(super::args::object(vec![
             ("exact", true.into()),

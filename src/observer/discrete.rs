@@ -22,6 +22,7 @@ use crate::algebra::{Field, Quadratic, Rational, Ring, Zero};
 use crate::derivation::Derivation;
 use crate::linalg::{self, LinalgError, Matrix};
 use crate::poly::{is_schur, Poly};
+use crate::syntax::WordFractions;
 
 /// Which discrete-time estimator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -428,19 +429,8 @@ pub fn zero_order_hold(
     b: &Matrix<Rational>,
     t: &Rational,
 ) -> Result<Sampled, DiscreteError> {
-    if *t <= Rational::zero() {
-        return Err(DiscreteError::Period(t.to_string()));
-    }
+    check_plant(t, (a.rows(), a.cols()), (b.rows(), b.cols()))?;
     let n = a.rows();
-    if !a.is_square() || b.rows() != n {
-        return Err(DiscreteError::Shape(format!(
-            "A must be square and B have its rows (A {}×{}, B {}×{})",
-            a.rows(),
-            a.cols(),
-            b.rows(),
-            b.cols()
-        )));
-    }
     if let Some(index) = rational_nilpotent_index(a)? {
         // Φ = Σ_(k<index) A^k T^k / k!, Γ = Σ_(k<index) A^k T^(k+1)/(k+1)! B
         let mut phi = Matrix::zeros(n, n);
@@ -460,15 +450,55 @@ pub fn zero_order_hold(
             index,
         });
     }
-    let (phi, gamma, error_estimate) = float_zoh(a, b, crate::algebra::rational_to_f64(t))?;
-    Ok(Sampled::Float {
-        phi,
-        gamma,
-        error_estimate,
-    })
+    let f64_at = |m: &Matrix<Rational>, i, j| crate::algebra::rational_to_f64(m.get(i, j));
+    float_zoh(
+        (n, b.cols()),
+        |i, j| f64_at(a, i, j),
+        |i, j| f64_at(b, i, j),
+        t,
+    )
 }
 
-type Rows = Vec<Vec<f64>>;
+/// [`zero_order_hold`] of a plant read as word fractions (the command line's common case,
+/// `[8/50 -2/50; 0 1]`): when the trace of A is proved nonzero — A is then not nilpotent — the
+/// `f64` work runs on the entries' words, without the exact matrices (at order 100 their 10 000
+/// fractions took more time and memory than the exponential); otherwise the exact matrices are
+/// made and [`zero_order_hold`] decides. The result is that function's, bit for bit: the same
+/// branch is taken, and [`WordFractions::f64_at`] is the exact entry's `f64`.
+///
+/// # Errors
+///
+/// As [`zero_order_hold`].
+pub(crate) fn zero_order_hold_words(
+    a: &WordFractions,
+    b: &WordFractions,
+    t: &Rational,
+) -> Result<Sampled, DiscreteError> {
+    check_plant(t, (a.rows(), a.cols()), (b.rows(), b.cols()))?;
+    if !a.trace_is_nonzero() {
+        return zero_order_hold(&a.to_rational(), &b.to_rational(), t);
+    }
+    float_zoh(
+        (a.rows(), b.cols()),
+        |i, j| a.f64_at(i, j),
+        |i, j| b.f64_at(i, j),
+        t,
+    )
+}
+
+/// A positive period, A square and B with its rows.
+fn check_plant(t: &Rational, a: (usize, usize), b: (usize, usize)) -> Result<(), DiscreteError> {
+    if *t <= Rational::zero() {
+        return Err(DiscreteError::Period(t.to_string()));
+    }
+    if a.0 != a.1 || b.0 != a.0 {
+        return Err(DiscreteError::Shape(format!(
+            "A must be square and B have its rows (A {}×{}, B {}×{})",
+            a.0, a.1, b.0, b.1
+        )));
+    }
+    Ok(())
+}
 
 /// `Σ_(k<16) X^k / k!` by Paterson and Stockmeyer's scheme: X², X³, X⁴ formed once, then
 /// Horner's rule in X⁴ over blocks of four terms — six matrix products instead of fifteen.
@@ -503,18 +533,20 @@ fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
     result
 }
 
+/// Φ and Γ in `f64` for the n × n A and n × m B whose entries `a(i, j)` and `b(i, j)` give,
+/// with the Taylor series' largest difference from them.
 fn float_zoh(
-    a: &Matrix<Rational>,
-    b: &Matrix<Rational>,
-    t: f64,
-) -> Result<(Rows, Rows, f64), DiscreteError> {
+    (n, m): (usize, usize),
+    a: impl Fn(usize, usize) -> f64,
+    b: impl Fn(usize, usize) -> f64,
+    t: &Rational,
+) -> Result<Sampled, DiscreteError> {
     use nalgebra::DMatrix;
-    let (n, m) = (a.rows(), b.cols());
-    let f = |x: &Rational| crate::algebra::rational_to_f64(x) * t;
+    let t = crate::algebra::rational_to_f64(t);
     // the augmented matrix [A B; 0 0] T: its exponential holds Φ and Γ
     let aug = DMatrix::from_fn(n + m, n + m, |i, j| match (i < n, j < n) {
-        (true, true) => f(a.get(i, j)),
-        (true, false) => f(b.get(i, j - n)),
+        (true, true) => a(i, j) * t,
+        (true, false) => b(i, j - n) * t,
         _ => 0.0,
     });
     if aug.iter().any(|x| !x.is_finite()) {
@@ -567,7 +599,11 @@ fn float_zoh(
     let gamma = (0..n)
         .map(|i| (0..m).map(|j| pade[(i, n + j)]).collect())
         .collect();
-    Ok((phi, gamma, error))
+    Ok(Sampled::Float {
+        phi,
+        gamma,
+        error_estimate: error,
+    })
 }
 
 #[cfg(test)]
@@ -596,6 +632,46 @@ mod tests {
             let by_powers = nilpotent_index_with(&d.error_matrix, &d.error_polynomial).unwrap();
             proptest::prop_assert_eq!(d.nilpotent_index, by_powers);
             proptest::prop_assert_eq!(d.nilpotent_index, Some(3));
+        }
+
+        /// The zero-order hold of a plant read as word fractions is the exact plant's, bit for
+        /// bit: nilpotent plants (strictly triangular, and similar to one by a shear, their
+        /// traces zero) go the exact way, the others the float way with the same `f64`s.
+        #[test]
+        fn words_hold_as_the_exact_plant(
+            entries in proptest::collection::vec((-9i64..=9, 1i64..=12), 9),
+            b in proptest::collection::vec((-9i64..=9, 1i64..=12), 3),
+            shape in 0usize..3,
+            period in 1i64..=20,
+        ) {
+            // 0: as drawn; 1: strictly upper triangular; 2: that, sheared (S N S⁻¹, S = I + e₁e₂ᵀ)
+            let mut a: Vec<(i64, i64)> = entries.clone();
+            if shape > 0 {
+                for i in 0..3 {
+                    for j in 0..=i {
+                        a[3 * i + j] = (0, 1);
+                    }
+                }
+            }
+            let text = |m: &[(i64, i64)], cols: usize| format!("[{}]", m.chunks(cols)
+                .map(|r| r.iter().map(|(n, d)| format!("{n}/{d}")).collect::<Vec<_>>().join(" "))
+                .collect::<Vec<_>>().join("; "));
+            let exact = |t: &str| crate::syntax::parse_rational_matrix(t).expect("numbers");
+            let (mut a_exact, b_text) = (exact(&text(&a, 3)), text(&b, 1));
+            if shape == 2 {
+                let q = |x: i64| Rational::from_integer(x.into());
+                let s = Matrix::from_fn(3, 3, |i, j| q(i64::from(i == j) + i64::from(i == 0 && j == 1)));
+                let s_inv = Matrix::from_fn(3, 3, |i, j| q(i64::from(i == j) - i64::from(i == 0 && j == 1)));
+                a_exact = s.mul(&a_exact).and_then(|m| m.mul(&s_inv)).expect("3 × 3");
+            }
+            let a_text = a_exact.to_input();
+            let words = |t: &str| crate::syntax::word_fractions(t).expect("numbers");
+            let t = Rational::new(1.into(), period.into());
+            let by_words = zero_order_hold_words(&words(&a_text), &words(&b_text), &t);
+            let by_exact = zero_order_hold(&exact(&a_text), &exact(&b_text), &t);
+            proptest::prop_assert_eq!(format!("{by_words:?}"), format!("{by_exact:?}"));
+            let exact_way = matches!(by_words, Ok(Sampled::Exact { .. }));
+            proptest::prop_assert!(exact_way || shape == 0, "a nilpotent A held in f64");
         }
     }
 }

@@ -15,6 +15,7 @@ mod eval;
 mod lexer;
 mod parser;
 mod plain;
+pub(crate) use plain::{word_fractions, WordFractions};
 
 pub use eval::{
     evaluate_with, rational_function_with, DivisionRefused, Environment, FromExpr, ParseValue,

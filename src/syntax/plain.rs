@@ -10,11 +10,29 @@
 //! bytes and one word gcd per fraction, where the full parser spent several thousand
 //! instructions per entry building and evaluating a tree.
 
-use crate::algebra::{small_ratio, Rational};
+use crate::algebra::{rational_to_f64, small_ratio, Rational};
 use crate::linalg::{Matrix, MAX_EXACT_ORDER};
 
 /// `[…]` of integer fractions, or `None` when the text is not in the scanner's subset.
 pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
+    let (rows, cols, data) = scan(input, |n, d| small_ratio(n.into(), d.into()))?;
+    Matrix::from_row_major(rows, cols, data).ok()
+}
+
+/// `[…]` of integer fractions as the words the text spells (see [`WordFractions`]), or `None`
+/// when the text is not in the scanner's subset.
+pub(crate) fn word_fractions(input: &str) -> Option<WordFractions> {
+    let (rows, cols, entries) = scan(input, |n, d| (n, d))?;
+    Some(WordFractions {
+        rows,
+        cols,
+        entries,
+    })
+}
+
+/// The scanner: each entry `n/d` made by `entry(n, d)`, the entries row after row in one buffer
+/// (made as large as the matrix once the first row gives its width); the rows and columns.
+fn scan<T>(input: &str, entry: impl Fn(i64, i64) -> T) -> Option<(usize, usize, Vec<T>)> {
     if input.len() > super::MAX_INPUT_LENGTH {
         return None;
     }
@@ -24,16 +42,15 @@ pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
     };
     s.blanks();
     s.eat(b'[')?;
-    // one row per `;` and one more; the entries row after row in one buffer, made as large as
-    // the matrix once the first row gives its width (no copy into the matrix afterwards)
+    // one row per `;` and one more
     let rows = input.bytes().filter(|&b| b == b';').count() + 1;
     if rows > MAX_EXACT_ORDER {
         return None;
     }
-    let mut data: Vec<Rational> = Vec::new();
+    let mut data = Vec::new();
     let mut width = 0;
     for row in 0..rows {
-        s.row(&mut data)?;
+        s.row(&mut data, &entry)?;
         if row == 0 {
             width = data.len();
             if width > MAX_EXACT_ORDER {
@@ -51,10 +68,72 @@ pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
         }
     }
     s.blanks();
-    if s.pos != s.bytes.len() {
-        return None;
+    (s.pos == s.bytes.len()).then_some((rows, width, data))
+}
+
+/// A matrix of fractions `n/d` as the text spells them — not reduced, the denominator positive,
+/// each part below 10¹⁸ — for a command that computes in `f64` and needs the exact values only
+/// to decide whether it may ([`WordFractions::trace_is_nonzero`]); [`WordFractions::to_rational`]
+/// is the matrix [`rational_matrix`] reads. It costs 16 bytes an entry where a `Rational` costs
+/// 64 and two allocations.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct WordFractions {
+    rows: usize,
+    cols: usize,
+    /// `(n, d)` row after row.
+    entries: Vec<(i64, i64)>,
+}
+
+impl WordFractions {
+    /// The number of rows.
+    pub(crate) fn rows(&self) -> usize {
+        self.rows
     }
-    Matrix::from_row_major(rows, width, data).ok()
+    /// The number of columns.
+    pub(crate) fn cols(&self) -> usize {
+        self.cols
+    }
+    /// The exact matrix, each entry in lowest terms.
+    pub(crate) fn to_rational(&self) -> Matrix<Rational> {
+        Matrix::from_fn(self.rows, self.cols, |i, j| {
+            let (n, d) = self.entries[i * self.cols + j];
+            small_ratio(n.into(), d.into())
+        })
+    }
+    /// Entry `(i, j)` as [`rational_to_f64`] gives the exact entry: where both parts are exact
+    /// in `f64` (at most 2⁵³), their quotient, which is correctly rounded as that function's
+    /// is, whether or not the fraction is in lowest terms; otherwise through that function.
+    pub(crate) fn f64_at(&self, i: usize, j: usize) -> f64 {
+        const EXACT: u64 = 1 << f64::MANTISSA_DIGITS;
+        let (n, d) = self.entries[i * self.cols + j];
+        if n.unsigned_abs() <= EXACT && d.unsigned_abs() <= EXACT {
+            n as f64 / d as f64
+        } else {
+            rational_to_f64(&small_ratio(n.into(), d.into()))
+        }
+    }
+    /// Whether the trace of the (square) matrix is proved nonzero: the sum of the diagonal's
+    /// fractions as one fraction `N/D` modulo a prime dividing none of their denominators, where
+    /// `N ≢ 0` proves `N ≠ 0`. `false` means "not proved" (a zero trace, or three primes
+    /// dividing a denominator or missing a nonzero `N`). Cost: two word products an entry.
+    pub(crate) fn trace_is_nonzero(&self) -> bool {
+        if self.rows != self.cols {
+            return false;
+        }
+        let diagonal = || (0..self.rows).map(|i| self.entries[i * self.cols + i]);
+        crate::linalg::modular::primes().take(3).any(|p| {
+            let residue = |x: i64| x.rem_euclid(p as i64) as u64;
+            if diagonal().any(|(_, d)| residue(d) == 0) {
+                return false;
+            }
+            // N/D + n/d = (N·d + n·D)/(D·d), every product below 2⁶² (p < 2³¹)
+            let (sum, _) = diagonal().fold((0u64, 1u64), |(num, den), (n, d)| {
+                let (n, d) = (residue(n), residue(d));
+                ((num * d % p + n * den % p) % p, den * d % p)
+            });
+            sum != 0
+        })
+    }
 }
 
 struct Scanner<'a> {
@@ -82,21 +161,22 @@ impl Scanner<'_> {
         }
         self.pos > start
     }
-    /// At most 18 decimal digits as a machine word.
-    fn digits(&mut self) -> Option<i128> {
+    /// At most 18 decimal digits as a machine word (below 10¹⁸ < 2⁶³).
+    fn digits(&mut self) -> Option<i64> {
         let start = self.pos;
-        let mut value: i128 = 0;
+        let mut value: i64 = 0;
         while let Some(b @ b'0'..=b'9') = self.peek() {
-            value = value * 10 + i128::from(b - b'0');
-            self.pos += 1;
-            if self.pos - start > 18 {
+            if self.pos - start == 18 {
                 return None;
             }
+            value = value * 10 + i64::from(b - b'0');
+            self.pos += 1;
         }
         (self.pos > start).then_some(value)
     }
-    /// `-?d+(/d+)?`, followed by a separator or the end of the row.
-    fn entry(&mut self) -> Option<Rational> {
+    /// `-?d+(/d+)?`, followed by a separator or the end of the row: its numerator and
+    /// denominator, as the text spells them.
+    fn entry(&mut self) -> Option<(i64, i64)> {
         let negative = self.peek() == Some(b'-');
         if negative {
             self.pos += 1;
@@ -116,13 +196,15 @@ impl Scanner<'_> {
             _ => return None,
         }
         let numerator = if negative { -numerator } else { numerator };
-        Some(small_ratio(numerator, denominator))
+        Some((numerator, denominator))
     }
-    /// Entries up to (not including) `;` or `]`, appended to `out`; at least one.
-    fn row(&mut self, out: &mut Vec<Rational>) -> Option<()> {
+    /// Entries up to (not including) `;` or `]`, each made by `make` and appended to `out`; at
+    /// least one.
+    fn row<T>(&mut self, out: &mut Vec<T>, make: &impl Fn(i64, i64) -> T) -> Option<()> {
         self.blanks();
         loop {
-            out.push(self.entry()?);
+            let (n, d) = self.entry()?;
+            out.push(make(n, d));
             let spaced = self.blanks();
             match self.peek()? {
                 b';' | b']' => return Some(()),
@@ -208,6 +290,39 @@ mod tests {
             let fast = rational_matrix(&text);
             prop_assert!(fast.is_some(), "{}", text);
             prop_assert_eq!(fast, full(&text), "{}", text);
+        }
+
+        /// The word fractions are the exact matrix's entries: as fractions, as `f64`s (also past
+        /// 2⁵³, where the quotient of the two words would round twice), and a trace proved
+        /// nonzero is nonzero.
+        #[test]
+        fn word_fractions_are_the_exact_entries(
+            entries in proptest::collection::vec(
+                (-999_999_999_999_999_999i64..=999_999_999_999_999_999,
+                 1i64..=999_999_999_999_999_999, 0u32..4), 9),
+            small in proptest::prelude::any::<bool>(),
+        ) {
+            // small parts (the quotient's path) or any up to 18 digits (the exact path)
+            let part = |x: i64, shrink: u32| if small { x % 10i64.pow(3 + 4 * shrink) } else { x };
+            let words: Vec<(i64, i64)> = entries.iter()
+                .map(|&(n, d, k)| (part(n, k), part(d, k).max(1)))
+                .collect();
+            let text = format!("[{}]", words.chunks(3).map(|r| r.iter()
+                .map(|(n, d)| format!("{n}/{d}")).collect::<Vec<_>>().join(" "))
+                .collect::<Vec<_>>().join("; "));
+            let w = word_fractions(&text).expect("in the scanner's subset");
+            let exact = rational_matrix(&text).expect("in the scanner's subset");
+            prop_assert_eq!(&w.to_rational(), &exact);
+            for i in 0..3 {
+                for j in 0..3 {
+                    let want = rational_to_f64(exact.get(i, j));
+                    prop_assert_eq!(w.f64_at(i, j).to_bits(), want.to_bits(), "({}, {})", i, j);
+                }
+            }
+            let trace = (0..3).fold(Rational::from_integer(0.into()), |s, i| s + exact.get(i, i));
+            if w.trace_is_nonzero() {
+                prop_assert!(trace != Rational::from_integer(0.into()));
+            }
         }
     }
 }
