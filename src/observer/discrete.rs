@@ -549,7 +549,7 @@ fn float_zoh(
         (true, false) => b(i, j - n) * t,
         _ => 0.0,
     });
-    if aug.iter().any(|x| !x.is_finite()) {
+    if aug.as_slice().iter().any(|x| !x.is_finite()) {
         return Err(DiscreteError::Float(
             "an entry of A·T or B·T is beyond the range of f64 (about 1.8e308)".into(),
         ));
@@ -565,7 +565,7 @@ fn float_zoh(
     // than 0.5¹⁶/16! < 10⁻¹⁸; the squarings are bounded (a norm near f64's limit needs about
     // 1 030)
     let norm = (0..n + m)
-        .map(|j| aug.column(j).iter().map(|x| x.abs()).sum::<f64>())
+        .map(|j| aug.column(j).as_slice().iter().map(|x| x.abs()).sum::<f64>())
         .fold(0.0, f64::max);
     if !norm.is_finite() {
         return Err(overflow());
@@ -578,18 +578,23 @@ fn float_zoh(
     // a singular Padé denominator needs entries beyond f64 (the scaling keeps ‖X/2^s‖ ≤ 4.25,
     // where q_13 is nonsingular), which the checks above have refused
     let pade = linalg::expm::expm(&aug).ok_or_else(overflow)?;
-    if pade.iter().any(|x| !x.is_finite()) {
+    if pade.as_slice().iter().any(|x| !x.is_finite()) {
         return Err(overflow());
     }
     let mut taylor = taylor_16(&(&aug / 2f64.powi(squarings)));
     for _ in 0..squarings {
         taylor = &taylor * &taylor;
-        if taylor.iter().any(|x| !x.is_finite()) {
+        if taylor.as_slice().iter().any(|x| !x.is_finite()) {
             return Err(overflow());
         }
     }
     // the largest difference, a NaN counted as failure
-    let error = linalg::float::max_or_nan((&pade - &taylor).iter().map(|x| x.abs()));
+    let error = linalg::float::max_or_nan(
+        pade.as_slice()
+            .iter()
+            .zip(taylor.as_slice())
+            .map(|(p, t)| (p - t).abs()),
+    );
     if !error.is_finite() {
         return Err(overflow());
     }
