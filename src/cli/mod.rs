@@ -201,7 +201,7 @@ pub fn main() -> ExitCode {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
-    let cli = match parse_leaving_the_parser() {
+    let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() && json_requested() => {
             // a script asked for JSON: a refused command line is the same JSON object as
@@ -244,18 +244,6 @@ pub fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
-}
-
-/// [`Cli::try_parse`], except that the parser — every subcommand's flags, their help and
-/// their names — is left to the end of the process instead of taken apart when the line is
-/// read: taking it apart and handing its thousands of small blocks back to the allocator
-/// cost a short command more than matching its flags (about 0.15 M instructions, a tenth of a
-/// 10-state `gain` above `owb --version`).
-fn parse_leaving_the_parser() -> Result<Cli, clap::Error> {
-    use clap::{CommandFactory, FromArgMatches};
-    let parser = Box::leak(Box::new(Cli::command()));
-    let mut matches = parser.try_get_matches_from_mut(std::env::args_os())?;
-    Cli::from_arg_matches_mut(&mut matches).map_err(|e| e.format(parser))
 }
 
 /// The status of a finished command, its error printed (as JSON too when asked).
