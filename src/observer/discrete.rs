@@ -565,7 +565,13 @@ fn float_zoh(
     // than 0.5¹⁶/16! < 10⁻¹⁸; the squarings are bounded (a norm near f64's limit needs about
     // 1 030)
     let norm = (0..n + m)
-        .map(|j| aug.column(j).as_slice().iter().map(|x| x.abs()).sum::<f64>())
+        .map(|j| {
+            aug.column(j)
+                .as_slice()
+                .iter()
+                .map(|x| x.abs())
+                .sum::<f64>()
+        })
         .fold(0.0, f64::max);
     if !norm.is_finite() {
         return Err(overflow());

@@ -8,7 +8,9 @@
 //! place. Where the scanner answers, its matrix is the one the full parser builds (a property
 //! test compares them on random text over the grammar's characters). Cost: one pass over the
 //! bytes and one word gcd per fraction, where the full parser spent several thousand
-//! instructions per entry building and evaluating a tree.
+//! instructions per entry building and evaluating a tree. A command computing in `f64` may keep
+//! the entries as the words the text spells ([`WordFractions`]), without making the exact
+//! fractions at all.
 
 use crate::algebra::{rational_to_f64, small_ratio, Rational};
 use crate::linalg::{Matrix, MAX_EXACT_ORDER};
