@@ -600,8 +600,8 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
             super::args::float_range("--a", &a)?;
             super::args::float_range("--b", &b)?;
             let t = super::args::rational_at("--period", &args.period, &values)?;
-            // the plant's fractions freed before the answer's strings are made, which take
-            // their room
+            // the plant's fractions are freed here, at the block's end, before the answer's
+            // strings take their room
             (zero_order_hold(&a, &b, &t), t)
         }
     };

@@ -86,7 +86,8 @@ impl<T: Ring> Matrix<T> {
     ///
     /// # Errors
     /// [`LinalgError::TooLarge`] beyond [`MAX_EXACT_ORDER`], [`LinalgError::RaggedRows`] when
-    /// `data` does not hold `rows × cols` entries (the last row counted short or long).
+    /// `data` does not hold `rows × cols` entries: the first row it leaves short, or the row
+    /// after the last holding what is left over.
     pub fn from_row_major(rows: usize, cols: usize, data: Vec<T>) -> Result<Self, LinalgError> {
         if rows > MAX_EXACT_ORDER || cols > MAX_EXACT_ORDER {
             return Err(LinalgError::TooLarge {
@@ -95,10 +96,16 @@ impl<T: Ring> Matrix<T> {
                 limit: MAX_EXACT_ORDER,
             });
         }
-        if data.len() != rows * cols {
+        let (full, width) = (rows * cols, cols.max(1));
+        if data.len() != full {
+            let (row, found) = if data.len() < full {
+                (data.len() / width + 1, data.len() % width)
+            } else {
+                (rows + 1, data.len() - full)
+            };
             return Err(LinalgError::RaggedRows {
-                row: rows,
-                found: (data.len() + cols).saturating_sub(rows * cols),
+                row,
+                found,
                 expected: cols,
             });
         }
@@ -500,5 +507,33 @@ impl<T: Ring> fmt::Display for Matrix<T> {
 impl<T: Ring> fmt::Debug for Matrix<T> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.to_input())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Entries row after row make the matrix `from_rows` makes; too few or too many are the
+    /// ragged row they leave, and a size beyond the limit is refused first.
+    #[test]
+    fn from_row_major_is_from_rows() {
+        let rows: Vec<Vec<f64>> = vec![vec![1.0, 2.0, 3.0], vec![4.0, 5.0, 6.0]];
+        let flat: Vec<f64> = rows.concat();
+        assert_eq!(
+            Matrix::from_row_major(2, 3, flat.clone()),
+            Matrix::from_rows(rows)
+        );
+        let ragged = |data: Vec<f64>, rows| match Matrix::from_row_major(rows, 3, data) {
+            Err(LinalgError::RaggedRows { row, found, .. }) => (row, found),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(ragged(flat[..4].to_vec(), 2), (2, 1));
+        assert_eq!(ragged(flat[..3].to_vec(), 2), (2, 0));
+        assert_eq!(ragged(flat.clone(), 1), (2, 3));
+        assert!(matches!(
+            Matrix::from_row_major(MAX_EXACT_ORDER + 1, 1, vec![0.0; MAX_EXACT_ORDER + 1]),
+            Err(LinalgError::TooLarge { .. })
+        ));
     }
 }

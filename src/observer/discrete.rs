@@ -533,8 +533,9 @@ fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
     result
 }
 
-/// Φ and Γ in `f64` for the n × n A and n × m B whose entries `a(i, j)` and `b(i, j)` give,
-/// with the Taylor series' largest difference from them.
+/// Φ and Γ in `f64` for the period `t` and the n × n A and n × m B whose entries `a(i, j)` and
+/// `b(i, j)` give, by the Padé approximant, with the error estimate: the largest difference
+/// from the scaled Taylor series.
 fn float_zoh(
     (n, m): (usize, usize),
     a: impl Fn(usize, usize) -> f64,
