@@ -31,7 +31,7 @@ pub(crate) use multivariate::latex_symbol;
 pub use multivariate::{DivisionTooCostly, FloatPoly, Monomial, MultiPoly};
 pub use num_bigint::BigInt;
 pub use quadratic::{Quadratic, QuadraticError};
-pub(crate) use scalars::{input_of_parts, latex_of_parts};
+pub(crate) use scalars::{input_of_parts, latex_of_parts, words_to_f64};
 pub use scalars::{rational_to_f64, Rational};
 
 pub use num_traits::{One, Zero};

@@ -147,16 +147,25 @@ impl ToF64 for BigRational {
     }
 }
 
+/// The `f64` nearest to `n/d` when both parts are exact in `f64` (at most 2⁵³): one correctly
+/// rounded division, as num-rational's own fast track does, without its copies of the two parts
+/// (a `zoh` of order 100 reads 10 000), whether or not the fraction is in lowest terms. `None`
+/// beyond, where the quotient of the two rounded parts would round twice.
+pub(crate) fn words_to_f64(n: i64, d: i64) -> Option<f64> {
+    const EXACT: u64 = 1 << f64::MANTISSA_DIGITS;
+    (n.unsigned_abs() <= EXACT && d.unsigned_abs() <= EXACT).then(|| n as f64 / d as f64)
+}
+
 /// The `f64` nearest to a rational, also for numerators and denominators far beyond `f64`'s
 /// range (where `numer / denom` would give `inf / inf`).
 pub fn rational_to_f64(r: &BigRational) -> f64 {
-    // both parts exact in f64: one correctly rounded division, as num-rational's own fast
-    // track does, without its copies of the two parts (a `zoh` of order 100 reads 10 000)
-    const EXACT: u64 = 1 << f64::MANTISSA_DIGITS;
-    if let (Some(n), Some(d)) = (r.numer().to_i64(), r.denom().to_i64()) {
-        if n.unsigned_abs() <= EXACT && d.unsigned_abs() <= EXACT {
-            return n as f64 / d as f64;
-        }
+    if let Some(x) = r
+        .numer()
+        .to_i64()
+        .zip(r.denom().to_i64())
+        .and_then(|(n, d)| words_to_f64(n, d))
+    {
+        return x;
     }
     if let Some(v) = ToPrimitive::to_f64(r).filter(|v| v.is_finite()) {
         return v;

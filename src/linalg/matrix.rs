@@ -58,13 +58,7 @@ impl<T: Ring> Matrix<T> {
     pub fn from_rows(rows: Vec<Vec<T>>) -> Result<Self, LinalgError> {
         let n = rows.len();
         let m = rows.first().map_or(0, Vec::len);
-        if n > MAX_EXACT_ORDER || m > MAX_EXACT_ORDER {
-            return Err(LinalgError::TooLarge {
-                rows: n,
-                cols: m,
-                limit: MAX_EXACT_ORDER,
-            });
-        }
+        within_limit(n, m)?;
         let mut data = Vec::with_capacity(n * m);
         for (i, r) in rows.into_iter().enumerate() {
             if r.len() != m {
@@ -89,13 +83,7 @@ impl<T: Ring> Matrix<T> {
     /// `data` does not hold `rows × cols` entries: the first row it leaves short, or the row
     /// after the last holding what is left over.
     pub fn from_row_major(rows: usize, cols: usize, data: Vec<T>) -> Result<Self, LinalgError> {
-        if rows > MAX_EXACT_ORDER || cols > MAX_EXACT_ORDER {
-            return Err(LinalgError::TooLarge {
-                rows,
-                cols,
-                limit: MAX_EXACT_ORDER,
-            });
-        }
+        within_limit(rows, cols)?;
         let (full, width) = (rows * cols, cols.max(1));
         if data.len() != full {
             let (row, found) = if data.len() < full {
@@ -510,6 +498,18 @@ impl<T: Ring> fmt::Debug for Matrix<T> {
     }
 }
 
+/// [`LinalgError::TooLarge`] for a size beyond [`MAX_EXACT_ORDER`].
+fn within_limit(rows: usize, cols: usize) -> Result<(), LinalgError> {
+    if rows > MAX_EXACT_ORDER || cols > MAX_EXACT_ORDER {
+        return Err(LinalgError::TooLarge {
+            rows,
+            cols,
+            limit: MAX_EXACT_ORDER,
+        });
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -524,13 +524,23 @@ mod tests {
             Matrix::from_row_major(2, 3, flat.clone()),
             Matrix::from_rows(rows)
         );
-        let ragged = |data: Vec<f64>, rows| match Matrix::from_row_major(rows, 3, data) {
-            Err(LinalgError::RaggedRows { row, found, .. }) => (row, found),
-            other => panic!("{other:?}"),
-        };
-        assert_eq!(ragged(flat[..4].to_vec(), 2), (2, 1));
-        assert_eq!(ragged(flat[..3].to_vec(), 2), (2, 0));
-        assert_eq!(ragged(flat.clone(), 1), (2, 3));
+        // too few: the error from_rows gives for the same entries cut into rows of three
+        for short in [4, 3] {
+            let cut: Vec<Vec<f64>> = vec![flat[..3].to_vec(), flat[3..short].to_vec()];
+            assert_eq!(
+                Matrix::from_row_major(2, 3, flat[..short].to_vec()).unwrap_err(),
+                Matrix::from_rows(cut).unwrap_err()
+            );
+        }
+        // too many: the row after the last, holding the three left over
+        assert!(matches!(
+            Matrix::from_row_major(1, 3, flat.clone()),
+            Err(LinalgError::RaggedRows {
+                row: 2,
+                found: 3,
+                expected: 3
+            })
+        ));
         assert!(matches!(
             Matrix::from_row_major(MAX_EXACT_ORDER + 1, 1, vec![0.0; MAX_EXACT_ORDER + 1]),
             Err(LinalgError::TooLarge { .. })

@@ -836,6 +836,27 @@ pub fn surely_not_nilpotent(a: &Matrix<Rational>) -> bool {
     charpoly_mod(h, p)[..n].iter().any(|&c| c != 0)
 }
 
+/// Whether the trace of a square matrix, given by its diagonal's fractions `n/d` (`d > 0`,
+/// not necessarily in lowest terms), is proved nonzero — so the matrix is not nilpotent, as
+/// [`surely_not_nilpotent`]'s first test decides on exact entries: the sum as one fraction
+/// `N/D` modulo a prime dividing none of the denominators, where `N ≢ 0` proves `N ≠ 0`.
+/// `false` means "not proved": a zero trace, or each of three primes dividing a denominator or
+/// missing a nonzero `N`. Cost: two word products a diagonal entry.
+pub(crate) fn trace_is_nonzero(diagonal: impl Iterator<Item = (i64, i64)> + Clone) -> bool {
+    primes().take(3).any(|p| {
+        let residue = |x: i64| x.rem_euclid(p as i64) as u64;
+        if diagonal.clone().any(|(_, d)| residue(d) == 0) {
+            return false;
+        }
+        // N/D + n/d = (N·d + n·D)/(D·d), every product below 2⁶² (p < 2³¹)
+        let (sum, _) = diagonal.clone().fold((0u64, 1u64), |(num, den), (n, d)| {
+            let (n, d) = (residue(n), residue(d));
+            ((num * d % p + n * den % p) % p, den * d % p)
+        });
+        sum != 0
+    })
+}
+
 /// Whether the square matrix `a` is cyclic (non-derogatory): some vector v makes the Krylov
 /// matrix [v, Av, …, Aⁿ⁻¹v] nonsingular, so the minimal polynomial of `a` is its
 /// characteristic polynomial. Proved modulo a prime — a Krylov matrix of full rank mod p has

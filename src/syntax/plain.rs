@@ -12,12 +12,12 @@
 //! the entries as the words the text spells ([`WordFractions`]), without making the exact
 //! fractions at all.
 
-use crate::algebra::{rational_to_f64, small_ratio, Rational};
+use crate::algebra::{rational_to_f64, small_ratio, words_to_f64, Rational};
 use crate::linalg::{Matrix, MAX_EXACT_ORDER};
 
 /// `[…]` of integer fractions, or `None` when the text is not in the scanner's subset.
 pub(crate) fn rational_matrix(input: &str) -> Option<Matrix<Rational>> {
-    let (rows, cols, data) = scan(input, |n, d| small_ratio(n.into(), d.into()))?;
+    let (rows, cols, data) = scan(input, exact)?;
     Matrix::from_row_major(rows, cols, data).ok()
 }
 
@@ -110,43 +110,28 @@ impl WordFractions {
     pub(crate) fn to_rational(&self) -> Matrix<Rational> {
         Matrix::from_fn(self.rows, self.cols, |i, j| {
             let (n, d) = self.entries[i * self.cols + j];
-            small_ratio(n.into(), d.into())
+            exact(n, d)
         })
     }
-    /// Entry `(i, j)` as [`rational_to_f64`] gives the exact entry: where both parts are exact
-    /// in `f64` (at most 2⁵³), their quotient, which is correctly rounded as that function's
-    /// is, whether or not the fraction is in lowest terms; otherwise through that function.
+    /// Entry `(i, j)` as [`rational_to_f64`] gives the exact entry: the two words' quotient where
+    /// it is correctly rounded ([`words_to_f64`]), otherwise through that function.
     pub(crate) fn f64_at(&self, i: usize, j: usize) -> f64 {
-        const EXACT: u64 = 1 << f64::MANTISSA_DIGITS;
         let (n, d) = self.entries[i * self.cols + j];
-        if n.unsigned_abs() <= EXACT && d.unsigned_abs() <= EXACT {
-            n as f64 / d as f64
-        } else {
-            rational_to_f64(&small_ratio(n.into(), d.into()))
-        }
+        words_to_f64(n, d).unwrap_or_else(|| rational_to_f64(&exact(n, d)))
     }
-    /// Whether the trace of the (square) matrix is proved nonzero: the sum of the diagonal's
-    /// fractions as one fraction `N/D` modulo a prime dividing none of their denominators, where
-    /// `N ≢ 0` proves `N ≠ 0`. `false` means "not proved" (a zero trace, or three primes
-    /// dividing a denominator or missing a nonzero `N`). Cost: two word products an entry.
+    /// Whether the trace of the (square) matrix is proved nonzero
+    /// ([`crate::linalg::modular::trace_is_nonzero`]); `false` means "not proved".
     pub(crate) fn trace_is_nonzero(&self) -> bool {
-        if self.rows != self.cols {
-            return false;
-        }
-        let diagonal = || (0..self.rows).map(|i| self.entries[i * self.cols + i]);
-        crate::linalg::modular::primes().take(3).any(|p| {
-            let residue = |x: i64| x.rem_euclid(p as i64) as u64;
-            if diagonal().any(|(_, d)| residue(d) == 0) {
-                return false;
-            }
-            // N/D + n/d = (N·d + n·D)/(D·d), every product below 2⁶² (p < 2³¹)
-            let (sum, _) = diagonal().fold((0u64, 1u64), |(num, den), (n, d)| {
-                let (n, d) = (residue(n), residue(d));
-                ((num * d % p + n * den % p) % p, den * d % p)
-            });
-            sum != 0
-        })
+        self.rows == self.cols
+            && crate::linalg::modular::trace_is_nonzero(
+                (0..self.rows).map(|i| self.entries[i * self.cols + i]),
+            )
     }
+}
+
+/// The fraction `n/d` in lowest terms, as the full parser reads it.
+fn exact(n: i64, d: i64) -> Rational {
+    small_ratio(n.into(), d.into())
 }
 
 struct Scanner<'a> {
@@ -328,7 +313,9 @@ mod tests {
             prop_assert_eq!(&w.to_rational(), &exact);
             for i in 0..3 {
                 for j in 0..3 {
-                    let want = rational_to_f64(exact.get(i, j));
+                    // num-rational's own correctly rounded conversion: independent of the
+                    // quotient of two words that f64_at and rational_to_f64 share
+                    let want = num_traits::ToPrimitive::to_f64(exact.get(i, j)).expect("in range");
                     prop_assert_eq!(w.f64_at(i, j).to_bits(), want.to_bits(), "({}, {})", i, j);
                 }
             }
