@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Writes `src/bin/owb.text-order`: the functions `owb` runs, in the order the linker lays them
+out (build.rs passes the list to LLD where it is the linker).
+
+Each request below runs once under Valgrind's callgrind (names left mangled, as the linker
+knows them); a function's rank is how many requests ran it. The list gives first the functions
+`owb --version` runs (every command's start), then the others from the most requests to the
+fewest, ties by name, so the list is the same for the same program. Requests: every command on
+a 2-state and a 10-state plant, text and JSON, `--help`, `verify`, an exercise checked and
+generated.
+
+By hand (not in CI: Valgrind is not among CI's tools), after a change that moves much code, or
+a new compiler or dependencies (their names carry hashes that change): about 2 minutes.
+
+    cargo build --release && python3 tests/bench/text_order.py [target/release/owb]
+
+A stale list costs speed, never correctness: names the program no longer has are skipped, and
+the machine code is the same in any order. `--check` prints how many of the list's names the
+program has, and the page faults of `owb --version` and of a 10-state `gain`, instead of
+writing.
+"""
+import collections
+import os
+import random
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+LIST = os.path.join(ROOT, "src", "bin", "owb.text-order")
+
+
+def matrix(rows):
+    return "[" + "; ".join(" ".join(r) for r in rows) + "]"
+
+
+def plant(n, seed):
+    rng = random.Random(seed)
+    draw = lambda: [str(rng.randint(-9, 9)) for _ in range(n)]
+    a = [draw() for _ in range(n)]
+    return {
+        "a": matrix(a),
+        "s": matrix([[f"{x}/{n}" for x in r] for r in a]),
+        "b": matrix([[x] for x in draw()]),
+        "c": matrix([draw()]),
+        "i": matrix([["1" if i == j else "0" for j in range(n)] for i in range(n)]),
+    }
+
+
+def requests():
+    out = [["--help"], ["verify"], ["check", "--help"], ["exercise", "--help"]]
+    for n in (2, 10):
+        p = plant(n, n)
+        pair = ["--a", p["a"], "--c", p["c"]]
+        per_plant = [
+            ["observe", *pair],
+            ["canonical", *pair],
+            ["gain", *pair, "--repeated", "1"],
+            ["gain", *pair, "--repeated", "1", "--summary"],
+            ["feedback", "--a", p["a"], "--b", p["b"], "--repeated", "1"],
+            ["discrete", *pair, "--deadbeat"],
+            ["discrete", *pair, "--poles", ",".join(["1/2"] * n)],
+            ["reduced", *pair, "--repeated", "1"],
+            ["detectable", *pair, "--repeated", "1"],
+            ["control", "--a", p["a"], "--b", p["b"], "--c", p["c"],
+             "--controller-repeated", "1", "--observer-repeated", "2"],
+            ["zoh", "--a", p["s"], "--b", p["b"], "--period", "1/10"],
+            ["dlqe", "--a", p["s"], "--c", p["c"], "--qn", p["i"], "--rn", "[1]"],
+            ["kalman", "--a", p["s"], "--b", p["i"], "--c", p["c"], "--input-noise", p["i"],
+             "--output-noise", "[1]"],
+        ]
+        for r in per_plant:
+            out += [r, r + ["--json"]]
+    return out
+
+
+def functions(owb, args, out_file):
+    subprocess.run(["valgrind", "--tool=callgrind", "--demangle=no",
+                    f"--callgrind-out-file={out_file}", owb, *args],
+                   capture_output=True, check=False)
+    names = set()
+    with open(out_file, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            m = re.match(r"^c?fn=\(\d+\) (\S+)$", line.strip())
+            if m and (m.group(1).startswith("_ZN") or m.group(1).startswith("_R")):
+                names.add(m.group(1))
+    return names
+
+
+def faults(owb, args):
+    r = subprocess.run(["perf", "stat", "-x,", "-e", "page-faults", owb, *args],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, check=False)
+    return r.stderr.strip().splitlines()[-1].split(",")[0]
+
+
+def check(owb):
+    listed = open(LIST, encoding="utf-8").read().split()
+    nm = subprocess.run(["nm", owb], capture_output=True, text=True, check=True).stdout
+    present = {line.split()[-1] for line in nm.splitlines() if line.split()}
+    print(f"{sum(n in present for n in listed)} of the list's {len(listed)} names are in {owb}")
+    p = plant(10, 10)
+    print(f"page faults: --version {faults(owb, ['--version'])}, 10-state gain "
+          f"{faults(owb, ['gain', '--a', p['a'], '--c', p['c'], '--repeated', '1', '--summary'])}")
+
+
+def main():
+    args = [a for a in sys.argv[1:] if a != "--check"]
+    owb = args[0] if args else os.path.join(ROOT, "target", "release", "owb")
+    if "--check" in sys.argv:
+        check(owb)
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        out_file = os.path.join(tmp, "callgrind.out")
+        first = functions(owb, ["--version"], out_file)
+        count = collections.Counter()
+        for r in requests():
+            count.update(functions(owb, r, out_file))
+    rest = sorted((n for n in count if n not in first), key=lambda n: (-count[n], n))
+    with open(LIST, "w", encoding="utf-8") as f:
+        f.write("\n".join(sorted(first) + rest) + "\n")
+    print(f"{len(first)} functions at start, {len(rest)} more: {LIST}")
+
+
+if __name__ == "__main__":
+    main()
