@@ -3,11 +3,13 @@
 out (build.rs passes the list to LLD where it is the linker).
 
 Each request below runs once under Valgrind's callgrind (names left mangled, as the linker
-knows them); a function's rank is how many requests ran it. The list gives first the functions
-`owb --version` runs (every command's start), then the others from the most requests to the
-fewest, ties by name, so the list is the same for the same program. Requests: every command on
-a 2-state and a 10-state plant, text and JSON, `--help`, `verify`, an exercise checked and
-generated.
+knows them). The list gives first the functions `owb --version` runs (every command's start),
+then, request by request, the functions that request runs and none before it did, each
+request's in the order callgrind names them — so the code of one command lies together, in
+few of the 64 KiB windows the kernel maps at a time. The requests come in the order of the
+benchmarks' tightest targets at small orders: a 10-state `gain --summary` first (issue 31's
+≤ 2× FLINT), then `zoh`, `observe`, `canonical`, and then every command on a 2-state and a
+10-state plant, text and JSON, `--help` and `verify`.
 
 By hand (not in CI: Valgrind is not among CI's tools), after a change that moves much code, or
 a new compiler or dependencies (their names carry hashes that change): about 2 minutes.
@@ -19,7 +21,6 @@ the machine code is the same in any order. `--check` prints how many of the list
 program has, and the page faults of `owb --version` and of a 10-state `gain`, instead of
 writing.
 """
-import collections
 import os
 import random
 import re
@@ -49,7 +50,14 @@ def plant(n, seed):
 
 
 def requests():
-    out = [["--help"], ["verify"], ["check", "--help"], ["exercise", "--help"]]
+    p = plant(10, 10)
+    out = [
+        ["gain", "--a", p["a"], "--c", p["c"], "--repeated", "1", "--summary"],
+        ["gain", "--a", p["a"], "--c", p["c"], "--repeated", "1", "--summary", "--json"],
+        ["zoh", "--a", p["s"], "--b", p["b"], "--period", "1/10", "--json"],
+        ["observe", "--a", p["a"], "--c", p["c"], "--json"],
+        ["canonical", "--a", p["a"], "--c", p["c"], "--json"],
+    ]
     for n in (2, 10):
         p = plant(n, n)
         pair = ["--a", p["a"], "--c", p["c"]]
@@ -72,20 +80,22 @@ def requests():
         ]
         for r in per_plant:
             out += [r, r + ["--json"]]
-    return out
+    return out + [["--help"], ["verify"], ["check", "--help"], ["exercise", "--help"]]
 
 
 def functions(owb, args, out_file):
     subprocess.run(["valgrind", "--tool=callgrind", "--demangle=no",
                     f"--callgrind-out-file={out_file}", owb, *args],
                    capture_output=True, check=False)
-    names = set()
+    names = {}  # in callgrind's order (a dict keeps it)
     with open(out_file, encoding="utf-8", errors="replace") as f:
         for line in f:
             m = re.match(r"^c?fn=\(\d+\) (\S+)$", line.strip())
-            if m and (m.group(1).startswith("_ZN") or m.group(1).startswith("_R")):
-                names.add(m.group(1))
-    return names
+            # callgrind marks a recursive call's level with 'N after the name
+            name = m and re.sub(r"'\d+$", "", m.group(1))
+            if name and (name.startswith("_ZN") or name.startswith("_R")):
+                names[name] = None
+    return list(names)
 
 
 def faults(owb, args):
@@ -112,14 +122,13 @@ def main():
         return
     with tempfile.TemporaryDirectory() as tmp:
         out_file = os.path.join(tmp, "callgrind.out")
-        first = functions(owb, ["--version"], out_file)
-        count = collections.Counter()
+        order = dict.fromkeys(functions(owb, ["--version"], out_file))
+        first = len(order)
         for r in requests():
-            count.update(functions(owb, r, out_file))
-    rest = sorted((n for n in count if n not in first), key=lambda n: (-count[n], n))
+            order.update(dict.fromkeys(n for n in functions(owb, r, out_file) if n not in order))
     with open(LIST, "w", encoding="utf-8") as f:
-        f.write("\n".join(sorted(first) + rest) + "\n")
-    print(f"{len(first)} functions at start, {len(rest)} more: {LIST}")
+        f.write("\n".join(order) + "\n")
+    print(f"{first} functions at start, {len(order) - first} more: {LIST}")
 
 
 if __name__ == "__main__":
