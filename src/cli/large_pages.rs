@@ -23,7 +23,7 @@
 //! allocation the allocator asks the C library (`mallopt`) to grow its heap 16 MiB at a time
 //! ([`HEAP_PAD`]; address space only, until touched), to keep blocks below [`LARGE`] in the
 //! heap rather than in mappings of their own that are unmapped and faulted afresh each time,
-//! and to keep freed memory; after every allocation it looks at the program break (`sbrk(0)`,
+//! and to keep freed memory; after every request to the C library it looks at the program break (`sbrk(0)`,
 //! a read of the C library's variable) and advises the heap's growth since the last look
 //! ([`watch_heap`]). The 2 MiB stretches of the growth that nothing has touched then fault in
 //! whole. The stretch below the first 2 MiB boundary of the heap stays in 4 KiB pages (the
@@ -37,7 +37,7 @@
 //! itself did not rise. Under a limit on the process's data below 16 MiB (`ulimit -d`, as a
 //! sandbox may set) such a growth is refused where the request itself fits: the first refused
 //! request puts the C library's own growth (128 KiB) back and is asked again
-//! ([`or_with_default_growth`]; before that, every command failed to allocate there).
+//! ([`from_heap`]; before that, every command failed to allocate there).
 //!
 //! **Small blocks.** Most of what the exact commands allocate is small — a big integer's few
 //! words, a fraction, a short string: of a 10-state `gain`'s 2 073 allocations, 1 900 are of
@@ -74,10 +74,6 @@ const PAGE: usize = 4096;
 /// The allocator (`#[global_allocator]` in the `owb` binary).
 pub struct LargePages;
 
-fn large(layout: &Layout) -> bool {
-    layout.size() >= LARGE && layout.align() <= PAGE
-}
-
 /// Blocks of at most this many bytes (and alignment at most 16) are small: kept in per-thread
 /// lists by size, 16 bytes apart ([`Small`]).
 const SMALL: usize = 256;
@@ -88,9 +84,26 @@ const CLASSES: usize = SMALL / 16;
 /// Small blocks are cut from chunks of this many bytes, taken from the C library.
 const CHUNK: usize = 64 << 10;
 
-/// The size class of a small layout.
-fn small_class(layout: &Layout) -> Option<usize> {
-    (layout.size() <= SMALL && layout.align() <= 16).then(|| layout.size().saturating_sub(1) / 16)
+/// Where a block of a layout lives: the one place the tiers are chosen, so a block is given back
+/// where it was taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Tier {
+    /// At most [`SMALL`] bytes, alignment at most 16: size class `k` holds `16 (k + 1)` bytes.
+    Small(usize),
+    /// The C library's heap.
+    Heap,
+    /// [`LARGE`] bytes or more, alignment at most a page: a mapping of its own.
+    Large,
+}
+
+fn tier(layout: &Layout) -> Tier {
+    if layout.size() <= SMALL && layout.align() <= 16 {
+        Tier::Small(layout.size().saturating_sub(1) / 16)
+    } else if layout.size() >= LARGE && layout.align() <= PAGE {
+        Tier::Large
+    } else {
+        Tier::Heap
+    }
 }
 
 /// A thread's small blocks: for each class, the free blocks as a list threaded through their
@@ -130,10 +143,8 @@ fn small_alloc(class: usize) -> *mut u8 {
             return next;
         }
         // SAFETY: CHUNK and 16 make a valid nonzero layout.
-        let chunk = or_with_default_growth(|| unsafe {
-            System.alloc(Layout::from_size_align_unchecked(CHUNK, 16))
-        });
-        watch_heap();
+        let chunk =
+            from_heap(|| unsafe { System.alloc(Layout::from_size_align_unchecked(CHUNK, 16)) });
         if chunk.is_null() {
             return chunk;
         }
@@ -148,9 +159,7 @@ fn small_alloc(class: usize) -> *mut u8 {
     // C library, which a later `small_free` may list like any other
     from_lists.unwrap_or_else(|_| {
         // SAFETY: size and 16 make a valid nonzero layout.
-        or_with_default_growth(|| unsafe {
-            System.alloc(Layout::from_size_align_unchecked(size, 16))
-        })
+        from_heap(|| unsafe { System.alloc(Layout::from_size_align_unchecked(size, 16)) })
     })
 }
 
@@ -220,24 +229,29 @@ fn heap_policy() {
     }
 }
 
-/// Whether the heap's growth has been put back to the C library's own (128 KiB), after a
-/// request failed.
+/// The C library's own growth of its heap (glibc's `DEFAULT_TOP_PAD`), put back when a request
+/// fails ([`from_heap`]).
+const C_LIBRARY_PAD: usize = 128 << 10;
+
+/// Whether the heap's growth has been put back to [`C_LIBRARY_PAD`], after a request failed.
 static RELAXED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// `request()`, and once more with the C library's own growth if it failed: under a limit on the
-/// process's data (`ulimit -d`, `RLIMIT_DATA`) below [`HEAP_PAD`], growing the heap 16 MiB at a
-/// time fails where the request itself would fit (every command failed under 16 MB).
-fn or_with_default_growth(request: impl Fn() -> *mut u8) -> *mut u8 {
-    let p = request();
-    if !p.is_null() || RELAXED.swap(true, Ordering::Relaxed) {
-        return p;
+/// `request()` to the C library, then the heap's growth advised ([`watch_heap`]); if it failed,
+/// asked once more with the C library's own growth: under a limit on the process's data
+/// (`ulimit -d`, `RLIMIT_DATA`) below [`HEAP_PAD`], growing the heap 16 MiB at a time fails
+/// where the request itself would fit (every command failed under 16 MB).
+fn from_heap(request: impl Fn() -> *mut u8) -> *mut u8 {
+    let mut p = request();
+    if p.is_null() && !RELAXED.swap(true, Ordering::Relaxed) {
+        #[cfg(target_env = "gnu")]
+        // SAFETY: mallopt changes the C library's policy only, which it allows at any time.
+        unsafe {
+            libc::mallopt(libc::M_TOP_PAD, C_LIBRARY_PAD as libc::c_int);
+        }
+        p = request();
     }
-    #[cfg(target_env = "gnu")]
-    // SAFETY: mallopt changes the C library's policy only, which it allows at any time.
-    unsafe {
-        libc::mallopt(libc::M_TOP_PAD, 128 << 10);
-    }
-    request()
+    watch_heap();
+    p
 }
 
 /// At the first call, the heap's policy; afterwards, huge pages asked for over the heap's
@@ -269,52 +283,44 @@ fn watch_heap() {
 
 unsafe impl GlobalAlloc for LargePages {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if let Some(class) = small_class(&layout) {
-            return small_alloc(class);
+        match tier(&layout) {
+            Tier::Small(class) => small_alloc(class),
+            // SAFETY: the caller's layout has a nonzero size (GlobalAlloc's contract), passed on.
+            Tier::Heap => from_heap(|| unsafe { System.alloc(layout) }),
+            Tier::Large => map(layout.size()),
         }
-        if large(&layout) {
-            return map(layout.size());
-        }
-        // SAFETY: the caller's layout has a nonzero size (GlobalAlloc's contract), passed on.
-        let p = or_with_default_growth(|| unsafe { System.alloc(layout) });
-        watch_heap();
-        p
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        if let Some(class) = small_class(&layout) {
-            let p = small_alloc(class);
-            if !p.is_null() {
-                // SAFETY: the block holds at least `layout.size()` bytes.
-                unsafe { std::ptr::write_bytes(p, 0, layout.size()) };
+        match tier(&layout) {
+            Tier::Small(class) => {
+                let p = small_alloc(class);
+                if !p.is_null() {
+                    // SAFETY: the block holds at least `layout.size()` bytes.
+                    unsafe { std::ptr::write_bytes(p, 0, layout.size()) };
+                }
+                p
             }
-            return p;
-        }
-        if large(&layout) {
+            // SAFETY: as for `alloc`.
+            Tier::Heap => from_heap(|| unsafe { System.alloc_zeroed(layout) }),
             // a fresh anonymous mapping is zero
-            return map(layout.size());
+            Tier::Large => map(layout.size()),
         }
-        // SAFETY: as for `alloc`.
-        let p = or_with_default_growth(|| unsafe { System.alloc_zeroed(layout) });
-        watch_heap();
-        p
     }
 
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        if let Some(class) = small_class(&layout) {
-            // SAFETY: a small layout's block is one of that class (`alloc` made it so), and the
+        match tier(&layout) {
+            // SAFETY: a small layout's block is one of its class (`alloc` made it so), and the
             // caller gives it up.
-            unsafe { small_free(ptr, class) };
-            return;
-        }
-        if large(&layout) {
+            Tier::Small(class) => unsafe { small_free(ptr, class) },
+            // SAFETY: a heap layout's block came from the C library with this layout.
+            Tier::Heap => unsafe { System.dealloc(ptr, layout) },
             // SAFETY: a large layout's block was mapped by `map` (or moved by `realloc`) with
             // this length, and the caller gives it up.
-            unsafe { libc::munmap(ptr.cast(), mapped_length(layout.size())) };
-            return;
+            Tier::Large => {
+                unsafe { libc::munmap(ptr.cast(), mapped_length(layout.size())) };
+            }
         }
-        // SAFETY: a small layout's block came from the C library with this layout.
-        unsafe { System.dealloc(ptr, layout) }
     }
 
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
@@ -323,27 +329,12 @@ unsafe impl GlobalAlloc for LargePages {
         // alignment does not overflow.
         unsafe {
             let new_layout = Layout::from_size_align_unchecked(new_size, layout.align());
-            match (small_class(&layout), small_class(&new_layout)) {
-                (Some(old), Some(new)) if old == new => return ptr, // it holds the new size
-                (None, None) => {}
-                _ => {
-                    // into, out of or across the small classes: a new block, the bytes copied
-                    let fresh = self.alloc(new_layout);
-                    if !fresh.is_null() {
-                        std::ptr::copy_nonoverlapping(ptr, fresh, layout.size().min(new_size));
-                        self.dealloc(ptr, layout);
-                    }
-                    return fresh;
-                }
-            }
-            match (large(&layout), large(&new_layout)) {
-                (false, false) => {
-                    // a failed realloc leaves the block as it was, so it may be asked again
-                    let p = or_with_default_growth(|| System.realloc(ptr, layout, new_size));
-                    watch_heap();
-                    p
-                }
-                (true, true) => {
+            match (tier(&layout), tier(&new_layout)) {
+                // the block already holds the new size
+                (Tier::Small(old), Tier::Small(new)) if old == new => ptr,
+                // a failed realloc leaves the block as it was, so it may be asked again
+                (Tier::Heap, Tier::Heap) => from_heap(|| System.realloc(ptr, layout, new_size)),
+                (Tier::Large, Tier::Large) => {
                     let p = libc::mremap(
                         ptr.cast(),
                         mapped_length(layout.size()),
@@ -356,13 +347,9 @@ unsafe impl GlobalAlloc for LargePages {
                     advise(p, new_size);
                     p.cast()
                 }
-                (old_large, _) => {
-                    // across the threshold: a new block of the other kind, the bytes copied
-                    let fresh = if old_large {
-                        or_with_default_growth(|| System.alloc(new_layout))
-                    } else {
-                        map(new_size)
-                    };
+                (Tier::Small(_) | Tier::Heap | Tier::Large, _) => {
+                    // into another tier or class: a new block there, the bytes copied
+                    let fresh = self.alloc(new_layout);
                     if !fresh.is_null() {
                         std::ptr::copy_nonoverlapping(ptr, fresh, layout.size().min(new_size));
                         self.dealloc(ptr, layout);
@@ -518,7 +505,7 @@ mod tests {
             a.dealloc(z, zeroed);
             // an alignment above the page goes to the C library
             let aligned = Layout::from_size_align(LARGE, 2 * PAGE).unwrap();
-            assert!(!large(&aligned));
+            assert_eq!(tier(&aligned), Tier::Heap);
             let q = a.alloc(aligned);
             assert_eq!(q as usize % (2 * PAGE), 0);
             a.dealloc(q, aligned);

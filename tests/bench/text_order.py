@@ -7,59 +7,61 @@ knows them). The list gives first the functions `owb --version` runs (every comm
 then, request by request, the functions that request runs and none before it did, each
 request's in the order callgrind names them — so the code of one command lies together, in
 few of the 64 KiB windows the kernel maps at a time. The requests come in the order of the
-benchmarks' tightest targets at small orders: a 10-state `gain --summary` first (issue 31's
-≤ 2× FLINT), then `zoh`, `observe`, `canonical`, and then every command on a 2-state and a
-10-state plant, text and JSON, `--help` and `verify`.
+benchmarks' tightest targets at small orders, on the benchmarks' own plants (`flint_compare.py`'s
+dense random A, B = e1, C = e1ᵀ): its 10-state `gain --summary` first (issue 31's ≤ 2× FLINT),
+then `zoh`, `observe`, `canonical`, and then every command on a 2-state and a 10-state plant,
+text and JSON, `--help` and `verify`.
 
 By hand (not in CI: Valgrind is not among CI's tools), after a change that moves much code, or
-a new compiler or dependencies (their names carry hashes that change): about 2 minutes.
+a new compiler or dependencies (their names carry hashes that change): about 40 seconds.
 
     cargo build --release && python3 tests/bench/text_order.py [target/release/owb]
 
 A stale list costs speed, never correctness: names the program no longer has are skipped, and
 the machine code is the same in any order. `--check` prints how many of the list's names the
-program has, and the page faults of `owb --version` and of a 10-state `gain`, instead of
-writing.
+program has, and the page faults of `owb --version` and of the 10-state `gain` benchmark,
+instead of writing.
 """
 import os
-import random
 import re
 import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # flint_compare's plants
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LIST = os.path.join(ROOT, "src", "bin", "owb.text-order")
 
 
-def matrix(rows):
-    return "[" + "; ".join(" ".join(r) for r in rows) + "]"
-
-
-def plant(n, seed):
-    rng = random.Random(seed)
-    draw = lambda: [str(rng.randint(-9, 9)) for _ in range(n)]
-    a = [draw() for _ in range(n)]
+def plant(n):
+    """The benchmarks' plant of order n (`flint_compare.py`'s dense random A, seed 7), its float
+    form A/n, B = e1, C = e1ᵀ and the identity, as text."""
+    from flint_compare import dense_random, matrix_text
+    a = dense_random(n)
+    identity = [[int(i == j) for j in range(n)] for i in range(n)]
     return {
-        "a": matrix(a),
-        "s": matrix([[f"{x}/{n}" for x in r] for r in a]),
-        "b": matrix([[x] for x in draw()]),
-        "c": matrix([draw()]),
-        "i": matrix([["1" if i == j else "0" for j in range(n)] for i in range(n)]),
+        "a": matrix_text(a),
+        "s": matrix_text([[f"{x}/{n}" if x else "0" for x in r] for r in a]),
+        "b": matrix_text([[row[0]] for row in identity]),
+        "c": matrix_text([identity[0]]),
+        "i": matrix_text(identity),
     }
 
 
 def requests():
-    p = plant(10, 10)
+    p = plant(10)
+    # the benchmarks' own requests at n = 10 first (flint_compare.py)
     out = [
+        ["gain", "--a", p["a"], "--c", p["c"], "--repeated", "1", "--method", "ackermann",
+         "--summary", "--json"],
         ["gain", "--a", p["a"], "--c", p["c"], "--repeated", "1", "--summary"],
-        ["gain", "--a", p["a"], "--c", p["c"], "--repeated", "1", "--summary", "--json"],
         ["zoh", "--a", p["s"], "--b", p["b"], "--period", "1/10", "--json"],
         ["observe", "--a", p["a"], "--c", p["c"], "--json"],
         ["canonical", "--a", p["a"], "--c", p["c"], "--json"],
     ]
     for n in (2, 10):
-        p = plant(n, n)
+        p = plant(n)
         pair = ["--a", p["a"], "--c", p["c"]]
         per_plant = [
             ["observe", *pair],
@@ -99,8 +101,14 @@ def functions(owb, args, out_file):
 
 
 def faults(owb, args):
-    r = subprocess.run(["perf", "stat", "-x,", "-e", "page-faults", owb, *args],
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, check=False)
+    """`perf stat`'s count of the page faults of one run (owb's output captured: owb takes a
+    standard output opened read-write on /dev/null, as `subprocess.DEVNULL` is, for a closed
+    one and stops)."""
+    try:
+        r = subprocess.run(["perf", "stat", "-x,", "-e", "page-faults", owb, *args],
+                           capture_output=True, text=True, check=False)
+    except FileNotFoundError:
+        return "(no perf)"
     return r.stderr.strip().splitlines()[-1].split(",")[0]
 
 
@@ -109,9 +117,8 @@ def check(owb):
     nm = subprocess.run(["nm", owb], capture_output=True, text=True, check=True).stdout
     present = {line.split()[-1] for line in nm.splitlines() if line.split()}
     print(f"{sum(n in present for n in listed)} of the list's {len(listed)} names are in {owb}")
-    p = plant(10, 10)
-    print(f"page faults: --version {faults(owb, ['--version'])}, 10-state gain "
-          f"{faults(owb, ['gain', '--a', p['a'], '--c', p['c'], '--repeated', '1', '--summary'])}")
+    print(f"page faults: --version {faults(owb, ['--version'])}, the 10-state gain benchmark "
+          f"{faults(owb, requests()[0])}")
 
 
 def main():
