@@ -122,7 +122,10 @@ fn push_exponent(out: &mut String, e: i32) {
     }
     written[at] = b'0' + (u % 10) as u8;
     at += 1;
-    out.push_str(std::str::from_utf8(&written[..at]).unwrap_or_default());
+    // ASCII a byte at a time: no validation of five bytes, no copy call
+    for &b in &written[..at] {
+        out.push(char::from(b));
+    }
 }
 
 /// Żmij's text, any notation, read back as a digit string and a decimal exponent, leading and
