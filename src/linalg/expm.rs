@@ -349,6 +349,25 @@ fn one_norm(m: &DMatrix<f64>) -> f64 {
 /// ‖ |X|^(2m+1) ‖₁ / ‖X‖₁ (Al-Mohy and Higham's equation (5.1)); the norm is
 /// max(1ᵀ|X|^(2m+1)), one vector times |X| 2m + 1 times.
 fn ell(a: &DMatrix<f64>, m: usize) -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        #[allow(unsafe_code)]
+        // SAFETY: the processor has AVX, checked just above.
+        return unsafe { ell_avx(a, m) };
+    }
+    ell_body(a, m)
+}
+
+/// [`ell_body`] compiled for AVX (as [`solve_p_q_avx`]: the same operations in every lane).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn ell_avx(a: &DMatrix<f64>, m: usize) -> u64 {
+    ell_body(a, m)
+}
+
+/// [`ell`] for whichever instruction set its caller is compiled for.
+#[inline(always)]
+fn ell_body(a: &DMatrix<f64>, m: usize) -> u64 {
     let size = a.nrows();
     // |X|ᵀ, column-major: its column j is row j of |X|, so v ← |X|ᵀ v is a sum of columns
     let abs_t = a.transpose().map(f64::abs);
