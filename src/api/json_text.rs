@@ -155,17 +155,6 @@ pub fn write_pretty_with_exp_matrices(
     matrices: &[(&str, super::args::ExpMatrix<'_>)],
 ) {
     let keys: Vec<&str> = matrices.iter().map(|(key, _)| *key).collect();
-    // room for every entry at once (at most 24 bytes of number, its quotes, the comma, the line
-    // break and an indent of six), so that the text is not copied as it grows: at n = 100 the
-    // zero-order hold's 10 100 entries took eleven growing copies
-    let entries: usize = matrices
-        .iter()
-        .map(|(_, m)| {
-            let (rows, cols) = m.shape();
-            rows * (cols + 2)
-        })
-        .sum();
-    out.reserve(entries.saturating_mul(34));
     write_pretty_filled(out, value, &keys, |out, index, level| {
         let m = &matrices[index].1;
         let (rows, cols) = m.shape();
