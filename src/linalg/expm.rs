@@ -20,11 +20,14 @@
 //! **Cost.** At order N: the even powers, up to five products (X², X⁴, X⁶, and X⁸ or X¹⁰ when
 //! degree 13's scaling needs them), two more products for the approximant, the factorisation
 //! (⅔N³ flops), the two triangular solves with N right-hand sides (2N³) and s squarings.
-//! With the compiler's baseline x86-64 (two f64 a vector, no fused multiply-add — which would
-//! change the bits) the solves are a third of the work at N = 101; the products run in
-//! matrixmultiply's kernels for the machine. Measured (the zero-order hold's augmented matrix
-//! of a random plant, 2-core machine): 0.0049 / 0.165 / 1.14 ms at N = 11 / 51 / 101, where
-//! nalgebra's `exp` took 0.0061 / 0.190 / 1.29 ms and SciPy's `expm` 0.012 / 0.10 / 0.70 ms.
+//! The products run in matrixmultiply's kernels for the machine. The factorisation, the solves
+//! and ℓ's vector products are compiled twice, for the compiler's baseline x86-64 (two f64 a
+//! vector) and for AVX (four), and the second is chosen where the processor has it; neither
+//! forms a fused multiply-add, which would change the bits. In the baseline the solves were a
+//! third of the work at N = 101. Measured (the zero-order hold's augmented matrix of a random
+//! plant, 2-core machine, AVX): 0.0041 / 0.095 / 0.630 ms at N = 11 / 51 / 101, against
+//! 0.0042 / 0.111 / 0.736 ms in the baseline, where nalgebra's `exp` took 0.0051 / 0.131 /
+//! 0.756 ms and SciPy's `expm` on the benchmark's plants 0.02 / 0.09 / 0.50 ms.
 
 use nalgebra::DMatrix;
 
