@@ -171,7 +171,7 @@ fn push_parsed(out: &mut String, text: &[u8]) {
         .iter()
         .rposition(|&d| d != b'0')
         .map_or(0, |last| last + 1);
-    // sign, d₁, '.', d₂…, 'e', sign, exponent
+    // sign, d₁, '.', d₂…, then the exponent
     let mut written = [0u8; 64];
     let mut at = 0;
     if negative {
@@ -179,8 +179,8 @@ fn push_parsed(out: &mut String, text: &[u8]) {
         at = 1;
     }
     if count == 0 {
-        written[at..at + 3].copy_from_slice(b"0e0");
-        at += 3;
+        written[at] = b'0';
+        at += 1;
     } else {
         written[at] = digits[0];
         at += 1;
@@ -189,26 +189,9 @@ fn push_parsed(out: &mut String, text: &[u8]) {
             written[at + 1..at + count].copy_from_slice(&digits[1..count]);
             at += count;
         }
-        written[at] = b'e';
-        at += 1;
-        let e = point - 1;
-        if e < 0 {
-            written[at] = b'-';
-            at += 1;
-        }
-        let e = e.unsigned_abs();
-        if e >= 100 {
-            written[at] = b'0' + (e / 100) as u8;
-            at += 1;
-        }
-        if e >= 10 {
-            written[at] = b'0' + (e / 10 % 10) as u8;
-            at += 1;
-        }
-        written[at] = b'0' + (e % 10) as u8;
-        at += 1;
     }
     out.push_str(std::str::from_utf8(&written[..at]).unwrap_or_default());
+    push_exponent(out, if count == 0 { 0 } else { point - 1 });
 }
 
 /// A decimal exponent `[-]d…` as Żmij writes it (at most three digits; 0 for anything else).
