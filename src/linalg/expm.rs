@@ -558,6 +558,38 @@ mod tests {
                 prop_assert_eq!(a.to_bits(), b.to_bits(), "{} against {}", a, b);
             }
         }
+
+        /// The code compiled for AVX and the baseline's give the same bits, the solve and ℓ
+        /// both, at orders up to 40 (where the AVX loops run whole vectors and a remainder);
+        /// on a processor without AVX there is nothing to compare.
+        #[cfg(target_arch = "x86_64")]
+        #[test]
+        fn avx_and_baseline_agree_bit_for_bit(
+            (n, entries) in (1usize..=40).prop_flat_map(|n| {
+                (Just(n), proptest::collection::vec(-4.0f64..4.0, 2 * n * n))
+            }),
+            m in prop_oneof![Just(3usize), Just(5), Just(7), Just(9), Just(13)],
+        ) {
+            if !std::arch::is_x86_feature_detected!("avx") {
+                return Ok(());
+            }
+            let u = DMatrix::from_column_slice(n, n, &entries[..n * n]);
+            let v = DMatrix::from_column_slice(n, n, &entries[n * n..]);
+            let baseline = solve_p_q_body(u.clone(), v.clone());
+            #[allow(unsafe_code)]
+            // SAFETY: the processor has AVX, checked above.
+            let avx = unsafe { solve_p_q_avx(u.clone(), v) };
+            prop_assert_eq!(baseline.is_some(), avx.is_some());
+            if let (Some(b), Some(a)) = (baseline, avx) {
+                for (x, y) in b.iter().zip(a.iter()) {
+                    prop_assert_eq!(x.to_bits(), y.to_bits(), "{} against {}", x, y);
+                }
+            }
+            #[allow(unsafe_code)]
+            // SAFETY: as above.
+            let ell_avx_value = unsafe { ell_avx(&u, m) };
+            prop_assert_eq!(ell_body(&u, m), ell_avx_value);
+        }
     }
 
     #[test]
