@@ -348,24 +348,39 @@ fn one_norm(m: &DMatrix<f64>) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// ℓ(X, m): the extra squarings the backward error bound asks for, from
-/// ‖ |X|^(2m+1) ‖₁ / ‖X‖₁ (Al-Mohy and Higham's equation (5.1)); the norm is
-/// max(1ᵀ|X|^(2m+1)), one vector times |X| 2m + 1 times.
-fn ell(a: &DMatrix<f64>, m: usize) -> u64 {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        #[allow(unsafe_code)]
-        // SAFETY: the processor has AVX, checked just above.
-        return unsafe { ell_avx(a, m) };
-    }
-    ell_body(a, m)
+/// `fn name(args) -> R` that runs `body(args)` compiled twice — for the compiler's baseline
+/// and, as `avx`, with AVX enabled — and calls the AVX one where the processor has it. `body`
+/// must be `#[inline(always)]`, so that each copy is compiled with its own instructions. The
+/// loops then take four `f64` a step instead of two, each lane doing the scalar code's
+/// operations in the same order; the compiler forms no fused multiply-add, so the bits are the
+/// same (the test `avx_and_baseline_agree_bit_for_bit`).
+macro_rules! with_avx {
+    ($(#[$doc:meta])* fn $name:ident / $avx:ident / $body:ident ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $(#[$doc])*
+        fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx") {
+                #[allow(unsafe_code)]
+                // SAFETY: the processor has AVX, checked just above.
+                return unsafe { $avx($($arg),*) };
+            }
+            $body($($arg),*)
+        }
+
+        #[doc = concat!("[`", stringify!($body), "`] compiled for AVX ([`with_avx`]).")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx")]
+        fn $avx($($arg: $ty),*) -> $ret {
+            $body($($arg),*)
+        }
+    };
 }
 
-/// [`ell_body`] compiled for AVX (as [`solve_p_q_avx`]: the same operations in every lane).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn ell_avx(a: &DMatrix<f64>, m: usize) -> u64 {
-    ell_body(a, m)
+with_avx! {
+    /// ℓ(X, m): the extra squarings the backward error bound asks for, from
+    /// ‖ |X|^(2m+1) ‖₁ / ‖X‖₁ (Al-Mohy and Higham's equation (5.1)); the norm is
+    /// max(1ᵀ|X|^(2m+1)), one vector times |X| 2m + 1 times.
+    fn ell / ell_avx / ell_body(a: &DMatrix<f64>, m: usize) -> u64
 }
 
 /// [`ell`] for whichever instruction set its caller is compiled for.
@@ -409,27 +424,10 @@ fn ell_body(a: &DMatrix<f64>, m: usize) -> u64 {
     }
 }
 
-/// R with (V − U) R = U + V, by LU factorisation with partial pivoting; `None` when a pivot is
-/// zero.
-///
-/// Where the processor has AVX, the same code is compiled for it: its loops then take four
-/// `f64` a step instead of two, each lane doing the operations the scalar code does in the same
-/// order (no fused multiply-add: the compiler contracts none), so the bits are the same.
-fn solve_p_q(u: DMatrix<f64>, v: DMatrix<f64>) -> Option<DMatrix<f64>> {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        #[allow(unsafe_code)]
-        // SAFETY: the processor has AVX, checked just above.
-        return unsafe { solve_p_q_avx(u, v) };
-    }
-    solve_p_q_body(u, v)
-}
-
-/// [`solve_p_q_body`] compiled for AVX.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn solve_p_q_avx(u: DMatrix<f64>, v: DMatrix<f64>) -> Option<DMatrix<f64>> {
-    solve_p_q_body(u, v)
+with_avx! {
+    /// R with (V − U) R = U + V, by LU factorisation with partial pivoting; `None` when a pivot
+    /// is zero.
+    fn solve_p_q / solve_p_q_avx / solve_p_q_body(u: DMatrix<f64>, v: DMatrix<f64>) -> Option<DMatrix<f64>>
 }
 
 /// [`solve_p_q`] for whichever instruction set its caller is compiled for.
