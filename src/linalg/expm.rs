@@ -34,8 +34,38 @@ use nalgebra::DMatrix;
 /// e^X, or `None` when the Padé denominator q_m(X) is singular to working precision (a
 /// non-finite X, or one far outside the approximant's range).
 pub fn expm(x: &DMatrix<f64>) -> Option<DMatrix<f64>> {
-    expm_choosing(x).map(|(e, _)| e)
+    expm_choosing(x).map(|(e, _, _)| e)
 }
+
+/// e^X with the powers X² = X·X and X⁴ = X²·X² formed on the way, for a caller that needs them
+/// too (the zero-order hold's error estimate): each as nalgebra's `gemm` makes it, so the same
+/// bits as `&x * &x` and `&x2 * &x2`. Every X of order 2 or more has them (the choice of degree
+/// starts from ‖X⁴‖ and ‖X⁶‖).
+#[derive(Debug, Clone)]
+pub struct Exponential {
+    /// e^X.
+    pub value: DMatrix<f64>,
+    /// X², when it was formed.
+    pub square: Option<DMatrix<f64>>,
+    /// X⁴, when it was formed.
+    pub fourth: Option<DMatrix<f64>>,
+}
+
+/// [`expm`], keeping X² and X⁴ ([`Exponential`]); `None` as for [`expm`].
+pub fn expm_with_powers(x: &DMatrix<f64>) -> Option<Exponential> {
+    let (value, _, powers) = expm_choosing(x)?;
+    let [square, fourth, ..] = powers.map(|p| p.even).unwrap_or_default();
+    Some(Exponential {
+        value,
+        square,
+        fourth,
+    })
+}
+
+/// The most squarings taken: a finite X needs at most about 1 030 (‖X‖₁ ≤ 2^1024·N) and ℓ a few
+/// dozen more; beyond that its powers' norms overflowed, and [`expm`] refuses X rather than
+/// square without end.
+const MAX_SQUARINGS: u64 = 1_100;
 
 /// The approximant chosen: its degree m and the number s of squarings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -44,8 +74,8 @@ struct Choice {
     squarings: u64,
 }
 
-/// [`expm`], with the approximant it chose.
-fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice)> {
+/// [`expm`], with the approximant it chose and the powers it formed (none at order 1).
+fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Powers>)> {
     let size = x.nrows();
     if size != x.ncols() {
         return None;
@@ -55,23 +85,27 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice)> {
         squarings: 0,
     };
     if size == 1 {
-        return Some((x.map(f64::exp), unscaled(0)));
+        return Some((x.map(f64::exp), unscaled(0), None));
     }
     let mut powers = Powers::new(x.clone());
     let eta_1 = powers.d(Even::Four).max(powers.d(Even::Six));
     if eta_1 < 1.495_585_217_958_292e-2 && ell(&powers.a, 3) == 0 {
-        return Some((powers.pade(Low::Three)?, unscaled(3)));
+        let e = powers.pade(Low::Three)?;
+        return Some((e, unscaled(3), Some(powers)));
     }
     let eta_2 = powers.d(Even::Four).max(powers.d(Even::Six));
     if eta_2 < 2.539_398_330_063_23e-1 && ell(&powers.a, 5) == 0 {
-        return Some((powers.pade(Low::Five)?, unscaled(5)));
+        let e = powers.pade(Low::Five)?;
+        return Some((e, unscaled(5), Some(powers)));
     }
     let eta_3 = powers.d(Even::Six).max(powers.d(Even::Eight));
     if eta_3 < 9.504_178_996_162_932e-1 && ell(&powers.a, 7) == 0 {
-        return Some((powers.pade(Low::Seven)?, unscaled(7)));
+        let e = powers.pade(Low::Seven)?;
+        return Some((e, unscaled(7), Some(powers)));
     }
     if eta_3 < 2.097_847_961_257_068e0 && ell(&powers.a, 9) == 0 {
-        return Some((powers.pade(Low::Nine)?, unscaled(9)));
+        let e = powers.pade(Low::Nine)?;
+        return Some((e, unscaled(9), Some(powers)));
     }
     let eta_4 = powers.d(Even::Eight).max(powers.d(Even::Ten));
     let eta_5 = eta_3.min(eta_4);
@@ -86,7 +120,12 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice)> {
             l2 as u64
         }
     };
-    s += ell(&scaled(&powers.a, 2.0_f64.powf(-(s as f64))), 13);
+    s = s.saturating_add(ell(&scaled(&powers.a, 2.0_f64.powf(-(s as f64))), 13));
+    if s > MAX_SQUARINGS {
+        // ‖X⁸‖ or ‖X¹⁰‖ beyond f64 (so ‖X‖ beyond about 2^100): e^X overflows, or — a
+        // rotation that fast — would come out of so many squarings with no digit right
+        return None;
+    }
     let mut r = powers.pade13_scaled(s)?;
     let mut square = DMatrix::<f64>::zeros(size, size);
     for _ in 0..s {
@@ -99,6 +138,7 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice)> {
             degree: 13,
             squarings: s,
         },
+        Some(powers),
     ))
 }
 
@@ -597,7 +637,7 @@ mod tests {
         for norm in [1e-3, 0.1, 0.5, 1.5, 3.0, 40.0, 600.0] {
             let x =
                 DMatrix::from_row_slice(3, 3, &[0.0, norm, 0.0, -norm, 0.0, 0.0, 0.0, 0.0, 0.0]);
-            let (ours, choice) = expm_choosing(&x).expect("nonsingular");
+            let (ours, choice, _) = expm_choosing(&x).expect("nonsingular");
             chosen.push((choice.degree, choice.squarings > 0));
             let theirs = x.exp();
             assert!(ours
@@ -612,6 +652,31 @@ mod tests {
             assert!(chosen.iter().any(|c| c.0 == degree), "{chosen:?}");
         }
         assert!(chosen.contains(&(13, true)), "{chosen:?}");
+    }
+
+    #[test]
+    fn powers_beyond_f64_are_refused_at_once() {
+        // ‖X⁸‖ overflows: before, the count of squarings could saturate and the loop run on
+        for entries in [
+            [1e40, 1.0, 1.0, 1e40],
+            [1e60, -1e60, 1e60, 1e60],
+            [0.0, 1e100, -1e100, 0.0],
+            [0.0, 1e300, -1e300, 0.0],
+        ] {
+            let x = DMatrix::from_row_slice(2, 2, &entries);
+            let started = std::time::Instant::now();
+            // refused, or not finite (which the zero-order hold refuses)
+            let e = expm(&x);
+            assert!(
+                e.is_none_or(|e| e.iter().any(|v| !v.is_finite())),
+                "{entries:?}"
+            );
+            assert!(started.elapsed().as_secs_f64() < 1.0, "{entries:?}");
+        }
+        // large but within reach: a rotation by 10⁶ radians is still computed
+        let x = DMatrix::from_row_slice(2, 2, &[0.0, 1e6, -1e6, 0.0]);
+        let e = expm(&x).expect("within reach");
+        assert!((e[(0, 0)] - 1e6f64.cos()).abs() < 1e-6, "{e}");
     }
 
     #[test]

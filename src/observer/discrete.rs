@@ -500,16 +500,19 @@ fn check_plant(t: &Rational, a: (usize, usize), b: (usize, usize)) -> Result<(),
     Ok(())
 }
 
-/// `Σ_(k<16) X^k / k!` by Paterson and Stockmeyer's scheme: X², X³, X⁴ formed once, then
-/// Horner's rule in X⁴ over blocks of four terms — six matrix products instead of fifteen.
-fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
+/// `Σ_(k<16) X^k / k!` by Paterson and Stockmeyer's scheme, from X, X² = X·X and X⁴ = X²·X²:
+/// X³ = X²·X formed, then Horner's rule in X⁴ over blocks of four terms — four matrix products
+/// here, six with the two powers.
+fn taylor_16(
+    x: &nalgebra::DMatrix<f64>,
+    x2: &nalgebra::DMatrix<f64>,
+    x4: &nalgebra::DMatrix<f64>,
+) -> nalgebra::DMatrix<f64> {
     use nalgebra::DMatrix;
     let size = x.nrows();
     let identity = DMatrix::<f64>::identity(size, size);
-    let x2 = x * x;
-    let x3 = &x2 * x;
-    let x4 = &x2 * &x2;
-    let powers = [&identity, x, &x2, &x3];
+    let x3 = x2 * x;
+    let powers = [&identity, x, x2, &x3];
     // 1/k! for k < 16
     let mut inverse_factorial = [1.0f64; 16];
     for k in 1..16 {
@@ -528,9 +531,78 @@ fn taylor_16(x: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
     };
     let mut result = block(3);
     for j in (0..3).rev() {
-        result = &result * &x4 + block(j);
+        result = &result * x4 + block(j);
     }
     result
+}
+
+/// The Taylor series' X = A_aug/2^s, X² and X⁴: the last two are the Padé exponential's
+/// powers of A_aug scaled by 4^−s and 16^−s where that gives the products' bits exactly
+/// ([`scaling_is_exact`]; two matrix products saved), else the products of X. The flag says
+/// which.
+fn taylor_powers(
+    aug: &nalgebra::DMatrix<f64>,
+    squarings: i32,
+    exponential: linalg::expm::Exponential,
+) -> (
+    nalgebra::DMatrix<f64>,
+    nalgebra::DMatrix<f64>,
+    nalgebra::DMatrix<f64>,
+    bool,
+) {
+    let x = aug / 2f64.powi(squarings);
+    match (exponential.square, exponential.fourth) {
+        (Some(mut x2), Some(mut x4)) if scaling_is_exact(aug, squarings) => {
+            let (by_4, by_16) = (power_of_two(-2 * squarings), power_of_two(-4 * squarings));
+            x2.as_mut_slice().iter_mut().for_each(|v| *v *= by_4);
+            x4.as_mut_slice().iter_mut().for_each(|v| *v *= by_16);
+            (x, x2, x4, true)
+        }
+        _ => {
+            let x2 = &x * &x;
+            let x4 = &x2 * &x2;
+            (x, x2, x4, false)
+        }
+    }
+}
+
+/// 2^k, for −1022 ≤ k ≤ 1023.
+fn power_of_two(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((1023 + i64::from(k)) as u64) << 52)
+}
+
+/// Whether, for X = M/2^s, the products X·X and X²·X² equal M²/4^s and M⁴/16^s bit for bit.
+///
+/// Scaling by a power of two commutes with every rounded operation (a product, a sum, a fused
+/// multiply-add) as long as no value falls below f64's normal range or overflows. If e is the
+/// exponent of M's smallest nonzero entry, every entry is a multiple of 2^(e−52); every partial
+/// sum of M² is then a multiple of 2^(2(e−52)) (a rounding keeps a multiple of a power of two
+/// that size or coarser), and of M⁴ a multiple of 2^(4(e−52)). Scaled by 2^−s they stay normal
+/// when 4(e − 52 − s) ≥ −1022. With |M| ≤ 2^200 and order at most 2^20, no partial sum of M⁴
+/// exceeds about 2^860. And s ≤ 255 keeps 2^(−4s) a normal number.
+fn scaling_is_exact(m: &nalgebra::DMatrix<f64>, squarings: i32) -> bool {
+    if squarings == 0 {
+        return true; // the very same products
+    }
+    let (smallest, largest) = m
+        .as_slice()
+        .iter()
+        .map(|v| v.abs())
+        .filter(|&v| v != 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if smallest == f64::INFINITY {
+        return true; // M = 0: every product is zero either way
+    }
+    let exponent = |v: f64| ((v.to_bits() >> 52) & 0x7ff) as i64 - 1023;
+    let subnormal = smallest < f64::MIN_POSITIVE;
+    !subnormal
+        && (0..=255).contains(&squarings)
+        && m.nrows() <= 1 << 20
+        && largest <= power_of_two(200)
+        && 4 * (exponent(smallest) - 52 - i64::from(squarings)) >= -1022
 }
 
 /// Φ and Γ in `f64` for the period `t` and the n × n A and n × m B whose entries `a(i, j)` and
@@ -584,11 +656,14 @@ fn float_zoh(
     };
     // a singular Padé denominator needs entries beyond f64 (the scaling keeps ‖X/2^s‖ ≤ 4.25,
     // where q_13 is nonsingular), which the checks above have refused
-    let pade = linalg::expm::expm(&aug).ok_or_else(overflow)?;
+    let mut exponential = linalg::expm::expm_with_powers(&aug).ok_or_else(overflow)?;
+    let pade = std::mem::take(&mut exponential.value);
     if pade.as_slice().iter().any(|x| !x.is_finite()) {
         return Err(overflow());
     }
-    let mut taylor = taylor_16(&(&aug / 2f64.powi(squarings)));
+    let (x, x2, x4, _) = taylor_powers(&aug, squarings, exponential);
+    let mut taylor = taylor_16(&x, &x2, &x4);
+    drop((x, x2, x4));
     for _ in 0..squarings {
         taylor = &taylor * &taylor;
         if taylor.as_slice().iter().any(|x| !x.is_finite()) {
@@ -623,6 +698,40 @@ mod tests {
     use super::*;
 
     proptest::proptest! {
+        /// The Taylor series' X² and X⁴ taken from the Padé exponential's powers are the
+        /// products of X = M/2^s bit for bit, at every scale where [`scaling_is_exact`] allows
+        /// it; and it allows it for ordinary plants.
+        #[test]
+        fn shared_taylor_powers_are_the_products(
+            order in 2usize..9,
+            entries in proptest::collection::vec((-1.0f64..1.0, 0i32..40, 0u8..6), 64),
+            base in -280i32..-180,
+            squarings in 0i32..12,
+            ordinary in proptest::prelude::any::<bool>(),
+        ) {
+            // an ordinary plant: entries within 2^±20; else exponents from `base` to 40 above
+            // it (across the limit of exactness, near 2^−200, and of range), and some zeros
+            let m = nalgebra::DMatrix::from_fn(order, order, |i, j| {
+                let (v, e, zero) = entries[i * 8 + j];
+                let e = if ordinary { e - 20 } else { base + e };
+                if zero == 0 { 0.0 } else { v * power_of_two(e) }
+            });
+            let Some(exponential) = linalg::expm::expm_with_powers(&m) else {
+                // its powers beyond f64: refused, as the zero-order hold refuses it
+                proptest::prop_assert!(!ordinary);
+                return Ok(());
+            };
+            let (x, x2, x4, shared) = taylor_powers(&m, squarings, exponential);
+            let product2 = &x * &x;
+            let product4 = &product2 * &product2;
+            let bits = |a: &nalgebra::DMatrix<f64>| a.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            proptest::prop_assert_eq!(bits(&x2), bits(&product2));
+            proptest::prop_assert_eq!(bits(&x4), bits(&product4));
+            if ordinary {
+                proptest::prop_assert!(shared, "an ordinary plant computed its powers afresh");
+            }
+        }
+
         /// The dead-beat design's index, taken from cyclicity, is the one the powers of the
         /// error matrix show, for both estimators.
         #[test]
