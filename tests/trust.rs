@@ -216,6 +216,9 @@ fn zoh_refuses_what_f64_cannot_hold() {
     for args in [
         ["--a", "[1]", "--b", "[1]", "--period", "1e300"],
         ["--a", "[1e1000]", "--b", "[1]", "--period", "1"],
+        // finite, but its powers overflow: the squarings' count once ran into the budget
+        ["--a", "[1e40 1; 1 1e40]", "--b", "[0; 1]", "--period", "1"],
+        ["--a", "[1e60 -1e60; 1e60 1e60]", "--b", "[0; 1]", "--period", "1"],
     ] {
         let mut all = vec!["zoh"];
         all.extend(args);
