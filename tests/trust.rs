@@ -218,7 +218,14 @@ fn zoh_refuses_what_f64_cannot_hold() {
         ["--a", "[1e1000]", "--b", "[1]", "--period", "1"],
         // finite, but its powers overflow: the squarings' count once ran into the budget
         ["--a", "[1e40 1; 1 1e40]", "--b", "[0; 1]", "--period", "1"],
-        ["--a", "[1e60 -1e60; 1e60 1e60]", "--b", "[0; 1]", "--period", "1"],
+        [
+            "--a",
+            "[1e60 -1e60; 1e60 1e60]",
+            "--b",
+            "[0; 1]",
+            "--period",
+            "1",
+        ],
     ] {
         let mut all = vec!["zoh"];
         all.extend(args);
