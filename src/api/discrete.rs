@@ -592,7 +592,7 @@ pub fn zoh(args: ZohArgs, rep: &mut Report) -> Result<Outcome> {
         // numbers the plain scanner reads: within f64's range, as the checks below find
         (Some(a), Some(b)) => {
             let t = super::args::rational_at("--period", &args.period, &values)?;
-            (zero_order_hold_words(&a, &b, &t), t)
+            (zero_order_hold_words(a, b, &t), t)
         }
         _ => {
             let a = super::args::matrix_at("--a", &args.a, &values)?;

@@ -75,7 +75,7 @@ struct Choice {
 }
 
 /// [`expm`], with the approximant it chose and the powers it formed (none at order 1).
-fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Powers>)> {
+fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Powers<'_>>)> {
     let size = x.nrows();
     if size != x.ncols() {
         return None;
@@ -87,23 +87,23 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Power
     if size == 1 {
         return Some((x.map(f64::exp), unscaled(0), None));
     }
-    let mut powers = Powers::new(x.clone());
+    let mut powers = Powers::new(x);
     let eta_1 = powers.d(Even::Four).max(powers.d(Even::Six));
-    if eta_1 < 1.495_585_217_958_292e-2 && ell(&powers.a, 3) == 0 {
+    if eta_1 < 1.495_585_217_958_292e-2 && ell(powers.a, 3) == 0 {
         let e = powers.pade(Low::Three)?;
         return Some((e, unscaled(3), Some(powers)));
     }
     let eta_2 = powers.d(Even::Four).max(powers.d(Even::Six));
-    if eta_2 < 2.539_398_330_063_23e-1 && ell(&powers.a, 5) == 0 {
+    if eta_2 < 2.539_398_330_063_23e-1 && ell(powers.a, 5) == 0 {
         let e = powers.pade(Low::Five)?;
         return Some((e, unscaled(5), Some(powers)));
     }
     let eta_3 = powers.d(Even::Six).max(powers.d(Even::Eight));
-    if eta_3 < 9.504_178_996_162_932e-1 && ell(&powers.a, 7) == 0 {
+    if eta_3 < 9.504_178_996_162_932e-1 && ell(powers.a, 7) == 0 {
         let e = powers.pade(Low::Seven)?;
         return Some((e, unscaled(7), Some(powers)));
     }
-    if eta_3 < 2.097_847_961_257_068e0 && ell(&powers.a, 9) == 0 {
+    if eta_3 < 2.097_847_961_257_068e0 && ell(powers.a, 9) == 0 {
         let e = powers.pade(Low::Nine)?;
         return Some((e, unscaled(9), Some(powers)));
     }
@@ -120,7 +120,7 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Power
             l2 as u64
         }
     };
-    s = s.saturating_add(ell(&scaled(&powers.a, 2.0_f64.powf(-(s as f64))), 13));
+    s = s.saturating_add(ell(&scaled(powers.a, 2.0_f64.powf(-(s as f64))), 13));
     if s > MAX_SQUARINGS {
         // ‖X⁸‖ or ‖X¹⁰‖ beyond f64 (so ‖X‖ beyond about 2^100): e^X overflows, or — a
         // rotation that fast — would come out of so many squarings with no digit right
@@ -237,14 +237,14 @@ impl Low {
 }
 
 /// X and its even powers, each formed once, with their exact norms d_k = ‖X^k‖₁^(1/k).
-struct Powers {
-    a: DMatrix<f64>,
+struct Powers<'a> {
+    a: &'a DMatrix<f64>,
     /// X², X⁴, X⁶, X⁸, X¹⁰ as they are needed.
     even: [Option<DMatrix<f64>>; 5],
 }
 
-impl Powers {
-    fn new(a: DMatrix<f64>) -> Self {
+impl<'a> Powers<'a> {
+    fn new(a: &'a DMatrix<f64>) -> Self {
         Self {
             a,
             even: [None, None, None, None, None],
@@ -259,7 +259,7 @@ impl Powers {
                 self.power(factor);
             }
             let factor = |f: Option<Even>| match f {
-                None => &self.a,
+                None => self.a,
                 Some(e) => self.even[e.slot()]
                     .as_ref()
                     .unwrap_or_else(|| unreachable!("formed just above")),
@@ -304,7 +304,7 @@ impl Powers {
         };
         let inner = sum(1);
         let mut u = DMatrix::<f64>::zeros(self.a.nrows(), self.a.nrows());
-        u.gemm(1.0, &self.a, &inner, 0.0);
+        u.gemm(1.0, self.a, &inner, 0.0);
         let v = sum(0);
         solve_p_q(u, v)
     }
@@ -329,7 +329,7 @@ impl Powers {
         ];
         let s = s as f64;
         let size = self.a.nrows();
-        let mb = scaled(&self.a, 2.0_f64.powf(-s));
+        let mb = scaled(self.a, 2.0_f64.powf(-s));
         let mb2 = scaled(self.power(Even::Two), 2.0_f64.powf(-2.0 * s));
         let mb4 = scaled(self.power(Even::Four), 2.0_f64.powf(-4.0 * s));
         let mb6 = scaled(self.power(Even::Six), 2.0_f64.powf(-6.0 * s));
@@ -474,18 +474,16 @@ with_avx! {
 #[inline(always)]
 fn solve_p_q_body(u: DMatrix<f64>, v: DMatrix<f64>) -> Option<DMatrix<f64>> {
     let size = u.nrows();
-    let mut p = u.clone();
-    for (x, y) in p.as_mut_slice().iter_mut().zip(v.as_slice()) {
-        *x += y;
-    }
+    // the right-hand sides P = U + V row by row (Pᵀ, made at once: Pᵀ's columns are P's rows):
+    // each row operation then runs over all of them at once, in the order nalgebra gives each
+    // column
+    let mut rows = DMatrix::from_fn(size, size, |i, j| u[(j, i)] + v[(j, i)]);
     let mut q = v;
     for (x, y) in q.as_mut_slice().iter_mut().zip(u.as_slice()) {
         *x -= y;
     }
+    drop(u);
     let swaps = factorise(q.as_mut_slice(), size)?;
-    // the right-hand sides row by row (Pᵀ's columns are P's rows): each row operation then
-    // runs over all of them at once, in the order nalgebra gives each column
-    let mut rows = p.transpose();
     let x = rows.as_mut_slice();
     for &(i, piv) in &swaps {
         for k in 0..size {

@@ -451,12 +451,13 @@ pub fn zero_order_hold(
         });
     }
     let f64_at = |m: &Matrix<Rational>, i, j| crate::algebra::rational_to_f64(m.get(i, j));
-    float_zoh(
+    let aug = augmented(
         (n, b.cols()),
         |i, j| f64_at(a, i, j),
         |i, j| f64_at(b, i, j),
         t,
-    )
+    )?;
+    float_zoh(n, aug)
 }
 
 /// [`zero_order_hold`] of a plant read as word fractions (the command line's common case,
@@ -470,20 +471,24 @@ pub fn zero_order_hold(
 ///
 /// As [`zero_order_hold`].
 pub(crate) fn zero_order_hold_words(
-    a: &WordFractions,
-    b: &WordFractions,
+    a: WordFractions,
+    b: WordFractions,
     t: &Rational,
 ) -> Result<Sampled, DiscreteError> {
     check_plant(t, (a.rows(), a.cols()), (b.rows(), b.cols()))?;
     if !a.trace_is_nonzero() {
         return zero_order_hold(&a.to_rational(), &b.to_rational(), t);
     }
-    float_zoh(
+    let aug = augmented(
         (a.rows(), b.cols()),
         |i, j| a.f64_at(i, j),
         |i, j| b.f64_at(i, j),
         t,
-    )
+    )?;
+    let n = a.rows();
+    // the words are done with: their room goes to the exponential's matrices
+    drop((a, b));
+    float_zoh(n, aug)
 }
 
 /// A positive period, A square and B with its rows.
@@ -605,19 +610,16 @@ fn scaling_is_exact(m: &nalgebra::DMatrix<f64>, squarings: i32) -> bool {
         && 4 * (exponent(smallest) - 52 - i64::from(squarings)) >= -1022
 }
 
-/// Φ and Γ in `f64` for the period `t` and the n × n A and n × m B whose entries `a(i, j)` and
-/// `b(i, j)` give, by the Padé approximant, with the error estimate: the largest difference
-/// from the scaled Taylor series.
-fn float_zoh(
+/// The augmented matrix [A B; 0 0]·T of the n × n A and n × m B whose entries `a(i, j)` and
+/// `b(i, j)` give, for the period `t`: its exponential holds Φ and Γ.
+fn augmented(
     (n, m): (usize, usize),
     a: impl Fn(usize, usize) -> f64,
     b: impl Fn(usize, usize) -> f64,
     t: &Rational,
-) -> Result<Sampled, DiscreteError> {
-    use nalgebra::DMatrix;
+) -> Result<nalgebra::DMatrix<f64>, DiscreteError> {
     let t = crate::algebra::rational_to_f64(t);
-    // the augmented matrix [A B; 0 0] T: its exponential holds Φ and Γ
-    let aug = DMatrix::from_fn(n + m, n + m, |i, j| match (i < n, j < n) {
+    let aug = nalgebra::DMatrix::from_fn(n + m, n + m, |i, j| match (i < n, j < n) {
         (true, true) => a(i, j) * t,
         (true, false) => b(i, j - n) * t,
         _ => 0.0,
@@ -627,6 +629,13 @@ fn float_zoh(
             "an entry of A·T or B·T is beyond the range of f64 (about 1.8e308)".into(),
         ));
     }
+    Ok(aug)
+}
+
+/// Φ and Γ in `f64` from the [`augmented`] matrix of a plant with n states, by the Padé
+/// approximant, with the error estimate: the largest difference from the scaled Taylor series.
+fn float_zoh(n: usize, aug: nalgebra::DMatrix<f64>) -> Result<Sampled, DiscreteError> {
+    let m = aug.ncols() - n;
     let overflow = || {
         DiscreteError::Float(
             "e^(AT) overflows f64 (an eigenvalue λ of A with Re(λ)·T beyond about 709): Φ and Γ cannot be represented"
@@ -788,7 +797,7 @@ mod tests {
             let a_text = a_exact.to_input();
             let words = |t: &str| crate::syntax::word_fractions(t).expect("numbers");
             let t = Rational::new(1.into(), period.into());
-            let by_words = zero_order_hold_words(&words(&a_text), &words(&b_text), &t);
+            let by_words = zero_order_hold_words(words(&a_text), words(&b_text), &t);
             let by_exact = zero_order_hold(&exact(&a_text), &exact(&b_text), &t);
             proptest::prop_assert_eq!(format!("{by_words:?}"), format!("{by_exact:?}"));
             let exact_way = matches!(by_words, Ok(Sampled::Exact { .. }));
