@@ -515,19 +515,19 @@ fn taylor_16(
 ) -> nalgebra::DMatrix<f64> {
     use nalgebra::DMatrix;
     let size = x.nrows();
-    let identity = DMatrix::<f64>::identity(size, size);
     let x3 = x2 * x;
-    let powers = [&identity, x, x2, &x3];
+    let powers = [x, x2, &x3];
     // 1/k! for k < 16
     let mut inverse_factorial = [1.0f64; 16];
     for k in 1..16 {
         inverse_factorial[k] = inverse_factorial[k - 1] / k as f64;
     }
     let block = |j: usize| {
-        let mut sum = DMatrix::<f64>::zeros(size, size);
+        // the identity's term first: 0 + 1·c on the diagonal, 0 + 0·c = +0 off it
+        let mut sum = DMatrix::<f64>::from_diagonal_element(size, size, inverse_factorial[4 * j]);
         for (i, power) in powers.iter().enumerate() {
             // in place: no matrix allocated per term
-            let c = inverse_factorial[4 * j + i];
+            let c = inverse_factorial[4 * j + i + 1];
             for (s, p) in sum.as_mut_slice().iter_mut().zip(power.as_slice()) {
                 *s += p * c;
             }
@@ -671,6 +671,7 @@ fn float_zoh(n: usize, aug: nalgebra::DMatrix<f64>) -> Result<Sampled, DiscreteE
         return Err(overflow());
     }
     let (x, x2, x4, _) = taylor_powers(&aug, squarings, exponential);
+    drop(aug); // its room to the series' matrices
     let mut taylor = taylor_16(&x, &x2, &x4);
     drop((x, x2, x4));
     for _ in 0..squarings {
