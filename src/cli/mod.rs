@@ -276,12 +276,13 @@ impl Ending {
             Err(e) if json_requested() => {
                 // a script asked for JSON: it gets a JSON error object (and the status)
                 let causes: Vec<String> = e.chain().skip(1).map(|c| safe(c.to_string())).collect();
-                let json = serde_json::json!({"error": safe(e.to_string()), "causes": causes, "exit_status": 2});
-                ending(
-                    format!("{json}\n"),
-                    format!("error: {}\n", safe(e.to_string())),
-                    2,
-                )
+                // the message made safe once, for both streams (the time budget's ending is made
+                // in advance by every command)
+                let message = safe(e.to_string());
+                let err = format!("error: {message}\n");
+                let json =
+                    serde_json::json!({"error": message, "causes": causes, "exit_status": 2});
+                ending(format!("{json}\n"), err, 2)
             }
             Err(e) => {
                 let mut err = format!("error: {}\n", safe(e.to_string()));
