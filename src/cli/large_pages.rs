@@ -76,7 +76,7 @@ const PAGE: usize = 4096;
 pub struct LargePages;
 
 /// Blocks of at most this many bytes (and alignment at most 16) are small: kept in per-thread
-/// lists by size, 16 bytes apart ([`Small`]).
+/// lists by size, 16 bytes apart ([`ThreadBlocks`]).
 const SMALL: usize = 256;
 
 /// The size classes of small blocks: 16, 32, …, [`SMALL`] bytes.
@@ -93,6 +93,9 @@ enum Tier {
     Small(usize),
     /// The C library's heap.
     Heap,
+    /// Alignment above 16, below [`LARGE`] bytes: the C library's heap, the last block given
+    /// back on a thread kept for that thread's next request of its very layout ([`Spare`]).
+    Aligned,
     /// [`LARGE`] bytes or more, alignment at most a page: a mapping of its own.
     Large,
 }
@@ -102,25 +105,27 @@ fn tier(layout: &Layout) -> Tier {
         Tier::Small(layout.size().saturating_sub(1) / 16)
     } else if layout.size() >= LARGE && layout.align() <= PAGE {
         Tier::Large
+    } else if layout.align() > 16 && layout.size() < LARGE {
+        Tier::Aligned
     } else {
         Tier::Heap
     }
 }
 
-/// A thread's small blocks: for each class, the free blocks as a list threaded through their
+/// A thread's kept blocks: for each small class, the free blocks as a list threaded through their
 /// first word; and the rest of the chunk being cut.
-struct Small {
+struct ThreadBlocks {
     free: [Cell<*mut u8>; CLASSES],
     next: Cell<*mut u8>,
     end: Cell<*mut u8>,
-    /// The last over-aligned heap block given back, with its size and alignment ([`Spare`]);
+    /// The last [`Tier::Aligned`] block given back, with its size and alignment ([`Spare`]);
     /// null when none is kept.
     spare: Cell<(*mut u8, usize, usize)>,
 }
 
 thread_local! {
-    static SMALL_BLOCKS: Small = const {
-        Small {
+    static THREAD_BLOCKS: ThreadBlocks = const {
+        ThreadBlocks {
             free: [const { Cell::new(std::ptr::null_mut()) }; CLASSES],
             next: Cell::new(std::ptr::null_mut()),
             end: Cell::new(std::ptr::null_mut()),
@@ -129,8 +134,9 @@ thread_local! {
     };
 }
 
-/// Over-aligned heap blocks (alignment above 16, below [`LARGE`]): the last one given back on a
-/// thread is kept there, and handed to that thread's next request of the very same layout.
+/// Blocks of the [`Tier::Aligned`] tier (alignment above 16, below [`LARGE`]): the last one given
+/// back on a thread is kept there, and handed to that thread's next request of the very same
+/// layout.
 ///
 /// **Why.** matrixmultiply takes such a block (64-byte aligned) for its packing buffer at the
 /// start of every matrix product and gives it back at the end. The C library did not serve the
@@ -150,7 +156,7 @@ struct Spare;
 impl Spare {
     /// The kept block, if it has exactly this layout (taken out of the slot).
     fn take(layout: &Layout) -> Option<*mut u8> {
-        SMALL_BLOCKS
+        THREAD_BLOCKS
             .try_with(|s| {
                 let (p, size, align) = s.spare.get();
                 (!p.is_null() && size == layout.size() && align == layout.align()).then(|| {
@@ -166,7 +172,7 @@ impl Spare {
     /// C library should have back instead — the one kept before, or `ptr` itself while the
     /// thread exits.
     fn keep(ptr: *mut u8, layout: Layout) -> Option<(*mut u8, Layout)> {
-        SMALL_BLOCKS
+        THREAD_BLOCKS
             .try_with(|s| {
                 let (old, size, align) = s.spare.replace((ptr, layout.size(), layout.align()));
                 // SAFETY: the kept block was made with this size and alignment, a valid layout.
@@ -184,7 +190,7 @@ impl Spare {
 /// from a fresh chunk; null when the C library has no memory.
 fn small_alloc(class: usize) -> *mut u8 {
     let size = (class + 1) * 16;
-    let from_lists = SMALL_BLOCKS.try_with(|s| {
+    let from_lists = THREAD_BLOCKS.try_with(|s| {
         let head = s.free[class].get();
         if !head.is_null() {
             // SAFETY: a listed block is free, at least 16 bytes, 16-aligned, its first word
@@ -226,7 +232,7 @@ fn small_alloc(class: usize) -> *mut u8 {
 ///
 /// `ptr` is a live block of that class that the caller gives up.
 unsafe fn small_free(ptr: *mut u8, class: usize) {
-    let _ = SMALL_BLOCKS.try_with(|s| {
+    let _ = THREAD_BLOCKS.try_with(|s| {
         // SAFETY: the block is the caller's to give up, at least 16 bytes and 16-aligned.
         unsafe { ptr.cast::<*mut u8>().write(s.free[class].get()) };
         s.free[class].set(ptr);
@@ -341,15 +347,11 @@ unsafe impl GlobalAlloc for LargePages {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         match tier(&layout) {
             Tier::Small(class) => small_alloc(class),
-            Tier::Heap => match (layout.align() > 16)
-                .then(|| Spare::take(&layout))
-                .flatten()
-            {
-                Some(kept) => kept,
-                // SAFETY: the caller's layout has a nonzero size (GlobalAlloc's contract),
-                // passed on.
-                None => from_heap(|| unsafe { System.alloc(layout) }),
-            },
+            // SAFETY: the caller's layout has a nonzero size (GlobalAlloc's contract), passed on.
+            Tier::Heap => from_heap(|| unsafe { System.alloc(layout) }),
+            // SAFETY: as for the heap.
+            Tier::Aligned => Spare::take(&layout)
+                .unwrap_or_else(|| from_heap(|| unsafe { System.alloc(layout) })),
             Tier::Large => map(layout.size()),
         }
     }
@@ -364,8 +366,8 @@ unsafe impl GlobalAlloc for LargePages {
                 }
                 p
             }
-            // SAFETY: as for `alloc`.
-            Tier::Heap => from_heap(|| unsafe { System.alloc_zeroed(layout) }),
+            // SAFETY: as for `alloc` (a kept block is not zeroed, so it is not handed out here).
+            Tier::Heap | Tier::Aligned => from_heap(|| unsafe { System.alloc_zeroed(layout) }),
             // a fresh anonymous mapping is zero
             Tier::Large => map(layout.size()),
         }
@@ -376,16 +378,13 @@ unsafe impl GlobalAlloc for LargePages {
             // SAFETY: a small layout's block is one of its class (`alloc` made it so), and the
             // caller gives it up.
             Tier::Small(class) => unsafe { small_free(ptr, class) },
-            Tier::Heap => {
-                let back = if layout.align() > 16 {
-                    Spare::keep(ptr, layout)
-                } else {
-                    Some((ptr, layout))
-                };
-                if let Some((ptr, layout)) = back {
-                    // SAFETY: a heap layout's block came from the C library with this layout
-                    // (a kept block was made with the layout it was kept with), and it is
-                    // given up: by the caller, or out of the slot.
+            // SAFETY: a heap layout's block came from the C library with this layout.
+            Tier::Heap => unsafe { System.dealloc(ptr, layout) },
+            Tier::Aligned => {
+                if let Some((ptr, layout)) = Spare::keep(ptr, layout) {
+                    // SAFETY: as for the heap: the block came from the C library with this
+                    // layout (a kept one with the layout it was kept with), and it is given up,
+                    // by the caller or out of the slot.
                     unsafe { System.dealloc(ptr, layout) }
                 }
             }
@@ -407,7 +406,9 @@ unsafe impl GlobalAlloc for LargePages {
                 // the block already holds the new size
                 (Tier::Small(old), Tier::Small(new)) if old == new => ptr,
                 // a failed realloc leaves the block as it was, so it may be asked again
-                (Tier::Heap, Tier::Heap) => from_heap(|| System.realloc(ptr, layout, new_size)),
+                (Tier::Heap, Tier::Heap) | (Tier::Aligned, Tier::Aligned) => {
+                    from_heap(|| System.realloc(ptr, layout, new_size))
+                }
                 (Tier::Large, Tier::Large) => {
                     let p = libc::mremap(
                         ptr.cast(),
@@ -421,7 +422,7 @@ unsafe impl GlobalAlloc for LargePages {
                     advise(p, new_size);
                     p.cast()
                 }
-                (Tier::Small(_) | Tier::Heap | Tier::Large, _) => {
+                (Tier::Small(_) | Tier::Heap | Tier::Aligned | Tier::Large, _) => {
                     // into another tier or class: a new block there, the bytes copied
                     let fresh = self.alloc(new_layout);
                     if !fresh.is_null() {
@@ -609,6 +610,11 @@ mod tests {
             // an alignment above the page goes to the C library
             let aligned = Layout::from_size_align(LARGE, 2 * PAGE).unwrap();
             assert_eq!(tier(&aligned), Tier::Heap);
+            // below that size, an alignment above 16 is the spare's tier, the small sizes too
+            for (size, align) in [(135_744, 64), (16, 32), (LARGE - 1, PAGE)] {
+                let layout = Layout::from_size_align(size, align).unwrap();
+                assert_eq!(tier(&layout), Tier::Aligned, "{layout:?}");
+            }
             let q = a.alloc(aligned);
             assert_eq!(q as usize % (2 * PAGE), 0);
             a.dealloc(q, aligned);

@@ -64,8 +64,8 @@ pub fn expm_with_powers(x: &DMatrix<f64>) -> Option<Exponential> {
 
 /// The most squarings taken: a finite X needs at most about 1 030 (‖X‖₁ ≤ 2^1024·N) and ℓ a few
 /// dozen more; beyond that its powers' norms overflowed, and [`expm`] refuses X rather than
-/// square without end.
-const MAX_SQUARINGS: u64 = 1_100;
+/// square without end. The zero-order hold's Taylor check stops at the same count.
+pub const MAX_SQUARINGS: u64 = 1_100;
 
 /// The approximant chosen: its degree m and the number s of squarings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -558,9 +558,8 @@ fn taylor_powers(
     let x = aug / 2f64.powi(squarings);
     match (exponential.square, exponential.fourth) {
         (Some(mut x2), Some(mut x4)) if scaling_is_exact(aug, squarings) => {
-            let (by_4, by_16) = (power_of_two(-2 * squarings), power_of_two(-4 * squarings));
-            x2.as_mut_slice().iter_mut().for_each(|v| *v *= by_4);
-            x4.as_mut_slice().iter_mut().for_each(|v| *v *= by_16);
+            x2 *= power_of_two(-2 * squarings);
+            x4 *= power_of_two(-4 * squarings);
             (x, x2, x4, true)
         }
         _ => {
@@ -659,7 +658,7 @@ fn float_zoh(n: usize, aug: nalgebra::DMatrix<f64>) -> Result<Sampled, DiscreteE
         return Err(overflow());
     }
     let squarings = if norm > 0.5 {
-        ((norm / 0.5).log2().ceil() as i32).clamp(0, 1100)
+        ((norm / 0.5).log2().ceil() as i32).clamp(0, linalg::expm::MAX_SQUARINGS as i32)
     } else {
         0
     };
