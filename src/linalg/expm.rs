@@ -21,7 +21,8 @@
 //! vector products are column updates, which the compiler vectorises.
 //!
 //! **Cost.** At order N: the even powers, up to five products (X², X⁴, X⁶, and X⁸ or X¹⁰ when
-//! degree 13's scaling needs them), two more products for the approximant, the factorisation
+//! degree 13's scaling needs them; X⁸ only for its norm when degree 7 is chosen, and not even
+//! for that where a bound from ‖X⁶‖ and ‖X²‖ decides: `d8_below`), two more products for the approximant, the factorisation
 //! (⅔N³ flops), the two triangular solves with N right-hand sides (2N³) and s squarings.
 //! The products run in matrixmultiply's kernels for the machine. The factorisation, the solves
 //! and ℓ's vector products are compiled twice, for the compiler's baseline x86-64 (two f64 a
@@ -103,15 +104,24 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Power
         let e = powers.pade(Low::Five)?;
         return Some((e, unscaled(5), Some(powers)));
     }
-    let eta_3 = powers.d(Even::Six).max(powers.d(Even::Eight));
-    if eta_3 < 9.504_178_996_162_932e-1 && ell(powers.a, 7) == 0 {
+    let theta_7 = 9.504_178_996_162_932e-1;
+    let eta_3_below = |powers: &mut Powers, theta: f64| {
+        if d8_below(powers, theta_7) {
+            // then max(d6, d8) < θ ≥ θ7 exactly when d6 < θ, and X⁸ is not formed
+            powers.d(Even::Six) < theta
+        } else {
+            powers.d(Even::Six).max(powers.d(Even::Eight)) < theta
+        }
+    };
+    if eta_3_below(&mut powers, theta_7) && ell(powers.a, 7) == 0 {
         let e = powers.pade(Low::Seven)?;
         return Some((e, unscaled(7), Some(powers)));
     }
-    if eta_3 < 2.097_847_961_257_068e0 && ell(powers.a, 9) == 0 {
+    if eta_3_below(&mut powers, 2.097_847_961_257_068e0) && ell(powers.a, 9) == 0 {
         let e = powers.pade(Low::Nine)?;
         return Some((e, unscaled(9), Some(powers)));
     }
+    let eta_3 = powers.d(Even::Six).max(powers.d(Even::Eight));
     let eta_4 = powers.d(Even::Eight).max(powers.d(Even::Ten));
     let eta_5 = eta_3.min(eta_4);
     let theta_13 = 4.25;
@@ -145,6 +155,22 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Power
         },
         Some(powers),
     ))
+}
+
+/// Whether d8 = ‖X⁸‖₁^(1/8), as [`Powers::d`] would compute it from the product X⁶·X², is
+/// certainly below `theta`, without forming that product: the computed product C of the
+/// computed X⁶ and X² has |C| ≤ (1 + γ_N)|X⁶||X²| entry by entry (γ_N = N·u/(1 − N·u)), so
+/// ‖C‖₁ ≤ (1 + γ_N)‖X⁶‖₁‖X²‖₁, and with the rounding of the norms and the roots d8 is at most
+/// (‖X⁶‖₁‖X²‖₁)^(1/8) times 1 + O(N·u) — which the margin of 10⁻⁶ covers up to orders of 10⁹.
+/// Degree 7 does not use X⁸: a plant whose choice is decided without it saves a matrix product
+/// (at order 101, a tenth of the zero-order hold's products). `false` (the product formed)
+/// where d6 or the bound is not finite: `max` passes over a NaN, which the comparison on d6
+/// alone would not.
+fn d8_below(powers: &mut Powers, theta: f64) -> bool {
+    let d6 = powers.d(Even::Six);
+    let norms = one_norm(powers.power(Even::Six)) * one_norm(powers.power(Even::Two));
+    let bound = norms.powf(Even::Eight.root());
+    d6.is_finite() && bound.is_finite() && bound * (1.0 + 1e-6) < theta
 }
 
 /// The even powers of X that the degrees use: X² … X¹⁰.
@@ -799,6 +825,27 @@ mod tests {
             let ell_avx_value = unsafe { ell_avx(&u, m) };
             prop_assert_eq!(ell_body(&u, m), ell_avx_value);
         }
+    }
+
+    #[test]
+    fn degree_seven_is_chosen_without_the_eighth_power_where_its_bound_decides() {
+        // a rotation at norm 0.6 (d6 = 0.6 < θ7, and the bound (‖X⁶‖‖X²‖)^(1/8) = 0.6 too) and
+        // one at 0.9504175, where the bound is within the margin of θ7 = 0.9504179: X⁸ formed,
+        // the same choice
+        let mut formed = Vec::new();
+        for norm in [0.6, 0.950_417_5] {
+            let x =
+                DMatrix::from_row_slice(3, 3, &[0.0, norm, 0.0, -norm, 0.0, 0.0, 0.0, 0.0, 0.0]);
+            let (ours, choice, powers) = expm_choosing(&x).expect("nonsingular");
+            assert_eq!(choice.degree, 7, "at {norm}");
+            formed.push(powers.expect("order 3").even[3].is_some());
+            let theirs = x.exp();
+            assert!(ours
+                .iter()
+                .zip(theirs.iter())
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+        }
+        assert_eq!(formed, [false, true]);
     }
 
     #[test]
