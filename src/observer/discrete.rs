@@ -507,38 +507,63 @@ fn check_plant(t: &Rational, a: (usize, usize), b: (usize, usize)) -> Result<(),
 
 /// `Σ_(k<16) X^k / k!` by Paterson and Stockmeyer's scheme, from X, X² = X·X and X⁴ = X²·X²:
 /// X³ = X²·X formed, then Horner's rule in X⁴ over blocks of four terms — four matrix products
-/// here, six with the two powers.
+/// here, six with the two powers — then squared `squarings` times; `None` when a square is not
+/// finite. Two matrices serve the whole rule and the squarings: each product goes into the
+/// other, and each block of terms is added to it entry by entry, summed as a matrix of its own
+/// would be (the same bits; the series' peak is a matrix smaller than with a matrix a block).
 fn taylor_16(
     x: &nalgebra::DMatrix<f64>,
     x2: &nalgebra::DMatrix<f64>,
     x4: &nalgebra::DMatrix<f64>,
-) -> nalgebra::DMatrix<f64> {
+    squarings: i32,
+) -> Option<nalgebra::DMatrix<f64>> {
     use nalgebra::DMatrix;
     let size = x.nrows();
     let x3 = x2 * x;
-    let powers = [x, x2, &x3];
     // 1/k! for k < 16
     let mut inverse_factorial = [1.0f64; 16];
     for k in 1..16 {
         inverse_factorial[k] = inverse_factorial[k - 1] / k as f64;
     }
-    let block = |j: usize| {
-        // the identity's term first: 0 + 1·c on the diagonal, 0 + 0·c = +0 off it
-        let mut sum = DMatrix::<f64>::from_diagonal_element(size, size, inverse_factorial[4 * j]);
-        for (i, power) in powers.iter().enumerate() {
-            // in place: no matrix allocated per term
-            let c = inverse_factorial[4 * j + i + 1];
-            for (s, p) in sum.as_mut_slice().iter_mut().zip(power.as_slice()) {
-                *s += p * c;
+    // block j = c₄ⱼI + c₄ⱼ₊₁X + c₄ⱼ₊₂X² + c₄ⱼ₊₃X³, each entry summed from the identity's term
+    // (c on the diagonal, +0 off it) in that order, then added to the product's entry — or,
+    // for the first block, the entry itself
+    let with_block = |target: &mut DMatrix<f64>, j: usize, add: bool| {
+        let c = &inverse_factorial[4 * j..4 * j + 4];
+        let columns = target
+            .as_mut_slice()
+            .chunks_mut(size)
+            .zip(x.as_slice().chunks(size))
+            .zip(x2.as_slice().chunks(size))
+            .zip(x3.as_slice().chunks(size));
+        for (col, (((t, p1), p2), p3)) in columns.enumerate() {
+            let entries = t.iter_mut().zip(p1).zip(p2).zip(p3);
+            for (row, (((t, &a1), &a2), &a3)) in entries.enumerate() {
+                let b = if row == col { c[0] } else { 0.0 };
+                let b = b + a1 * c[1];
+                let b = b + a2 * c[2];
+                let b = b + a3 * c[3];
+                *t = if add { *t + b } else { b };
             }
         }
-        sum
     };
-    let mut result = block(3);
+    let mut result = DMatrix::<f64>::zeros(size, size);
+    with_block(&mut result, 3, false);
+    let mut product = DMatrix::<f64>::zeros(size, size);
     for j in (0..3).rev() {
-        result = &result * x4 + block(j);
+        product.gemm(1.0, &result, x4, 0.0);
+        with_block(&mut product, j, true);
+        std::mem::swap(&mut result, &mut product);
     }
-    result
+    drop(x3);
+    for _ in 0..squarings {
+        product.gemm(1.0, &result, &result, 0.0);
+        std::mem::swap(&mut result, &mut product);
+        if result.as_slice().iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+    }
+    Some(result)
 }
 
 /// The Taylor series' X = A_aug/2^s, X² and X⁴: the last two are the Padé exponential's
@@ -671,14 +696,8 @@ fn float_zoh(n: usize, aug: nalgebra::DMatrix<f64>) -> Result<Sampled, DiscreteE
     }
     let (x, x2, x4, _) = taylor_powers(&aug, squarings, exponential);
     drop(aug); // its room to the series' matrices
-    let mut taylor = taylor_16(&x, &x2, &x4);
+    let taylor = taylor_16(&x, &x2, &x4, squarings).ok_or_else(overflow)?;
     drop((x, x2, x4));
-    for _ in 0..squarings {
-        taylor = &taylor * &taylor;
-        if taylor.as_slice().iter().any(|x| !x.is_finite()) {
-            return Err(overflow());
-        }
-    }
     // the largest difference, a NaN counted as failure
     let error = linalg::float::max_or_nan(
         pade.as_slice()
