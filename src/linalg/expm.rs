@@ -563,11 +563,11 @@ fn solve_p_q_body(u: DMatrix<f64>, v: DMatrix<f64>) -> Option<DMatrix<f64>> {
     let blocks = row_blocks(size);
     // L y = b, unit diagonal: the blocks from the top, each row taken from the rows above it
     for &(first, count) in &blocks {
-        forward_block(x, lu, size, first, count);
+        solve_block(Substitution::Forward, x, lu, size, first, count);
     }
     // U x = y, the blocks from the bottom, each row taken from the rows below it, then divided
     for &(first, count) in blocks.iter().rev() {
-        backward_block(x, lu, size, first, count);
+        solve_block(Substitution::Backward, x, lu, size, first, count);
     }
     // R = (Pᵀ solved)ᵀ, transposed where it lies
     rows.transpose_mut();
@@ -610,32 +610,50 @@ fn strips(size: usize) -> impl Iterator<Item = (usize, usize)> {
         .chain((fours..size).map(|start| (start, 1)))
 }
 
-/// [`forward_tile`] over every strip of the block of `count` rows from `first`.
+/// Which of the two triangular solves a tile takes part in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Substitution {
+    /// L y = b, from the top ([`forward_tile`]).
+    Forward,
+    /// U x = y, from the bottom ([`backward_tile`]).
+    Backward,
+}
+
+/// The tile of `R` rows from `first` and `W` entries from `start`, in the substitution `way`.
 #[inline(always)]
-fn forward_block(x: &mut [f64], lu: &[f64], size: usize, first: usize, count: usize) {
-    for (start, width) in strips(size) {
-        match (count == TILE_ROWS, width) {
-            (true, TILE_LANES) => forward_tile::<TILE_ROWS, TILE_LANES>(x, lu, size, first, start),
-            (true, HALF_LANES) => forward_tile::<TILE_ROWS, HALF_LANES>(x, lu, size, first, start),
-            (true, _) => forward_tile::<TILE_ROWS, 1>(x, lu, size, first, start),
-            (false, TILE_LANES) => forward_tile::<1, TILE_LANES>(x, lu, size, first, start),
-            (false, HALF_LANES) => forward_tile::<1, HALF_LANES>(x, lu, size, first, start),
-            (false, _) => forward_tile::<1, 1>(x, lu, size, first, start),
-        }
+fn tile<const R: usize, const W: usize>(
+    way: Substitution,
+    x: &mut [f64],
+    lu: &[f64],
+    size: usize,
+    first: usize,
+    start: usize,
+) {
+    match way {
+        Substitution::Forward => forward_tile::<R, W>(x, lu, size, first, start),
+        Substitution::Backward => backward_tile::<R, W>(x, lu, size, first, start),
     }
 }
 
-/// [`backward_tile`] over every strip of the block of `count` rows from `first`.
+/// Every strip of the block of `count` rows from `first` (a full block of [`TILE_ROWS`] or a
+/// single row), in the substitution `way`.
 #[inline(always)]
-fn backward_block(x: &mut [f64], lu: &[f64], size: usize, first: usize, count: usize) {
+fn solve_block(
+    way: Substitution,
+    x: &mut [f64],
+    lu: &[f64],
+    size: usize,
+    first: usize,
+    count: usize,
+) {
     for (start, width) in strips(size) {
         match (count == TILE_ROWS, width) {
-            (true, TILE_LANES) => backward_tile::<TILE_ROWS, TILE_LANES>(x, lu, size, first, start),
-            (true, HALF_LANES) => backward_tile::<TILE_ROWS, HALF_LANES>(x, lu, size, first, start),
-            (true, _) => backward_tile::<TILE_ROWS, 1>(x, lu, size, first, start),
-            (false, TILE_LANES) => backward_tile::<1, TILE_LANES>(x, lu, size, first, start),
-            (false, HALF_LANES) => backward_tile::<1, HALF_LANES>(x, lu, size, first, start),
-            (false, _) => backward_tile::<1, 1>(x, lu, size, first, start),
+            (true, TILE_LANES) => tile::<TILE_ROWS, TILE_LANES>(way, x, lu, size, first, start),
+            (true, HALF_LANES) => tile::<TILE_ROWS, HALF_LANES>(way, x, lu, size, first, start),
+            (true, _) => tile::<TILE_ROWS, 1>(way, x, lu, size, first, start),
+            (false, TILE_LANES) => tile::<1, TILE_LANES>(way, x, lu, size, first, start),
+            (false, HALF_LANES) => tile::<1, HALF_LANES>(way, x, lu, size, first, start),
+            (false, _) => tile::<1, 1>(way, x, lu, size, first, start),
         }
     }
 }
@@ -648,23 +666,23 @@ fn entries<const W: usize>(s: &[f64], at: usize) -> &[f64; W] {
         .unwrap_or_else(|| unreachable!("a tile lies inside its matrix"))
 }
 
-/// Forward substitution for the rows `first..first + R` of Pᵀ (`x`, a row per column), in the
-/// entries `start..start + W`: each entry y takes y + (−b)·l from the rows above in turn, as
-/// the row-by-row elimination gives them, so the bits are the same; the tile stays in
-/// registers while every earlier row streams past.
+/// The rows `first..first + R` of Pᵀ (`x`, a row per column), in the entries `start..start +
+/// W`, each take y + (−b)·l from every row i of `rows` in turn — b the row's entry, l the
+/// factor's entry (i, row) — as the row-by-row elimination gives them, so the bits are the
+/// same; the tile stays in registers while the rows stream past.
 #[inline(always)]
-fn forward_tile<const R: usize, const W: usize>(
+fn take_rows<const R: usize, const W: usize>(
     x: &mut [f64],
     lu: &[f64],
     size: usize,
-    first: usize,
-    start: usize,
+    (first, start): (usize, usize),
+    rows: impl Iterator<Item = usize>,
 ) {
     let mut tile = [[0.0; W]; R];
     for (r, row) in tile.iter_mut().enumerate() {
         *row = *entries(x, (first + r) * size + start);
     }
-    for i in 0..first {
+    for i in rows {
         let b = entries::<W>(x, i * size + start);
         let l = entries::<R>(lu, i * size + first);
         for (row, &l) in tile.iter_mut().zip(l) {
@@ -676,6 +694,19 @@ fn forward_tile<const R: usize, const W: usize>(
     for (r, row) in tile.iter().enumerate() {
         x[(first + r) * size + start..][..W].copy_from_slice(row);
     }
+}
+
+/// Forward substitution for the rows `first..first + R` of Pᵀ in the entries `start..start +
+/// W`: the rows above taken in turn ([`take_rows`]), then the block's own rows.
+#[inline(always)]
+fn forward_tile<const R: usize, const W: usize>(
+    x: &mut [f64],
+    lu: &[f64],
+    size: usize,
+    first: usize,
+    start: usize,
+) {
+    take_rows::<R, W>(x, lu, size, (first, start), 0..first);
     // inside the block, in place (the tile is indexed by constants only, so it stays in
     // registers): each row, once complete, taken from the rows below it
     for k in 0..R {
@@ -692,8 +723,8 @@ fn forward_tile<const R: usize, const W: usize>(
 }
 
 /// Back substitution for the rows `first..first + R` of Pᵀ in the entries `start..start + W`:
-/// each entry takes y + (−b)·u from the rows below, from the last up, and is then divided by
-/// its diagonal entry, as the row-by-row elimination does it.
+/// the rows below taken from the last up ([`take_rows`]), then the block's own rows, each
+/// divided by its diagonal entry before it is taken, as the row-by-row elimination does it.
 #[inline(always)]
 fn backward_tile<const R: usize, const W: usize>(
     x: &mut [f64],
@@ -702,24 +733,7 @@ fn backward_tile<const R: usize, const W: usize>(
     first: usize,
     start: usize,
 ) {
-    let mut tile = [[0.0; W]; R];
-    for (r, row) in tile.iter_mut().enumerate() {
-        *row = *entries(x, (first + r) * size + start);
-    }
-    for step in 0..size - first - R {
-        // the rows from the last up (an index counted up: the loop then stays in registers)
-        let i = size - 1 - step;
-        let b = entries::<W>(x, i * size + start);
-        let u = entries::<R>(lu, i * size + first);
-        for (row, &u) in tile.iter_mut().zip(u) {
-            for (y, &b) in row.iter_mut().zip(b) {
-                *y += -b * u;
-            }
-        }
-    }
-    for (r, row) in tile.iter().enumerate() {
-        x[(first + r) * size + start..][..W].copy_from_slice(row);
-    }
+    take_rows::<R, W>(x, lu, size, (first, start), (first + R..size).rev());
     // inside the block, in place and from its last row up: divided, then taken from the rows
     // above it
     for k in (0..R).rev() {
