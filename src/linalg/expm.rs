@@ -5,10 +5,11 @@
 //! algorithm for the matrix exponential", SIAM J. Matrix Anal. Appl. 31, 2009; SciPy's `expm`
 //! follows it): the smallest m whose bound on the backward error, taken from the norms
 //! d_k = ‖X^k‖₁^(1/k) of the even powers, is below the unit roundoff. Past degree 9 the matrix
-//! is scaled by 2^−s and the approximant squared s times. The norms are exact (X^k is formed
-//! anyway); the correction ℓ(X, m), which raises s when |X|'s powers grow faster than X's, takes
-//! ‖ |X|^(2m+1) ‖₁ from 2m + 1 products of |X|ᵀ with a vector. The approximant is the solution
-//! of q_m(X) R = p_m(X), by LU factorisation with partial pivoting.
+//! is scaled by 2^−s and the approximant squared s times. The norms are the formed powers' own
+//! (each power is needed anyway, but X⁸ where a bound decides without it); the correction
+//! ℓ(X, m), which raises s when |X|'s powers grow faster than X's, takes ‖ |X|^(2m+1) ‖₁ from
+//! 2m + 1 products of |X|ᵀ with a vector. The approximant is the solution of q_m(X) R = p_m(X),
+//! by LU factorisation with partial pivoting.
 //!
 //! **Identity.** The result is nalgebra's `exp` bit for bit — the same products (nalgebra's own
 //! `gemm`), the same order of every sum, the same pivots — which a property test checks on
@@ -22,18 +23,19 @@
 //!
 //! **Cost.** At order N: the even powers, up to five products (X², X⁴, X⁶, and X⁸ or X¹⁰ when
 //! degree 13's scaling needs them; X⁸ only for its norm when degree 7 is chosen, and not even
-//! for that where a bound from ‖X⁶‖ and ‖X²‖ decides: `d8_below`), two more products for the approximant, the factorisation
-//! (⅔N³ flops), the two triangular solves with N right-hand sides (2N³) and s squarings.
-//! The products run in matrixmultiply's kernels for the machine. The factorisation, the solves
-//! and ℓ's vector products are compiled twice, for the compiler's baseline x86-64 (two f64 a
-//! vector) and for AVX (four), and the second is chosen where the processor has it; neither
-//! forms a fused multiply-add, which would change the bits. In the baseline the solves were a
-//! third of the work at N = 101. The tiles took the whole solve (factorisation included) from
-//! 0.254 to 0.214 ms at N = 101 in a warm loop; row by row, every row taken was a pass over
-//! all the right-hand sides, from the second-level cache. Measured (the zero-order hold's augmented matrix of a random
-//! plant, 2-core machine, AVX): 0.0041 / 0.095 / 0.630 ms at N = 11 / 51 / 101, against
-//! 0.0042 / 0.111 / 0.736 ms in the baseline, where nalgebra's `exp` took 0.0051 / 0.131 /
-//! 0.756 ms and SciPy's `expm` on the benchmark's plants 0.02 / 0.09 / 0.50 ms.
+//! for that where a bound from ‖X⁶‖ and ‖X²‖ decides, `d8_below`), two more products for the
+//! approximant, the factorisation (⅔N³ flops), the two triangular solves with N right-hand
+//! sides (2N³) and s squarings. The products run in matrixmultiply's kernels for the machine.
+//! The factorisation, the solves and ℓ's vector products are compiled twice, for the
+//! compiler's baseline x86-64 (two f64 a vector) and for AVX (four), and the second is chosen
+//! where the processor has it; neither forms a fused multiply-add, which would change the bits.
+//! In the baseline the solves were a third of the work at N = 101. Measured in session 27 (the
+//! zero-order hold's augmented matrix of a random plant, 2-core machine, AVX): 0.0041 / 0.095 /
+//! 0.630 ms at N = 11 / 51 / 101, against 0.0042 / 0.111 / 0.736 ms in the baseline, where
+//! nalgebra's `exp` took 0.0051 / 0.131 / 0.756 ms and SciPy's `expm` on the benchmark's plants
+//! 0.02 / 0.09 / 0.50 ms. Since then the tiles took the whole solve (factorisation included)
+//! from 0.254 to 0.214 ms at N = 101 in a warm loop (row by row, every row taken was a pass
+//! over all the right-hand sides, from the second-level cache), and degree 7 saves X⁸.
 
 use nalgebra::DMatrix;
 

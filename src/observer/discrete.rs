@@ -510,7 +510,8 @@ fn check_plant(t: &Rational, a: (usize, usize), b: (usize, usize)) -> Result<(),
 /// here, six with the two powers — then squared `squarings` times; `None` when a square is not
 /// finite. Two matrices serve the whole rule and the squarings: each product goes into the
 /// other, and each block of terms is added to it entry by entry, summed as a matrix of its own
-/// would be (the same bits; the series' peak is a matrix smaller than with a matrix a block).
+/// would be (the same bits, and one matrix fewer at the series' peak than with a matrix for
+/// each block).
 fn taylor_16(
     x: &nalgebra::DMatrix<f64>,
     x2: &nalgebra::DMatrix<f64>,
