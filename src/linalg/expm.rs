@@ -106,16 +106,15 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Power
         let e = powers.pade(Low::Five)?;
         return Some((e, unscaled(5), Some(powers)));
     }
-    let theta_7 = 9.504_178_996_162_932e-1;
     let eta_3_below = |powers: &mut Powers, theta: f64| {
-        if d8_below(powers, theta_7) {
+        if d8_below(powers, THETA_7) {
             // then max(d6, d8) < θ ≥ θ7 exactly when d6 < θ, and X⁸ is not formed
             powers.d(Even::Six) < theta
         } else {
             powers.d(Even::Six).max(powers.d(Even::Eight)) < theta
         }
     };
-    if eta_3_below(&mut powers, theta_7) && ell(powers.a, 7) == 0 {
+    if eta_3_below(&mut powers, THETA_7) && ell(powers.a, 7) == 0 {
         let e = powers.pade(Low::Seven)?;
         return Some((e, unscaled(7), Some(powers)));
     }
@@ -158,6 +157,9 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Power
         Some(powers),
     ))
 }
+
+/// θ7: degree 7's bound on η3 = max(d6, d8) (Al-Mohy and Higham's table; nalgebra's value).
+const THETA_7: f64 = 9.504_178_996_162_932e-1;
 
 /// Whether d8 = ‖X⁸‖₁^(1/8), as [`Powers::d`] would compute it from the product X⁶·X², is
 /// certainly below `theta`, without forming that product: the computed product C of the
@@ -559,17 +561,17 @@ fn solve_p_q_body(u: DMatrix<f64>, v: DMatrix<f64>) -> Option<DMatrix<f64>> {
         }
     }
     let lu = q.as_slice();
-    if (0..size).any(|i| lu[i * size + i] == 0.0) {
-        return None;
-    }
-    let blocks = row_blocks(size);
+    // every diagonal entry of U is a pivot `factorise` found nonzero: the divisions are safe
+    // the rows in blocks of TILE_ROWS, then single rows; the entries of a row in strips
+    let blocks = spans(size, &[TILE_ROWS, 1]);
+    let strips = spans(size, &[TILE_LANES, HALF_LANES, 1]);
     // L y = b, unit diagonal: the blocks from the top, each row taken from the rows above it
     for &(first, count) in &blocks {
-        solve_block(Substitution::Forward, x, lu, size, first, count);
+        solve_block(Substitution::Forward, x, lu, size, (first, count), &strips);
     }
     // U x = y, the blocks from the bottom, each row taken from the rows below it, then divided
     for &(first, count) in blocks.iter().rev() {
-        solve_block(Substitution::Backward, x, lu, size, first, count);
+        solve_block(Substitution::Backward, x, lu, size, (first, count), &strips);
     }
     // R = (Pᵀ solved)ᵀ, transposed where it lies
     rows.transpose_mut();
@@ -585,31 +587,18 @@ const TILE_LANES: usize = 8;
 /// See [`TILE_LANES`].
 const HALF_LANES: usize = 4;
 
-/// The rows `0..size` as blocks (first row, count): of [`TILE_ROWS`], then single rows.
-fn row_blocks(size: usize) -> Vec<(usize, usize)> {
-    let full = size / TILE_ROWS * TILE_ROWS;
-    (0..full)
-        .step_by(TILE_ROWS)
-        .map(|first| (first, TILE_ROWS))
-        .chain((full..size).map(|first| (first, 1)))
-        .collect()
-}
-
-/// The strips of columns `0..size` (start, width): of [`TILE_LANES`], then [`HALF_LANES`],
-/// then single columns.
-#[inline(always)]
-fn strips(size: usize) -> impl Iterator<Item = (usize, usize)> {
-    let eights = size / TILE_LANES * TILE_LANES;
-    let fours = eights + (size - eights) / HALF_LANES * HALF_LANES;
-    (0..eights)
-        .step_by(TILE_LANES)
-        .map(|start| (start, TILE_LANES))
-        .chain(
-            (eights..fours)
-                .step_by(HALF_LANES)
-                .map(|start| (start, HALF_LANES)),
-        )
-        .chain((fours..size).map(|start| (start, 1)))
+/// `0..size` cut into spans (start, length): as many of `lengths[0]` as fit, then of
+/// `lengths[1]` in what is left, and so on (the last length 1, so that every index is covered).
+fn spans(size: usize, lengths: &[usize]) -> Vec<(usize, usize)> {
+    let mut spans = Vec::new();
+    let mut start = 0;
+    for &length in lengths {
+        while start + length <= size {
+            spans.push((start, length));
+            start += length;
+        }
+    }
+    spans
 }
 
 /// Which of the two triangular solves a tile takes part in.
@@ -637,18 +626,18 @@ fn tile<const R: usize, const W: usize>(
     }
 }
 
-/// Every strip of the block of `count` rows from `first` (a full block of [`TILE_ROWS`] or a
-/// single row), in the substitution `way`.
+/// Every strip of `strips` in the block of `count` rows from `first` (a full block of
+/// [`TILE_ROWS`] or a single row), in the substitution `way`.
 #[inline(always)]
 fn solve_block(
     way: Substitution,
     x: &mut [f64],
     lu: &[f64],
     size: usize,
-    first: usize,
-    count: usize,
+    (first, count): (usize, usize),
+    strips: &[(usize, usize)],
 ) {
-    for (start, width) in strips(size) {
+    for &(start, width) in strips {
         match (count == TILE_ROWS, width) {
             (true, TILE_LANES) => tile::<TILE_ROWS, TILE_LANES>(way, x, lu, size, first, start),
             (true, HALF_LANES) => tile::<TILE_ROWS, HALF_LANES>(way, x, lu, size, first, start),
@@ -890,7 +879,7 @@ mod tests {
             let x =
                 DMatrix::from_row_slice(3, 3, &[0.0, norm, 0.0, -norm, 0.0, 0.0, 0.0, 0.0, 0.0]);
             let mut powers = Powers::new(&x);
-            decided.push(d8_below(&mut powers, 9.504_178_996_162_932e-1));
+            decided.push(d8_below(&mut powers, THETA_7));
             assert!(powers.even[3].is_none(), "X⁸ not formed for the bound");
             let (ours, choice, _) = expm_choosing(&x).expect("nonsingular");
             assert_eq!(choice.degree, 7, "at {norm}");
