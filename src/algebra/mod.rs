@@ -125,7 +125,7 @@ pub fn factor_small(n: u64, limit: u64) -> Option<Vec<(u64, u32)>> {
     let mut p = 2u64;
     while p * p <= rest {
         let mut e = 0;
-        while rest % p == 0 {
+        while rest.is_multiple_of(p) {
             rest /= p;
             e += 1;
         }

@@ -44,7 +44,7 @@ pub fn definiteness(m: &Matrix<Rational>) -> Result<Definiteness, LinalgError> {
     let zero = Rational::zero();
     let alternates = (0..=n).all(|k| {
         let c = p.coeff(k);
-        if (n - k) % 2 == 0 {
+        if (n - k).is_multiple_of(2) {
             c >= zero
         } else {
             c <= zero

@@ -145,7 +145,7 @@ fn expm_choosing(x: &DMatrix<f64>) -> Option<(DMatrix<f64>, Choice, Option<Power
     let mut r = powers.pade13_scaled(s)?;
     let mut square = DMatrix::<f64>::zeros(size, size);
     for _ in 0..s {
-        square.gemm(1.0, &r, &r, 0.0);
+        super::gemm::product_into(&mut square, &r, &r);
         std::mem::swap(&mut r, &mut square);
     }
     Some((
@@ -305,7 +305,7 @@ impl<'a> Powers<'a> {
             };
             let (l, r) = (factor(left), factor(right));
             let mut product = DMatrix::<f64>::zeros(self.a.nrows(), self.a.nrows());
-            product.gemm(1.0, l, r, 0.0);
+            super::gemm::product_into(&mut product, l, r);
             self.even[k.slot()] = Some(product);
         }
         self.even[k.slot()]
@@ -352,7 +352,7 @@ impl<'a> Powers<'a> {
             acc
         };
         let mut u = DMatrix::<f64>::zeros(self.a.nrows(), self.a.nrows());
-        u.gemm(1.0, self.a, &sum(1), 0.0);
+        super::gemm::product_into(&mut u, self.a, &sum(1));
         let v = sum(0);
         // the powers above X⁴ are done with (X² and X⁴ go on to the caller): their room, and
         // the odd sum's, to the solve
@@ -392,7 +392,7 @@ impl<'a> Powers<'a> {
             add_scaled(&mut inner, &mb4, b[high[1]]);
             add_scaled(&mut inner, &mb2, b[high[2]]);
             let mut acc = DMatrix::<f64>::zeros(size, size);
-            acc.gemm(1.0, &mb6, &inner, 0.0);
+            super::gemm::product_into(&mut acc, &mb6, &inner);
             add_scaled(&mut acc, &mb6, b[low[0]]);
             add_scaled(&mut acc, &mb4, b[low[1]]);
             add_scaled(&mut acc, &mb2, b[low[2]]);
@@ -401,7 +401,7 @@ impl<'a> Powers<'a> {
         };
         let inner = half([13, 11, 9], [7, 5, 3, 1]);
         let mut u = DMatrix::<f64>::zeros(size, size);
-        u.gemm(1.0, &mb, &inner, 0.0);
+        super::gemm::product_into(&mut u, &mb, &inner);
         let v = half([12, 10, 8], [6, 4, 2, 0]);
         solve_p_q(u, v)
     }
@@ -469,7 +469,7 @@ macro_rules! with_avx {
         $(#[$doc])*
         fn $name($($arg: $ty),*) -> $ret {
             #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx") {
+            if super::cpu::features().avx {
                 #[allow(unsafe_code)]
                 // SAFETY: the processor has AVX, checked just above.
                 return unsafe { $avx($($arg),*) };

@@ -11,12 +11,16 @@
 //! * [`lyapunov`]: `F X + X Fᵀ + W = 0`, exact (vectorised) and in `f64` (Bartels–Stewart).
 //! * [`float`]: the `f64` side through nalgebra: eigenvalues, singular values, condition numbers.
 //! * [`expm`](mod@expm): the matrix exponential in `f64` (scaling and squaring, Padé).
+//! * [`gemm`]: the `f64` matrix product, nalgebra's bits without its first `cpuid`.
+//! * [`cpu`]: the processor's vector instructions, read from the C library where it has them.
 
 pub mod charpoly;
+pub mod cpu;
 pub mod definiteness;
 pub mod elimination;
 pub mod expm;
 pub mod float;
+pub mod gemm;
 pub mod kronecker;
 mod limbs;
 pub mod lyapunov;

@@ -85,14 +85,14 @@ const fn is_prime(n: u64) -> bool {
     let small = [2u64, 3, 5, 7, 11, 13];
     let mut i = 0;
     while i < small.len() {
-        if n % small[i] == 0 {
+        if n.is_multiple_of(small[i]) {
             return n == small[i];
         }
         i += 1;
     }
     let mut d = n - 1;
     let mut s = 0;
-    while d % 2 == 0 {
+    while d.is_multiple_of(2) {
         d /= 2;
         s += 1;
     }
@@ -101,7 +101,7 @@ const fn is_prime(n: u64) -> bool {
     'witness: while w < witnesses.len() {
         let a = witnesses[w];
         w += 1;
-        if a % n == 0 {
+        if a.is_multiple_of(n) {
             continue;
         }
         // a^d mod n by squaring
@@ -176,7 +176,7 @@ fn pow_mod(b: u64, mut e: u64, p: u64) -> u64 {
 }
 
 pub(crate) fn inv_mod(a: u64, p: u64) -> Option<u64> {
-    (a % p != 0).then(|| pow_mod(a, p - 2, p))
+    (!a.is_multiple_of(p)).then(|| pow_mod(a, p - 2, p))
 }
 
 /// `x mod p` in `0..p` for a prime of [`primes`] (below 2³¹): Horner over the magnitude's
@@ -1011,7 +1011,11 @@ mod tests {
             assert_eq!(taken, searched);
         }
         // and the first is the largest prime below 2³⁰, by trial division (not Miller–Rabin)
-        let composite = |c: u64| (2..).take_while(|d| d * d <= c).any(|d| c % d == 0);
+        let composite = |c: u64| {
+            (2..)
+                .take_while(|d| d * d <= c)
+                .any(|d| c.is_multiple_of(d))
+        };
         let first = elimination_primes().next().expect("a prime");
         assert!(first < 1 << 30 && !composite(first));
         assert!((first + 1..1 << 30).all(composite));

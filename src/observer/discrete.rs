@@ -520,7 +520,7 @@ fn taylor_16(
 ) -> Option<nalgebra::DMatrix<f64>> {
     use nalgebra::DMatrix;
     let size = x.nrows();
-    let x3 = x2 * x;
+    let x3 = linalg::gemm::product(x2, x);
     // 1/k! for k < 16
     let mut inverse_factorial = [1.0f64; 16];
     for k in 1..16 {
@@ -552,13 +552,13 @@ fn taylor_16(
     with_block(&mut result, 3, false);
     let mut product = DMatrix::<f64>::zeros(size, size);
     for j in (0..3).rev() {
-        product.gemm(1.0, &result, x4, 0.0);
+        linalg::gemm::product_into(&mut product, &result, x4);
         with_block(&mut product, j, true);
         std::mem::swap(&mut result, &mut product);
     }
     drop(x3);
     for _ in 0..squarings {
-        product.gemm(1.0, &result, &result, 0.0);
+        linalg::gemm::product_into(&mut product, &result, &result);
         std::mem::swap(&mut result, &mut product);
         if result.as_slice().iter().any(|x| !x.is_finite()) {
             return None;
@@ -589,8 +589,8 @@ fn taylor_powers(
             (x, x2, x4, true)
         }
         _ => {
-            let x2 = &x * &x;
-            let x4 = &x2 * &x2;
+            let x2 = linalg::gemm::product(&x, &x);
+            let x4 = linalg::gemm::product(&x2, &x2);
             (x, x2, x4, false)
         }
     }

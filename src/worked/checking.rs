@@ -40,7 +40,7 @@ impl Sampler {
     fn value(&mut self, name: &str) -> Rational {
         let p = (self.next() % 9 + 1) as i64;
         let q = (self.next() % 4 + 1) as i64;
-        let negative = !name.starts_with('T') && self.next() % 2 == 0;
+        let negative = !name.starts_with('T') && self.next().is_multiple_of(2);
         Rational::new((if negative { -p } else { p }).into(), q.into())
     }
 }

@@ -238,7 +238,7 @@ fn ackermann(
     let chi = berkowitz(&o, "s")?;
     let p = chi.coeffs();
     let sign = |k: usize| {
-        if k % 2 == 0 {
+        if k.is_multiple_of(2) {
             Fraction::one()
         } else {
             -Fraction::one()
