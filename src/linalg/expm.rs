@@ -435,7 +435,7 @@ fn add_identity(acc: &mut DMatrix<f64>, c: f64) {
 /// The largest column sum of |m|: each column summed from the top, one entry at a time (the
 /// bits of a fold), four columns side by side so that their additions overlap instead of each
 /// waiting on the one before.
-fn one_norm(m: &DMatrix<f64>) -> f64 {
+pub(crate) fn one_norm(m: &DMatrix<f64>) -> f64 {
     let size = m.nrows().max(1);
     let columns = m.as_slice().chunks_exact(size * 4);
     let rest = columns.remainder();

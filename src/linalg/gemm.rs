@@ -1,12 +1,13 @@
 //! The matrix product A·B in `f64`, with the bits nalgebra's `gemm` gives it.
 //!
-//! **Algorithm.** Register tiles without packing A. C's rows go in groups of eight — one
-//! vector of eight `f64`: one AVX-512 register, two AVX ones, four of the baseline's — and a
-//! tile of R groups × W columns of C stays in registers while k runs along A's columns: each
-//! step loads the tile's 8R entries of A's column k, contiguous in column-major storage, and
-//! takes them times each of B's W entries of row k, which are copied once per block of columns
-//! into rows of W. Where A's row count is not a multiple of eight, A is copied once with zero
-//! rows added, and the extra rows' results are not stored.
+//! **Algorithm.** Register tiles. C's rows go in groups of eight — one vector of eight `f64`:
+//! one AVX-512 register, two AVX ones, four of the baseline's — and a tile of R groups × W
+//! columns of C stays in registers while k runs along A's columns: each step loads the tile's
+//! 8R entries of A's column k and takes them times each of B's W entries of row k. A is copied
+//! once into columns padded with zero rows to whole groups, each starting on a cache line (a
+//! vector load across two lines costs two); the padding rows' results are not stored. B's rows
+//! are copied once per block of k, W entries of a row side by side. A group of rows goes over
+//! every block of columns before the next, so its part of A stays in the first-level cache.
 //!
 //! **Identity.** nalgebra's `gemm(1, A, B, 0)`, and its `*` on matrices, make for `f64`:
 //! * when one of C's or A's dimensions is at most 5 (nalgebra's `SMALL_DIM`), each column by
@@ -23,10 +24,13 @@
 //! [`product`] with nalgebra's `gemm` bit for bit on the machine they run on (shapes across
 //! the small and the blocked cases), and each chain with a scalar reference.
 //!
-//! **Cost.** 2·m·k·p flops and no allocation but C, B's rows for a block of columns and, for a
-//! row count not a multiple of eight, A's copy. Against matrixmultiply it saves the packing of
-//! A and the first query of the processor's features (`cpuid`, [`super::cpu`]), which in a
-//! virtual machine cost more than a whole product of order 11.
+//! **Cost.** 2·m·k·p flops; C, A's padded copy and B's rows allocated. The first query of
+//! the processor's features goes to the C library's answers ([`super::cpu`]): matrixmultiply's
+//! goes to `cpuid`, which in a virtual machine costs more than a whole product of order 11.
+//! Measured on the 2-core machine (AMD EPYC, AVX-512; square products in a warm loop, best of
+//! five): 0.28 / 0.95 / 7.6 / 45 / 327 µs at order 11 / 21 / 51 / 101 / 201, against
+//! matrixmultiply's 0.26 / 0.74 / 6.9 / 42 / 316 µs there: slower by 0.02 to 11 µs a product,
+//! where the process saves 27–52 µs of `cpuid` once (`zoh` takes about a dozen products).
 
 use super::cpu;
 use nalgebra::DMatrix;
@@ -162,7 +166,10 @@ macro_rules! kernel {
     };
 }
 
-/// [`tiles`] in AVX-512 registers: 3 groups × 8 columns, 24 of the 32 registers.
+/// [`tiles`] in AVX-512 registers: 1 group × 16 columns, 16 of the 32 registers. Each of B's
+/// entries is taken once a step, so it is broadcast within the multiply-add that takes it;
+/// 3 groups × 8 columns, where each is taken three times and broadcast into a register first,
+/// was 3 % slower at order 101, 24 columns 3 % slower too.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx2,fma,avx")]
 fn blocked_avx512(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
@@ -172,9 +179,13 @@ fn blocked_avx512(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
         b,
         m,
         k,
-        3,
-        8,
-        kernel!(avx512, 3, [1, 2, 3, 4, 5, 6, 7, 8]),
+        1,
+        16,
+        kernel!(
+            avx512,
+            1,
+            [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16]
+        ),
     )
 }
 
@@ -218,39 +229,41 @@ fn tiles(
 ) {
     let (r, w) = (groups_per_tile, columns_per_tile);
     let p = c.len() / m;
-    // A's rows padded with zeros to whole groups
+    // A's rows padded with zeros to whole groups, each column starting on a cache line (a
+    // vector load across two lines costs two)
     let rows = m.div_ceil(LANES) * LANES;
-    let padded: Vec<f64>;
-    let a = if rows == m {
-        a
-    } else {
-        let mut copy = vec![0.0; rows * k];
-        for (to, from) in copy.chunks_exact_mut(rows).zip(a.chunks_exact(m)) {
-            to[..m].copy_from_slice(from);
-        }
-        padded = copy;
-        &padded
-    };
+    let mut copy = vec![0.0; rows * k + LANES];
+    let offset = copy.as_ptr().align_offset(64).min(LANES);
+    let padded = &mut copy[offset..offset + rows * k];
+    for (to, from) in padded.chunks_exact_mut(rows).zip(a.chunks_exact(m)) {
+        to[..m].copy_from_slice(from);
+    }
+    let a: &[f64] = padded;
     let groups = rows / LANES;
-    let mut b_rows = vec![0.0; K_BLOCK.min(k) * w];
+    // B's rows of a block of k, cut into blocks of w columns (the last narrower), each block
+    // row after row
+    let mut b_rows = vec![0.0; K_BLOCK.min(k) * p];
     let mut k0 = 0;
     while k0 < k {
         let k1 = (k0 + K_BLOCK).min(k);
+        let depth = k1 - k0;
         let first = k0 == 0;
         let a_block = &a[k0 * rows..k1 * rows];
-        let mut j = 0;
-        while j < p {
-            let width = w.min(p - j);
-            // B's rows k0..k1 of columns j..j + width, row after row
-            let b_block = &mut b_rows[..(k1 - k0) * width];
-            for (w, column) in b.chunks_exact(k).skip(j).take(width).enumerate() {
-                for (t, &x) in column[k0..k1].iter().enumerate() {
-                    b_block[t * width + w] = x;
-                }
+        for (j, column) in b.chunks_exact(k).enumerate() {
+            let (start, width) = (j - j % w, w.min(p - (j - j % w)));
+            let block = &mut b_rows[start * depth..(start + width) * depth];
+            for (t, &x) in column[k0..k1].iter().enumerate() {
+                block[t * width + j % w] = x;
             }
-            let mut g = 0;
-            while g < groups {
-                let here = if groups - g >= r { r } else { 1 };
+        }
+        // a group of rows at a time over every block of columns: A's rows stay in the
+        // first-level cache while B's blocks stream past
+        let mut g = 0;
+        while g < groups {
+            let here = if groups - g >= r { r } else { 1 };
+            let mut j = 0;
+            while j < p {
+                let width = w.min(p - j);
                 let at = Tile {
                     m,
                     rows,
@@ -260,10 +273,10 @@ fn tiles(
                     width,
                     first,
                 };
-                kernel(c, a_block, b_block, at);
-                g += here;
+                kernel(c, a_block, &b_rows[j * depth..(j + width) * depth], at);
+                j += width;
             }
-            j += width;
+            g += here;
         }
         k0 = k1;
     }
