@@ -28,9 +28,11 @@
 //! the processor's features goes to the C library's answers ([`super::cpu`]): matrixmultiply's
 //! goes to `cpuid`, which in a virtual machine costs more than a whole product of order 11.
 //! Measured on the 2-core machine (AMD EPYC, AVX-512; square products in a warm loop, best of
-//! five): 0.28 / 0.95 / 7.6 / 45 / 327 µs at order 11 / 21 / 51 / 101 / 201, against
-//! matrixmultiply's 0.26 / 0.74 / 6.9 / 42 / 316 µs there: slower by 0.02 to 11 µs a product,
-//! where the process saves 27–52 µs of `cpuid` once (`zoh` takes about a dozen products).
+//! five, two runs): 0.26–0.27 / 0.84–0.87 / 7.1–7.2 / 43.1 / 317 µs at order 11 / 21 / 51 /
+//! 101 / 201, against matrixmultiply's 0.25–0.26 / 0.72 / 6.9 / 41.8 / 316 µs there: slower
+//! by 0.01 to 1.3 µs a product, where the process saves 27–52 µs of `cpuid` once (`zoh` takes
+//! about a dozen products). B's rows gathered row after row, instead of scattered column after
+//! column, took order 101 from 45.5 to 43.5 µs; A's copy without zeroing it first, to 43.1.
 
 use super::cpu;
 use nalgebra::DMatrix;
@@ -232,13 +234,14 @@ fn tiles(
     // A's rows padded with zeros to whole groups, each column starting on a cache line (a
     // vector load across two lines costs two)
     let rows = m.div_ceil(LANES) * LANES;
-    let mut copy = vec![0.0; rows * k + LANES];
+    let mut copy: Vec<f64> = Vec::with_capacity(rows * k + LANES);
     let offset = copy.as_ptr().align_offset(64).min(LANES);
-    let padded = &mut copy[offset..offset + rows * k];
-    for (to, from) in padded.chunks_exact_mut(rows).zip(a.chunks_exact(m)) {
-        to[..m].copy_from_slice(from);
+    copy.resize(offset, 0.0);
+    for column in a.chunks_exact(m) {
+        copy.extend_from_slice(column);
+        copy.resize(copy.len() + rows - m, 0.0);
     }
-    let a: &[f64] = padded;
+    let a = &copy[offset..];
     let groups = rows / LANES;
     // B's rows of a block of k, cut into blocks of w columns (the last narrower), each block
     // row after row
@@ -249,11 +252,14 @@ fn tiles(
         let depth = k1 - k0;
         let first = k0 == 0;
         let a_block = &a[k0 * rows..k1 * rows];
-        for (j, column) in b.chunks_exact(k).enumerate() {
-            let (start, width) = (j - j % w, w.min(p - (j - j % w)));
+        for (start, columns) in (0..p).step_by(w).zip(b.chunks(k * w)) {
+            let width = columns.len() / k;
             let block = &mut b_rows[start * depth..(start + width) * depth];
-            for (t, &x) in column[k0..k1].iter().enumerate() {
-                block[t * width + j % w] = x;
+            // row after row, each row's entries gathered from the block's columns
+            for (t, row) in block.chunks_exact_mut(width).enumerate() {
+                for (x, column) in row.iter_mut().zip(columns.chunks_exact(k)) {
+                    *x = column[k0 + t];
+                }
             }
         }
         // a group of rows at a time over every block of columns: A's rows stay in the
