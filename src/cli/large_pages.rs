@@ -146,7 +146,8 @@ thread_local! {
 /// Kept, measured with huge pages off (so every page is a fault): a 100-state `zoh` touches 351
 /// pages above the floor instead of 527, a 50-state one 87 instead of 130; in 60 interleaved
 /// runs with them on, the median CPU time above the floor went from 2.72 to 2.49 ms and from
-/// 0.93 to 0.77 ms.
+/// 0.93 to 0.77 ms. (Since session 30 `zoh`'s products are `linalg::gemm`'s, which take no such
+/// block; `kalman`'s and `dlqe`'s still go through matrixmultiply.)
 ///
 /// One block is kept per thread, for the thread's life (a thread that exits with one leaves
 /// it, as it leaves its small blocks); a block of another layout given back replaces it, and

@@ -11,8 +11,8 @@
 //! 2m + 1 products of |X|ᵀ with a vector. The approximant is the solution of q_m(X) R = p_m(X),
 //! by LU factorisation with partial pivoting.
 //!
-//! **Identity.** The result is nalgebra's `exp` bit for bit — the same products (nalgebra's own
-//! `gemm`), the same order of every sum, the same pivots — which a property test checks on
+//! **Identity.** The result is nalgebra's `exp` bit for bit — the same products (the bits of
+//! nalgebra's `gemm`, made by [`super::gemm`]), the same order of every sum, the same pivots — which a property test checks on
 //! random matrices across the five degrees and scalings. What changes is the working: each
 //! matrix is made once into a buffer (nalgebra's operators make a new one per term), the
 //! elimination runs over contiguous columns, the two triangular solves in tiles of 4 rows × 8
@@ -25,7 +25,7 @@
 //! degree 13's scaling needs them; X⁸ only for its norm when degree 7 is chosen, and not even
 //! for that where a bound from ‖X⁶‖ and ‖X²‖ decides, `d8_below`), two more products for the
 //! approximant, the factorisation (⅔N³ flops), the two triangular solves with N right-hand
-//! sides (2N³) and s squarings. The products run in matrixmultiply's kernels for the machine.
+//! sides (2N³) and s squarings. The products are [`super::gemm`]'s register tiles.
 //! The factorisation, the solves and ℓ's vector products are compiled twice, for the
 //! compiler's baseline x86-64 (two f64 a vector) and for AVX (four), and the second is chosen
 //! where the processor has it; neither forms a fused multiply-add, which would change the bits.
