@@ -63,7 +63,10 @@ fn standard() -> Features {
 
 /// Feature bits as `cpuid` reports them, and `XCR0` (0 where `xgetbv` may not run), to
 /// [`Features`] by the standard library's rules.
-#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+#[cfg_attr(
+    not(all(target_arch = "x86_64", target_os = "linux", target_env = "gnu")),
+    allow(dead_code)
+)]
 fn from_bits(leaf1_ecx: u32, leaf7_ebx: u32, xcr0: u64) -> Features {
     let bit = |word: u32, b: u32| word & (1 << b) != 0;
     // the operating system saves XMM and YMM (AVX), and the opmask and ZMM state (AVX-512)

@@ -34,7 +34,6 @@
 //! about a dozen products). B's rows gathered row after row, instead of scattered column after
 //! column, took order 101 from 45.5 to 43.5 µs; A's copy without zeroing it first, to 43.1.
 
-use super::cpu;
 use nalgebra::DMatrix;
 
 /// matrixmultiply's block of k (`D_KC`): each block's sum starts from zero.
@@ -46,6 +45,11 @@ const LANES: usize = 8;
 
 /// How one term joins an entry's sum.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+// only fused multiply-add kernels' processors fuse (none in the browser)
+#[cfg_attr(
+    not(any(target_arch = "x86_64", target_arch = "aarch64")),
+    allow(dead_code)
+)]
 enum Chain {
     /// a·b + s, rounded once (a fused multiply-add).
     Fused,
@@ -102,7 +106,7 @@ fn columns_by_gemv(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
 fn machine_chain() -> Chain {
     #[cfg(target_arch = "x86_64")]
     {
-        let f = cpu::features();
+        let f = super::cpu::features();
         if f.avx512f || f.avx2_fma {
             Chain::Fused
         } else {
@@ -125,7 +129,7 @@ fn machine_chain() -> Chain {
 fn blocked(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
     #[cfg(target_arch = "x86_64")]
     {
-        let f = cpu::features();
+        let f = super::cpu::features();
         if f.avx512f {
             #[allow(unsafe_code)]
             // SAFETY: the processor has AVX-512F (and with it AVX2 and FMA), checked above
