@@ -38,6 +38,10 @@ use nalgebra::DMatrix;
 
 /// matrixmultiply's block of k (`D_KC`): each block's sum starts from zero.
 const K_BLOCK: usize = 256;
+/// Whether the tiles run: on x86-64, where matrixmultiply's first product asks `cpuid` which
+/// kernel to run. Elsewhere nalgebra's own product makes the same bits without that cost (the
+/// browser's module has no feature to ask about, and stays as small as it was).
+const OWN_TILES: bool = cfg!(target_arch = "x86_64");
 /// nalgebra's `SMALL_DIM`: at or below it in any dimension, `gemm` is column-by-column `gemv`.
 const SMALL: usize = 5;
 /// C's rows in one vector.
@@ -45,11 +49,8 @@ const LANES: usize = 8;
 
 /// How one term joins an entry's sum.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-// only fused multiply-add kernels' processors fuse (none in the browser)
-#[cfg_attr(
-    not(any(target_arch = "x86_64", target_arch = "aarch64")),
-    allow(dead_code)
-)]
+// the tiles run on x86-64 only (`OWN_TILES`)
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 enum Chain {
     /// a·b + s, rounded once (a fused multiply-add).
     Fused,
@@ -79,6 +80,10 @@ pub fn product_into(c: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>) {
         c.shape(),
         "product: C is not A's rows by B's columns"
     );
+    if !OWN_TILES {
+        c.gemm(1.0, a, b, 0.0);
+        return;
+    }
     let (cs, as_, bs) = (c.as_mut_slice(), a.as_slice(), b.as_slice());
     if k == 0 {
         cs.fill(0.0);
@@ -113,15 +118,8 @@ fn machine_chain() -> Chain {
             Chain::Separate
         }
     }
-    #[cfg(target_arch = "aarch64")]
-    {
-        if std::arch::is_aarch64_feature_detected!("neon") {
-            Chain::Fused
-        } else {
-            Chain::Separate
-        }
-    }
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    // the tiles do not run elsewhere (`OWN_TILES`)
+    #[cfg(not(target_arch = "x86_64"))]
     Chain::Separate
 }
 
