@@ -12,8 +12,8 @@
 //! by LU factorisation with partial pivoting.
 //!
 //! **Identity.** The result is nalgebra's `exp` bit for bit — the same products (the bits of
-//! nalgebra's `gemm`, made by [`super::gemm`]), the same order of every sum, the same pivots — which a property test checks on
-//! random matrices across the five degrees and scalings. What changes is the working: each
+//! nalgebra's `gemm`, made by [`super::gemm`]), the same order of every sum, the same pivots —
+//! which a property test checks on random matrices across the five degrees and scalings. What changes is the working: each
 //! matrix is made once into a buffer (nalgebra's operators make a new one per term), the
 //! elimination runs over contiguous columns, the two triangular solves in tiles of 4 rows × 8
 //! right-hand sides held in registers while the rows they are taken from stream past (each
@@ -304,9 +304,7 @@ impl<'a> Powers<'a> {
                     .unwrap_or_else(|| unreachable!("formed just above")),
             };
             let (l, r) = (factor(left), factor(right));
-            let mut product = DMatrix::<f64>::zeros(self.a.nrows(), self.a.nrows());
-            super::gemm::product_into(&mut product, l, r);
-            self.even[k.slot()] = Some(product);
+            self.even[k.slot()] = Some(super::gemm::product(l, r));
         }
         self.even[k.slot()]
             .as_ref()
@@ -351,8 +349,7 @@ impl<'a> Powers<'a> {
             add_identity(&mut acc, b[parity]);
             acc
         };
-        let mut u = DMatrix::<f64>::zeros(self.a.nrows(), self.a.nrows());
-        super::gemm::product_into(&mut u, self.a, &sum(1));
+        let u = super::gemm::product(self.a, &sum(1));
         let v = sum(0);
         // the powers above X⁴ are done with (X² and X⁴ go on to the caller): their room, and
         // the odd sum's, to the solve
@@ -381,7 +378,6 @@ impl<'a> Powers<'a> {
             1.0,
         ];
         let s = s as f64;
-        let size = self.a.nrows();
         let mb = scaled(self.a, 2.0_f64.powf(-s));
         let mb2 = scaled(self.power(Even::Two), 2.0_f64.powf(-2.0 * s));
         let mb4 = scaled(self.power(Even::Four), 2.0_f64.powf(-4.0 * s));
@@ -391,8 +387,7 @@ impl<'a> Powers<'a> {
             let mut inner = scaled(&mb6, b[high[0]]);
             add_scaled(&mut inner, &mb4, b[high[1]]);
             add_scaled(&mut inner, &mb2, b[high[2]]);
-            let mut acc = DMatrix::<f64>::zeros(size, size);
-            super::gemm::product_into(&mut acc, &mb6, &inner);
+            let mut acc = super::gemm::product(&mb6, &inner);
             add_scaled(&mut acc, &mb6, b[low[0]]);
             add_scaled(&mut acc, &mb4, b[low[1]]);
             add_scaled(&mut acc, &mb2, b[low[2]]);
@@ -400,8 +395,7 @@ impl<'a> Powers<'a> {
             acc
         };
         let inner = half([13, 11, 9], [7, 5, 3, 1]);
-        let mut u = DMatrix::<f64>::zeros(size, size);
-        super::gemm::product_into(&mut u, &mb, &inner);
+        let u = super::gemm::product(&mb, &inner);
         let v = half([12, 10, 8], [6, 4, 2, 0]);
         solve_p_q(u, v)
     }

@@ -22,7 +22,8 @@
 //! Here every entry takes the same chain, whatever the tile: the tiles change which entries
 //! are computed side by side, never the order of one entry's terms. Property tests compare
 //! [`product`] with nalgebra's `gemm` bit for bit on the machine they run on (shapes across
-//! the small and the blocked cases), and each chain with a scalar reference.
+//! the small and the blocked cases), and every kernel the processor runs — the portable one,
+//! AVX, AVX2 with FMA, AVX-512 — with a scalar reference of its chain.
 //!
 //! **Cost.** 2·m·k·p flops; C, A's padded copy and B's rows allocated. The first query of
 //! the processor's features goes to the C library's answers ([`super::cpu`]): matrixmultiply's
@@ -46,17 +47,6 @@ const OWN_TILES: bool = cfg!(target_arch = "x86_64");
 const SMALL: usize = 5;
 /// C's rows in one vector.
 const LANES: usize = 8;
-
-/// How one term joins an entry's sum.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-// the tiles run on x86-64 only (`OWN_TILES`)
-#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
-enum Chain {
-    /// a·b + s, rounded once (a fused multiply-add).
-    Fused,
-    /// a·b rounded, then added to s and rounded.
-    Separate,
-}
 
 /// A·B, as `&a * &b` makes it.
 ///
@@ -107,22 +97,6 @@ fn columns_by_gemv(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
     }
 }
 
-/// The chain matrixmultiply's kernel for this processor takes.
-fn machine_chain() -> Chain {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let f = super::cpu::features();
-        if f.avx512f || f.avx2_fma {
-            Chain::Fused
-        } else {
-            Chain::Separate
-        }
-    }
-    // the tiles do not run elsewhere (`OWN_TILES`)
-    #[cfg(not(target_arch = "x86_64"))]
-    Chain::Separate
-}
-
 /// matrixmultiply's path, in the widest tiles the processor has.
 fn blocked(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
     #[cfg(target_arch = "x86_64")]
@@ -144,10 +118,8 @@ fn blocked(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
             return unsafe { blocked_avx(c, a, b, m, k) };
         }
     }
-    match machine_chain() {
-        Chain::Fused => portable::<true>(c, a, b, m, k),
-        Chain::Separate => portable::<false>(c, a, b, m, k),
-    }
+    // without AVX matrixmultiply has no fused kernel either (its need AVX2 or AVX-512)
+    portable(c, a, b, m, k)
 }
 
 /// The kernel for a tile: `$module::tile::<G, W>` for G the tile's groups (R, or 1 at the
@@ -158,12 +130,12 @@ macro_rules! kernel {
             if at.groups == $r {
                 match at.width {
                     $($w => $module::tile::<$r, $w>(c, a, b, at),)+
-                    _ => unreachable!("a tile is 1 to {} columns wide", $r),
+                    _ => unreachable!("a tile no wider than its kernel's widest"),
                 }
             } else {
                 match at.width {
                     $($w => $module::tile::<1, $w>(c, a, b, at),)+
-                    _ => unreachable!("a tile is 1 to {} columns wide", $r),
+                    _ => unreachable!("a tile no wider than its kernel's widest"),
                 }
             }
         }
@@ -290,13 +262,10 @@ fn tiles(
     }
 }
 
-/// [`tiles`] in the compiler's baseline, 1 group × 2 columns, `FUSED` the chain.
-fn portable<const FUSED: bool>(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
-    if FUSED {
-        tiles(c, a, b, m, k, 1, 2, kernel!(scalar_fused, 1, [1, 2]))
-    } else {
-        tiles(c, a, b, m, k, 1, 2, kernel!(scalar_separate, 1, [1, 2]))
-    }
+/// [`tiles`] in the compiler's baseline, 1 group × 2 columns, each term a rounded product and
+/// a rounded sum.
+fn portable(c: &mut [f64], a: &[f64], b: &[f64], m: usize, k: usize) {
+    tiles(c, a, b, m, k, 1, 2, kernel!(scalar, 1, [1, 2]))
 }
 
 /// Where a tile sits: C's row count and A's padded one, its first row and column, its groups
@@ -313,32 +282,6 @@ struct Tile {
     first: bool,
 }
 
-/// [`scalar::tile`] with fused multiply-adds.
-mod scalar_fused {
-    use super::Tile;
-    pub(super) fn tile<const R: usize, const W: usize>(
-        c: &mut [f64],
-        a: &[f64],
-        b: &[f64],
-        at: Tile,
-    ) {
-        super::scalar::tile::<R, W, true>(c, a, b, at)
-    }
-}
-
-/// [`scalar::tile`] with a rounded product and a rounded sum each term.
-mod scalar_separate {
-    use super::Tile;
-    pub(super) fn tile<const R: usize, const W: usize>(
-        c: &mut [f64],
-        a: &[f64],
-        b: &[f64],
-        at: Tile,
-    ) {
-        super::scalar::tile::<R, W, false>(c, a, b, at)
-    }
-}
-
 /// The tile in scalars, for the compiler's baseline.
 mod scalar {
     use super::{store, Tile, LANES};
@@ -346,7 +289,7 @@ mod scalar {
     /// One tile of R groups × W columns over a block of k, in scalars: `a` holds A's columns of
     /// the block (`at.rows` entries each), `b` B's rows of the block, W entries each.
     #[inline(always)]
-    pub(super) fn tile<const R: usize, const W: usize, const FUSED: bool>(
+    pub(super) fn tile<const R: usize, const W: usize>(
         c: &mut [f64],
         a: &[f64],
         b: &[f64],
@@ -360,12 +303,7 @@ mod scalar {
                 for r in 0..R {
                     for l in 0..LANES {
                         let x = column[r * LANES + l];
-                        let sum = &mut sums[r][w][l];
-                        *sum = if FUSED {
-                            x.mul_add(s, *sum)
-                        } else {
-                            x * s + *sum
-                        };
+                        sums[r][w][l] += x * s;
                     }
                 }
             }
@@ -519,6 +457,25 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    /// How one term joins an entry's sum.
+    #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+    enum Chain {
+        /// a·b + s, rounded once (a fused multiply-add).
+        Fused,
+        /// a·b rounded, then added to s and rounded.
+        Separate,
+    }
+
+    /// The chain matrixmultiply's kernel for this processor takes (the module doc's rule).
+    fn machine_chain() -> Chain {
+        let f = crate::linalg::cpu::features();
+        if f.avx512f || f.avx2_fma {
+            Chain::Fused
+        } else {
+            Chain::Separate
+        }
+    }
+
     fn bits(m: &DMatrix<f64>) -> Vec<u64> {
         m.iter().map(|x| x.to_bits()).collect()
     }
@@ -569,16 +526,33 @@ mod tests {
         }
 
         #[test]
-        fn the_portable_tiles_take_either_chain((a, b) in shapes()) {
+        #[allow(unsafe_code)]
+        fn every_kernel_the_processor_runs_takes_its_chain((a, b) in shapes()) {
             let (m, k) = (a.nrows(), a.ncols());
-            let mut c = DMatrix::zeros(m, b.ncols());
-            portable::<false>(c.as_mut_slice(), a.as_slice(), b.as_slice(), m, k);
-            let mut fused = DMatrix::zeros(m, b.ncols());
-            portable::<true>(fused.as_mut_slice(), a.as_slice(), b.as_slice(), m, k);
-            // the blocked chains alone (no small-dimension rule): compare with a shape past it
-            if m > SMALL && k > SMALL && b.ncols() > SMALL {
-                prop_assert_eq!(bits(&c), bits(&reference(&a, &b, Chain::Separate)));
-                prop_assert_eq!(bits(&fused), bits(&reference(&a, &b, Chain::Fused)));
+            // the blocked chains alone (no small-dimension rule): shapes past it
+            if m <= SMALL || k <= SMALL || b.ncols() <= SMALL {
+                return Ok(());
+            }
+            let run = |kernel: fn(&mut [f64], &[f64], &[f64], usize, usize)| {
+                let mut c = DMatrix::zeros(m, b.ncols());
+                kernel(c.as_mut_slice(), a.as_slice(), b.as_slice(), m, k);
+                bits(&c)
+            };
+            let separate = bits(&reference(&a, &b, Chain::Separate));
+            let fused = bits(&reference(&a, &b, Chain::Fused));
+            prop_assert_eq!(run(portable), separate.clone());
+            let f = crate::linalg::cpu::features();
+            if f.avx {
+                // SAFETY: the processor has AVX, checked just above
+                prop_assert_eq!(run(|c, a, b, m, k| unsafe { blocked_avx(c, a, b, m, k) }), separate);
+            }
+            if f.avx2_fma {
+                // SAFETY: the processor has AVX2 and FMA, checked just above
+                prop_assert_eq!(run(|c, a, b, m, k| unsafe { blocked_avx2_fma(c, a, b, m, k) }), fused.clone());
+            }
+            if f.avx512f {
+                // SAFETY: the processor has AVX-512F, checked just above
+                prop_assert_eq!(run(|c, a, b, m, k| unsafe { blocked_avx512(c, a, b, m, k) }), fused);
             }
         }
     }
